@@ -1,0 +1,8 @@
+// Per-frame uniforms of the preview (lit mesh) pass. Mirrored by `render::preview::FrameUniforms`.
+layout(set = 0, binding = 0) uniform FrameUniforms {
+    mat4 view_proj;
+    mat4 model;
+    vec4 camera_pos;   // world space, w unused
+    vec4 light_dir;    // world space, unit, towards the light
+    vec4 base_color;   // linear RGB
+} frame;

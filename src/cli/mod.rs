@@ -1,0 +1,124 @@
+//! The `diffract` command line. `anyhow` is used here only; every failure ends as one line on stderr and a
+//! non-zero exit code.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::{Args, Parser, Subcommand};
+
+use crate::render::{self, preview};
+use crate::vk::{self, ContextDesc, DeviceSelector};
+
+const EXAMPLES: &str = "\
+Examples:
+  diffract devices                                   list Vulkan devices
+  diffract render --out frame.png                    render the default scene (512x512)
+  diffract render --out small.png --width 128 --height 128 --validation
+  diffract render --device llvmpipe --out cpu.png    force lavapipe (the CPU driver)";
+
+#[derive(Parser, Debug)]
+#[command(name = "diffract", version, about = "Render diffraction colours of measured nanostructures with Vulkan", after_help = EXAMPLES)]
+pub struct Cli {
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Options of every subcommand that touches Vulkan.
+#[derive(Args, Debug, Clone)]
+pub struct GpuArgs {
+    /// Vulkan device: an index from `diffract devices` or a substring of its name (default: discrete GPU,
+    /// then integrated, then CPU)
+    #[arg(long, global = true, value_name = "N|NAME")]
+    pub device: Option<String>,
+    /// Enable the Khronos validation layer and print its messages (also DIFFRACT_VALIDATION=1)
+    #[arg(long, global = true)]
+    pub validation: bool,
+}
+
+impl GpuArgs {
+    pub fn context_desc(&self) -> ContextDesc {
+        let selector = self.device.as_deref().map(DeviceSelector::parse).unwrap_or_default();
+        ContextDesc::new(selector, self.validation)
+    }
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// List every Vulkan device with its index, name, type, Vulkan version and driver
+    Devices,
+    /// Render the default scene headless to a PNG
+    #[command(after_help = "Example:\n  diffract render --out frame.png --width 256 --height 256")]
+    Render(RenderArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Output PNG (8-bit sRGB)
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+    /// Width in pixels
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=render::MAX_EDGE as i64))]
+    pub width: u32,
+    /// Height in pixels
+    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=render::MAX_EDGE as i64))]
+    pub height: u32,
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(&cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
+    match &cli.command {
+        Command::Devices => devices(&cli.gpu),
+        Command::Render(args) => render_cmd(&cli.gpu, args),
+    }
+}
+
+/// Exit status after Vulkan work: with validation on, any message makes the run fail.
+fn validation_status(log: &vk::ValidationLog) -> ExitCode {
+    match log.count() {
+        0 => ExitCode::SUCCESS,
+        n => {
+            eprintln!("error: the validation layer reported {n} message(s)");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn devices(gpu: &GpuArgs) -> anyhow::Result<ExitCode> {
+    let (devices, log) = vk::list_devices(gpu.context_desc().validation)?;
+    if devices.is_empty() {
+        return Err(crate::Error::NoDevice.into());
+    }
+    println!("{:<5} {:<40} {:<15} {:<8} driver", "index", "name", "type", "vulkan");
+    for d in &devices {
+        println!("{:<5} {:<40} {:<15} {:<8} {}", d.index, d.name, d.kind_name(), d.api_version_string(), d.driver);
+    }
+    Ok(validation_status(&log))
+}
+
+fn render_cmd(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<ExitCode> {
+    crate::output::check_png_path(&args.out)?;
+    let ctx = vk::Context::new(&gpu.context_desc())?;
+    let scene = preview::PreviewScene::default_scene();
+    let frame =
+        preview::render_offscreen(&ctx, &scene, args.width, args.height).context("rendering the default scene")?;
+    crate::output::write_png_rgba8(&args.out, frame.width, frame.height, &frame.rgba8)?;
+    let gpu_time = frame.gpu_ms.map(|ms| format!(", GPU {ms:.2} ms")).unwrap_or_default();
+    println!("wrote {} ({}x{} on {}{gpu_time})", args.out.display(), frame.width, frame.height, ctx.info.name);
+    let log = ctx.validation();
+    drop(ctx);
+    Ok(validation_status(&log))
+}

@@ -1,0 +1,56 @@
+//! The library's error type. Every variant renders as one line a user can act on; the command line prints it
+//! after `error: ` and exits non-zero. A Vulkan failure names the call that failed (`.vk("vkCreateBuffer")?`).
+
+use ash::vk;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("cannot load the Vulkan loader ({0}); install libvulkan1 and mesa-vulkan-drivers")]
+    NoLoader(String),
+    #[error("no Vulkan device found; install mesa-vulkan-drivers (lavapipe) or a GPU driver")]
+    NoDevice,
+    #[error("no Vulkan device matches --device {selector:?}; `diffract devices` lists them: {available}")]
+    UnknownDevice { selector: String, available: String },
+    #[error("device {name:?} cannot run diffract: {reason}")]
+    UnsuitableDevice { name: String, reason: String },
+    #[error("the validation layer VK_LAYER_KHRONOS_validation is not installed; install vulkan-validationlayers")]
+    NoValidationLayer,
+    #[error("{call} failed: {result}")]
+    Vulkan { call: &'static str, result: vk::Result },
+    // Causes are part of the message (not `#[source]`) so that the one-line report shows them exactly once.
+    #[error("GPU memory allocation {name:?} failed: {cause}")]
+    Allocation { name: String, cause: gpu_allocator::AllocationError },
+    #[error("invalid SPIR-V for shader {name:?}: {cause}")]
+    Spirv { name: String, cause: std::io::Error },
+    #[error("{0}")]
+    Invalid(String),
+    #[error("{path}: {message}")]
+    Input { path: String, message: String },
+    #[error("cannot write {path}: {message}")]
+    Output { path: String, message: String },
+}
+
+impl Error {
+    /// A user-facing error about an input file.
+    pub fn input(path: impl AsRef<std::path::Path>, message: impl Into<String>) -> Self {
+        Error::Input { path: path.as_ref().display().to_string(), message: message.into() }
+    }
+
+    /// A user-facing error about an output file.
+    pub fn output(path: impl AsRef<std::path::Path>, message: impl std::fmt::Display) -> Self {
+        Error::Output { path: path.as_ref().display().to_string(), message: message.to_string() }
+    }
+}
+
+/// Attaches the name of the failing Vulkan call to an `ash` result.
+pub trait VkResultExt<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkResultExt<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vulkan { call, result })
+    }
+}

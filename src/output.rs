@@ -1,0 +1,26 @@
+//! Writing frames to files: 8-bit sRGB PNG.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+
+/// Checks, before any expensive work, that `path` names a PNG in a folder that exists.
+pub fn check_png_path(path: &Path) -> Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if ext.as_deref() != Some("png") {
+        return Err(Error::output(path, "the output must be a .png file"));
+    }
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(Error::output(path, format!("the folder {} does not exist", parent.display())));
+    }
+    Ok(())
+}
+
+/// Writes tightly packed RGBA8 (sRGB-encoded, top row first) as a PNG.
+pub fn write_png_rgba8(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
+    check_png_path(path)?;
+    let img = image::RgbaImage::from_raw(width, height, rgba8.to_vec())
+        .ok_or_else(|| Error::output(path, "image data does not match its size"))?;
+    img.save_with_format(path, image::ImageFormat::Png).map_err(|e| Error::output(path, e))
+}

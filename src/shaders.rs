@@ -1,0 +1,4 @@
+//! SPIR-V of every `glsl/<name>.<stage>.glsl`, compiled by `build.rs` and embedded at build time.
+//! `NAME_STAGE` holds the bytes of `glsl/name.stage.glsl` (dashes and dots become underscores).
+
+include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

@@ -1,0 +1,252 @@
+//! Images (render targets, depth buffers, 2D array textures) with their views, staging upload and readback,
+//! and samplers.
+
+use ash::vk;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::MemoryLocation;
+
+use super::{BufferDesc, Context, ImageState, MemoryState};
+use crate::error::{Error, Result, VkResultExt};
+
+/// Size, format and use of a GPU-only 2D (array) image.
+#[derive(Clone, Copy, Debug)]
+pub struct ImageDesc {
+    pub width: u32,
+    pub height: u32,
+    pub layers: u32,
+    pub format: vk::Format,
+    pub usage: vk::ImageUsageFlags,
+}
+
+impl ImageDesc {
+    /// A colour target that can be read back.
+    pub fn render_target(width: u32, height: u32, format: vk::Format) -> Self {
+        let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
+        Self { width, height, layers: 1, format, usage }
+    }
+
+    pub fn depth(width: u32, height: u32) -> Self {
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage }
+    }
+
+    /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
+    pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
+        let usage =
+            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
+        Self { width, height, layers, format, usage }
+    }
+
+    /// Bytes per texel of the formats diffract uses.
+    pub fn texel_size(&self) -> Result<u64> {
+        Ok(match self.format {
+            vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB => 4,
+            vk::Format::B8G8R8A8_UNORM | vk::Format::R32_SFLOAT | vk::Format::D32_SFLOAT => 4,
+            vk::Format::R32G32_SFLOAT => 8,
+            vk::Format::R32G32B32A32_SFLOAT => 16,
+            f => return Err(Error::Invalid(format!("no texel size known for {f:?}"))),
+        })
+    }
+
+    pub fn byte_size(&self) -> Result<u64> {
+        Ok(self.texel_size()? * u64::from(self.width) * u64::from(self.height) * u64::from(self.layers))
+    }
+}
+
+pub struct Image {
+    pub raw: vk::Image,
+    pub view: vk::ImageView,
+    pub allocation: Allocation,
+    pub desc: ImageDesc,
+}
+
+impl Image {
+    pub fn aspect(&self) -> vk::ImageAspectFlags {
+        if self.desc.format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        }
+    }
+
+    pub fn extent(&self) -> vk::Extent2D {
+        vk::Extent2D { width: self.desc.width, height: self.desc.height }
+    }
+
+    fn layers(&self) -> vk::ImageSubresourceLayers {
+        vk::ImageSubresourceLayers::default().aspect_mask(self.aspect()).layer_count(self.desc.layers)
+    }
+
+    /// # Safety
+    /// The GPU must be done with the image.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        ctx.device().destroy_image_view(self.view, None);
+        ctx.device().destroy_image(self.raw, None);
+        let _ = ctx.allocator().free(self.allocation);
+    }
+}
+
+/// A sampler (nearest filtering, clamped: diffract reads exact texels).
+pub struct Sampler {
+    pub raw: vk::Sampler,
+}
+
+impl Sampler {
+    /// # Safety
+    /// No pending work may use the sampler.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        ctx.device().destroy_sampler(self.raw, None);
+    }
+}
+
+impl Context {
+    pub fn create_image(&self, desc: ImageDesc, name: &str) -> Result<Image> {
+        if desc.width == 0 || desc.height == 0 || desc.layers == 0 {
+            return Err(Error::Invalid(format!("image {name:?} has an empty extent")));
+        }
+        let info = vk::ImageCreateInfo::default()
+            .image_type(vk::ImageType::TYPE_2D)
+            .format(desc.format)
+            .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
+            .mip_levels(1)
+            .array_layers(desc.layers)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        // SAFETY: a plain create on a live device.
+        let raw = unsafe { self.device().create_image(&info, None) }.vk("vkCreateImage")?;
+        // SAFETY: `raw` is live.
+        let requirements = unsafe { self.device().get_image_memory_requirements(raw) };
+        let allocation = self.allocator().allocate(&AllocationCreateDesc {
+            name,
+            requirements,
+            location: MemoryLocation::GpuOnly,
+            linear: false,
+            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+        });
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(cause) => {
+                // SAFETY: unbound and unused.
+                unsafe { self.device().destroy_image(raw, None) };
+                return Err(Error::Allocation { name: name.into(), cause });
+            }
+        };
+        let aspect = if desc.format == vk::Format::D32_SFLOAT {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let view_type = if desc.layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
+        // SAFETY: memory fits the requirements; the view describes the image just created.
+        let view = unsafe {
+            self.device()
+                .bind_image_memory(raw, allocation.memory(), allocation.offset())
+                .vk("vkBindImageMemory")
+                .and_then(|()| {
+                    let view_info = vk::ImageViewCreateInfo::default()
+                        .image(raw)
+                        .view_type(view_type)
+                        .format(desc.format)
+                        .subresource_range(
+                            vk::ImageSubresourceRange::default()
+                                .aspect_mask(aspect)
+                                .level_count(1)
+                                .layer_count(desc.layers),
+                        );
+                    self.device().create_image_view(&view_info, None).vk("vkCreateImageView")
+                })
+        };
+        match view {
+            Ok(view) => {
+                self.set_name(raw, name);
+                self.set_name(view, name);
+                Ok(Image { raw, view, allocation, desc })
+            }
+            Err(e) => {
+                // SAFETY: unused.
+                unsafe { self.device().destroy_image(raw, None) };
+                let _ = self.allocator().free(allocation);
+                Err(e)
+            }
+        }
+    }
+
+    /// Fills every layer of `image` from `data` (tightly packed, layer after layer) and leaves it in `final_state`.
+    pub fn upload_image(&self, image: &Image, data: &[u8], final_state: ImageState) -> Result<()> {
+        let size = image.desc.byte_size()?;
+        if data.len() as u64 != size {
+            return Err(Error::Invalid(format!("image upload of {} bytes, expected {size}", data.len())));
+        }
+        let mut staging =
+            self.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::TRANSFER_SRC), "staging (image upload)")?;
+        let result = staging.write(data).and_then(|()| {
+            self.one_shot("image upload", |cmd| {
+                self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
+                let region = vk::BufferImageCopy::default()
+                    .image_subresource(image.layers())
+                    .image_extent(vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 });
+                // SAFETY: the staging buffer holds exactly the image's texels.
+                unsafe {
+                    self.device().cmd_copy_buffer_to_image(
+                        cmd,
+                        staging.raw,
+                        image.raw,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &[region],
+                    )
+                };
+                self.barrier_image(cmd, image, ImageState::TRANSFER_DST, final_state);
+            })
+        });
+        // SAFETY: one_shot waited for the copy.
+        unsafe { staging.destroy(self) };
+        result
+    }
+
+    /// Reads every layer of a colour image back (tightly packed); `state` is the image's current state, and the
+    /// image is left in it.
+    pub fn read_image(&self, image: &Image, state: ImageState) -> Result<Vec<u8>> {
+        let size = image.desc.byte_size()?;
+        let readback = self.create_buffer(BufferDesc::readback(size), "readback (image)")?;
+        let result =
+            self.one_shot("image readback", |cmd| {
+                self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
+                let region = vk::BufferImageCopy::default()
+                    .image_subresource(image.layers())
+                    .image_extent(vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 });
+                // SAFETY: the readback buffer is as large as the image's texels.
+                unsafe {
+                    self.device().cmd_copy_image_to_buffer(
+                        cmd,
+                        image.raw,
+                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                        readback.raw,
+                        &[region],
+                    )
+                };
+                self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
+                self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
+            });
+        let bytes = result.map(|()| readback.mapped().map(<[u8]>::to_vec).unwrap_or_default());
+        // SAFETY: one_shot waited for the copy.
+        unsafe { readback.destroy(self) };
+        bytes
+    }
+
+    /// A nearest-filtering, edge-clamped sampler (diffract reads exact texels with `texelFetch`).
+    pub fn create_sampler(&self, name: &str) -> Result<Sampler> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        // SAFETY: a plain create on a live device.
+        let raw = unsafe { self.device().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        self.set_name(raw, name);
+        Ok(Sampler { raw })
+    }
+}

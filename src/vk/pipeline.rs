@@ -1,0 +1,381 @@
+//! Shader modules, graphics pipelines (dynamic rendering) and compute pipelines, each with a push-descriptor
+//! set layout (set 0) and one push-constant range; shader variants come from specialization constants.
+
+use std::ffi::CStr;
+
+use ash::vk;
+
+use super::{Buffer, Context, Image, Sampler};
+use crate::error::{Error, Result, VkResultExt};
+
+const ENTRY: &CStr = c"main";
+
+/// One binding of descriptor set 0.
+#[derive(Clone, Copy, Debug)]
+pub struct Binding {
+    pub binding: u32,
+    pub kind: vk::DescriptorType,
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// A descriptor pushed at record time.
+pub enum DescriptorWrite<'a> {
+    StorageBuffer(u32, &'a Buffer),
+    UniformBuffer(u32, &'a Buffer),
+    SampledImage(u32, &'a Image, &'a Sampler),
+    StorageImage(u32, &'a Image),
+}
+
+/// Specialization-constant values (id → 4-byte value), shared by every stage of a pipeline.
+#[derive(Clone, Debug, Default)]
+pub struct SpecConstants {
+    entries: Vec<vk::SpecializationMapEntry>,
+    data: Vec<u8>,
+}
+
+impl SpecConstants {
+    pub fn u32(mut self, id: u32, value: u32) -> Self {
+        self.push(id, value.to_ne_bytes());
+        self
+    }
+
+    pub fn i32(mut self, id: u32, value: i32) -> Self {
+        self.push(id, value.to_ne_bytes());
+        self
+    }
+
+    pub fn f32(mut self, id: u32, value: f32) -> Self {
+        self.push(id, value.to_ne_bytes());
+        self
+    }
+
+    fn push(&mut self, id: u32, bytes: [u8; 4]) {
+        let offset = self.data.len() as u32;
+        self.entries.push(vk::SpecializationMapEntry { constant_id: id, offset, size: 4 });
+        self.data.extend_from_slice(&bytes);
+    }
+
+    fn info(&self) -> vk::SpecializationInfo<'_> {
+        vk::SpecializationInfo::default().map_entries(&self.entries).data(&self.data)
+    }
+}
+
+/// One vertex attribute of the single interleaved vertex buffer.
+#[derive(Clone, Copy, Debug)]
+pub struct VertexAttribute {
+    pub location: u32,
+    pub format: vk::Format,
+    pub offset: u32,
+}
+
+pub struct GraphicsPipelineDesc<'a> {
+    pub name: &'a str,
+    pub vertex: &'a [u8],
+    pub fragment: &'a [u8],
+    pub specialization: SpecConstants,
+    pub bindings: &'a [Binding],
+    pub push_constant_size: u32,
+    /// Stride of the vertex buffer; 0 means no vertex input (a full-screen triangle).
+    pub vertex_stride: u32,
+    pub vertex_attributes: &'a [VertexAttribute],
+    pub color_format: vk::Format,
+    pub depth_format: Option<vk::Format>,
+    pub cull_back_faces: bool,
+}
+
+pub struct ComputePipelineDesc<'a> {
+    pub name: &'a str,
+    pub shader: &'a [u8],
+    pub specialization: SpecConstants,
+    pub bindings: &'a [Binding],
+    pub push_constant_size: u32,
+}
+
+pub struct Pipeline {
+    pub raw: vk::Pipeline,
+    pub layout: vk::PipelineLayout,
+    pub set_layout: vk::DescriptorSetLayout,
+    pub bind_point: vk::PipelineBindPoint,
+    pub push_stages: vk::ShaderStageFlags,
+}
+
+impl Pipeline {
+    /// # Safety
+    /// No pending work may use the pipeline.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        ctx.device().destroy_pipeline(self.raw, None);
+        ctx.device().destroy_pipeline_layout(self.layout, None);
+        ctx.device().destroy_descriptor_set_layout(self.set_layout, None);
+    }
+}
+
+/// Everything created before the pipeline itself, destroyed again if a later step fails.
+struct Partial {
+    modules: Vec<vk::ShaderModule>,
+    set_layout: vk::DescriptorSetLayout,
+    layout: vk::PipelineLayout,
+}
+
+impl Partial {
+    /// # Safety
+    /// The objects must be unused.
+    unsafe fn destroy(self, ctx: &Context, keep_layouts: bool) {
+        for m in self.modules {
+            ctx.device().destroy_shader_module(m, None);
+        }
+        if !keep_layouts {
+            ctx.device().destroy_pipeline_layout(self.layout, None);
+            ctx.device().destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+impl Context {
+    fn create_shader_module(&self, spirv: &[u8], name: &str) -> Result<vk::ShaderModule> {
+        let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+            .map_err(|cause| Error::Spirv { name: name.into(), cause })?;
+        let info = vk::ShaderModuleCreateInfo::default().code(&words);
+        // SAFETY: `words` is SPIR-V produced by shaderc at build time.
+        let module = unsafe { self.device().create_shader_module(&info, None) }.vk("vkCreateShaderModule")?;
+        self.set_name(module, name);
+        Ok(module)
+    }
+
+    fn create_layouts(
+        &self,
+        name: &str,
+        bindings: &[Binding],
+        push_size: u32,
+        stages: vk::ShaderStageFlags,
+        partial: &mut Partial,
+    ) -> Result<()> {
+        let raw_bindings: Vec<_> = bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(b.kind)
+                    .descriptor_count(1)
+                    .stage_flags(b.stages)
+            })
+            .collect();
+        let set_info = vk::DescriptorSetLayoutCreateInfo::default()
+            .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
+            .bindings(&raw_bindings);
+        // SAFETY: plain creates on a live device.
+        partial.set_layout =
+            unsafe { self.device().create_descriptor_set_layout(&set_info, None) }.vk("vkCreateDescriptorSetLayout")?;
+        self.set_name(partial.set_layout, name);
+        let ranges = [vk::PushConstantRange::default().stage_flags(stages).size(push_size)];
+        let set_layouts = [partial.set_layout];
+        let mut layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        if push_size > 0 {
+            layout_info = layout_info.push_constant_ranges(&ranges);
+        }
+        // SAFETY: as above.
+        partial.layout =
+            unsafe { self.device().create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
+        self.set_name(partial.layout, name);
+        Ok(())
+    }
+
+    fn finish_pipeline(
+        &self,
+        name: &str,
+        created: std::result::Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
+        partial: Partial,
+        bind_point: vk::PipelineBindPoint,
+        push_stages: vk::ShaderStageFlags,
+    ) -> Result<Pipeline> {
+        match created {
+            Ok(p) => {
+                let (layout, set_layout) = (partial.layout, partial.set_layout);
+                // SAFETY: modules may be destroyed once the pipeline exists.
+                unsafe { partial.destroy(self, true) };
+                self.set_name(p[0], name);
+                Ok(Pipeline { raw: p[0], layout, set_layout, bind_point, push_stages })
+            }
+            Err((_, result)) => {
+                // SAFETY: nothing uses them.
+                unsafe { partial.destroy(self, false) };
+                Err(Error::Vulkan { call: "vkCreate*Pipelines", result })
+            }
+        }
+    }
+
+    pub fn create_graphics_pipeline(&self, desc: &GraphicsPipelineDesc<'_>) -> Result<Pipeline> {
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let mut partial = Partial {
+            modules: Vec::new(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+        };
+        let prepared = (|| {
+            partial.modules.push(self.create_shader_module(desc.vertex, &format!("{} (vertex)", desc.name))?);
+            partial.modules.push(self.create_shader_module(desc.fragment, &format!("{} (fragment)", desc.name))?);
+            self.create_layouts(desc.name, desc.bindings, desc.push_constant_size, stages, &mut partial)
+        })();
+        if let Err(e) = prepared {
+            // SAFETY: nothing uses them.
+            unsafe { partial.destroy(self, false) };
+            return Err(e);
+        }
+        let spec = desc.specialization.info();
+        let shader_stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(partial.modules[0])
+                .name(ENTRY)
+                .specialization_info(&spec),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::FRAGMENT)
+                .module(partial.modules[1])
+                .name(ENTRY)
+                .specialization_info(&spec),
+        ];
+        let vb = [vk::VertexInputBindingDescription::default().binding(0).stride(desc.vertex_stride)];
+        let attrs: Vec<_> = desc
+            .vertex_attributes
+            .iter()
+            .map(|a| {
+                vk::VertexInputAttributeDescription::default()
+                    .location(a.location)
+                    .binding(0)
+                    .format(a.format)
+                    .offset(a.offset)
+            })
+            .collect();
+        let mut vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        if desc.vertex_stride > 0 {
+            vertex_input = vertex_input.vertex_binding_descriptions(&vb).vertex_attribute_descriptions(&attrs);
+        }
+        let assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(if desc.cull_back_faces { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_format.is_some())
+            .depth_write_enable(desc.depth_format.is_some())
+            .depth_compare_op(vk::CompareOp::LESS);
+        let blend_attachment =
+            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let color_formats = [desc.color_format];
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+        let info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&shader_stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(partial.layout)
+            .push_next(&mut rendering);
+        // SAFETY: every pointer in `info` outlives the call.
+        let created = unsafe { self.device().create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+        self.finish_pipeline(desc.name, created, partial, vk::PipelineBindPoint::GRAPHICS, stages)
+    }
+
+    pub fn create_compute_pipeline(&self, desc: &ComputePipelineDesc<'_>) -> Result<Pipeline> {
+        let stages = vk::ShaderStageFlags::COMPUTE;
+        let mut partial = Partial {
+            modules: Vec::new(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+        };
+        let prepared = (|| {
+            partial.modules.push(self.create_shader_module(desc.shader, desc.name)?);
+            self.create_layouts(desc.name, desc.bindings, desc.push_constant_size, stages, &mut partial)
+        })();
+        if let Err(e) = prepared {
+            // SAFETY: nothing uses them.
+            unsafe { partial.destroy(self, false) };
+            return Err(e);
+        }
+        let spec = desc.specialization.info();
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(stages)
+            .module(partial.modules[0])
+            .name(ENTRY)
+            .specialization_info(&spec);
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(partial.layout);
+        // SAFETY: every pointer in `info` outlives the call.
+        let created = unsafe { self.device().create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+        self.finish_pipeline(desc.name, created, partial, vk::PipelineBindPoint::COMPUTE, stages)
+    }
+
+    /// Binds `pipeline`, pushes its descriptors and its push constants.
+    pub fn bind(&self, cmd: vk::CommandBuffer, pipeline: &Pipeline, writes: &[DescriptorWrite<'_>], push: &[u8]) {
+        let device = self.device();
+        let mut buffer_infos = Vec::with_capacity(writes.len());
+        let mut image_infos = Vec::with_capacity(writes.len());
+        for w in writes {
+            match w {
+                DescriptorWrite::StorageBuffer(_, b) | DescriptorWrite::UniformBuffer(_, b) => {
+                    buffer_infos.push([vk::DescriptorBufferInfo::default().buffer(b.raw).range(vk::WHOLE_SIZE)]);
+                }
+                DescriptorWrite::SampledImage(_, i, s) => image_infos.push([vk::DescriptorImageInfo::default()
+                    .image_view(i.view)
+                    .sampler(s.raw)
+                    .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)]),
+                DescriptorWrite::StorageImage(_, i) => image_infos.push([vk::DescriptorImageInfo::default()
+                    .image_view(i.view)
+                    .image_layout(vk::ImageLayout::GENERAL)]),
+            }
+        }
+        let (mut bi, mut ii) = (buffer_infos.iter(), image_infos.iter());
+        let raw_writes: Vec<_> = writes
+            .iter()
+            .map(|w| {
+                let base = vk::WriteDescriptorSet::default();
+                match w {
+                    DescriptorWrite::StorageBuffer(b, _) => base
+                        .dst_binding(*b)
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .buffer_info(bi.next().expect("one info per buffer write")),
+                    DescriptorWrite::UniformBuffer(b, _) => base
+                        .dst_binding(*b)
+                        .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+                        .buffer_info(bi.next().expect("one info per buffer write")),
+                    DescriptorWrite::SampledImage(b, _, _) => base
+                        .dst_binding(*b)
+                        .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
+                        .image_info(ii.next().expect("one info per image write")),
+                    DescriptorWrite::StorageImage(b, _) => base
+                        .dst_binding(*b)
+                        .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
+                        .image_info(ii.next().expect("one info per image write")),
+                }
+            })
+            .collect();
+        // SAFETY: cmd is recording; the descriptors match the pipeline's push-descriptor set layout.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, pipeline.bind_point, pipeline.raw);
+            if !raw_writes.is_empty() {
+                self.device.push_descriptor.cmd_push_descriptor_set(
+                    cmd,
+                    pipeline.bind_point,
+                    pipeline.layout,
+                    0,
+                    &raw_writes,
+                );
+            }
+            if !push.is_empty() {
+                device.cmd_push_constants(cmd, pipeline.layout, pipeline.push_stages, 0, push);
+            }
+        }
+    }
+}

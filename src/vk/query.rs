@@ -1,0 +1,130 @@
+//! A timestamp-query ring for GPU timings (after h3r2tic/gpu-profiler): `frames` slots of `scopes` pairs of
+//! timestamps. A frame writes into its slot; its results are read once the frame's work has completed, which
+//! with `frames` ≥ frames in flight never stalls. A scope's name is its pass name and debug label.
+
+use ash::vk;
+
+use super::Context;
+use crate::error::{Error, Result, VkResultExt};
+
+/// One finished scope.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScopeTiming {
+    pub name: String,
+    pub ms: f64,
+}
+
+pub struct TimestampRing {
+    pub raw: vk::QueryPool,
+    frames: u32,
+    scopes_per_frame: u32,
+    period_ns: f64,
+    valid_mask: u64,
+    /// Scope names recorded into each slot since its last reset.
+    names: Vec<Vec<String>>,
+    current: u32,
+}
+
+impl TimestampRing {
+    fn first_query(&self, slot: u32) -> u32 {
+        slot * self.scopes_per_frame * 2
+    }
+
+    /// Starts frame `frame` (any counter; its slot is `frame % frames`): resets the slot's queries.
+    pub fn begin_frame(&mut self, ctx: &Context, cmd: vk::CommandBuffer, frame: u64) {
+        self.current = (frame % u64::from(self.frames)) as u32;
+        self.names[self.current as usize].clear();
+        let first = self.first_query(self.current);
+        // SAFETY: cmd is recording; the range lies inside the pool.
+        unsafe { ctx.device().cmd_reset_query_pool(cmd, self.raw, first, self.scopes_per_frame * 2) };
+    }
+
+    /// Opens a named scope (and a debug label of the same name). Returns its index for [`Self::end_scope`].
+    pub fn begin_scope(&mut self, ctx: &Context, cmd: vk::CommandBuffer, name: &str) -> Result<u32> {
+        let names = &mut self.names[self.current as usize];
+        let index = names.len() as u32;
+        if index >= self.scopes_per_frame {
+            return Err(Error::Invalid(format!("more than {} timed scopes in one frame", self.scopes_per_frame)));
+        }
+        names.push(name.to_string());
+        ctx.begin_label(cmd, name);
+        let q = self.first_query(self.current) + index * 2;
+        // SAFETY: cmd is recording; the query was reset in begin_frame.
+        unsafe { ctx.device().cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.raw, q) };
+        Ok(index)
+    }
+
+    pub fn end_scope(&mut self, ctx: &Context, cmd: vk::CommandBuffer, index: u32) {
+        let q = self.first_query(self.current) + index * 2 + 1;
+        // SAFETY: cmd is recording; paired with begin_scope.
+        unsafe { ctx.device().cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::BOTTOM_OF_PIPE, self.raw, q) };
+        ctx.end_label(cmd);
+    }
+
+    /// The timings of frame `frame`, whose work must have completed.
+    pub fn read(&self, ctx: &Context, frame: u64) -> Result<Vec<ScopeTiming>> {
+        let slot = (frame % u64::from(self.frames)) as u32;
+        let names = &self.names[slot as usize];
+        if names.is_empty() {
+            return Ok(Vec::new());
+        }
+        let mut stamps = vec![0u64; names.len() * 2];
+        // SAFETY: the queries were written by completed work; WAIT makes an unfinished one an error-free stall.
+        unsafe {
+            ctx.device().get_query_pool_results(
+                self.raw,
+                self.first_query(slot),
+                &mut stamps,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk("vkGetQueryPoolResults")?;
+        Ok(names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| {
+                let ticks = (stamps[2 * i + 1] & self.valid_mask).wrapping_sub(stamps[2 * i] & self.valid_mask)
+                    & self.valid_mask;
+                ScopeTiming { name: name.clone(), ms: ticks as f64 * self.period_ns * 1e-6 }
+            })
+            .collect())
+    }
+
+    /// # Safety
+    /// No pending work may write the pool.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        ctx.device().destroy_query_pool(self.raw, None);
+    }
+}
+
+impl Context {
+    /// A ring of `frames` slots with room for `scopes_per_frame` timed scopes each; `None` where the queue has
+    /// no timestamps.
+    pub fn create_timestamp_ring(
+        &self,
+        frames: u32,
+        scopes_per_frame: u32,
+        name: &str,
+    ) -> Result<Option<TimestampRing>> {
+        let bits = self.device.timestamp_valid_bits;
+        if bits == 0 || self.info.timestamp_period_ns <= 0.0 {
+            return Ok(None);
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(frames * scopes_per_frame * 2);
+        // SAFETY: a plain create on a live device.
+        let raw = unsafe { self.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        self.set_name(raw, name);
+        let valid_mask = if bits >= 64 { u64::MAX } else { (1u64 << bits) - 1 };
+        Ok(Some(TimestampRing {
+            raw,
+            frames,
+            scopes_per_frame,
+            period_ns: f64::from(self.info.timestamp_period_ns),
+            valid_mask,
+            names: vec![Vec::new(); frames as usize],
+            current: 0,
+        }))
+    }
+}
