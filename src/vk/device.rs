@@ -169,7 +169,11 @@ impl Device {
             .queue_family_index(queue_family as u32)
             .queue_priorities(&priorities)];
         let ext_names: Vec<_> = REQUIRED_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
-        let mut f13 = vk::PhysicalDeviceVulkan13Features::default().synchronization2(true).dynamic_rendering(true);
+        // maintenance4 is mandatory in 1.3; SPIR-V 1.6 compute shaders declare their work-group size with LocalSizeId.
+        let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
+            .synchronization2(true)
+            .dynamic_rendering(true)
+            .maintenance4(true);
         let pipeline_statistics = features.pipeline_statistics_query == vk::TRUE;
         let base = vk::PhysicalDeviceFeatures::default().pipeline_statistics_query(pipeline_statistics);
         let create = vk::DeviceCreateInfo::default()

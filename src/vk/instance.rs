@@ -105,12 +105,16 @@ impl Instance {
         let mut extensions: Vec<*const std::ffi::c_char> = extra_extensions.to_vec();
         if validation {
             extensions.push(ash::ext::debug_utils::NAME.as_ptr());
+            extensions.push(ash::ext::validation_features::NAME.as_ptr());
         }
+        // Synchronisation validation catches missing or wrong barriers, which the core validation does not.
+        let sync_features = [vk::ValidationFeatureEnableEXT::SYNCHRONIZATION_VALIDATION];
+        let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&sync_features);
         let mut early_messenger = messenger_info(&log);
         let mut info = vk::InstanceCreateInfo::default().application_info(&app).enabled_extension_names(&extensions);
         if validation {
             // Chained so that messages from vkCreateInstance/vkDestroyInstance are caught too.
-            info = info.enabled_layer_names(&layer_names).push_next(&mut early_messenger);
+            info = info.enabled_layer_names(&layer_names).push_next(&mut early_messenger).push_next(&mut features);
         }
         // SAFETY: every pointer in `info` outlives the call.
         let raw = unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {

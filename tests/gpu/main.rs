@@ -1,0 +1,134 @@
+//! All GPU tests, in one binary, on lavapipe with validation (see `harness`).
+
+mod golden;
+mod harness;
+
+use ash::vk as raw;
+use diffract::render::preview::{render_offscreen, PreviewScene};
+use diffract::shaders;
+use diffract::vk::{
+    Binding, BufferDesc, ComputePipelineDesc, DescriptorWrite, ImageDesc, ImageState, MemoryState, SpecConstants,
+};
+use harness::gpu_test;
+
+#[test]
+fn lavapipe_is_listed() {
+    let (devices, _) = diffract::vk::list_devices(false).expect("list devices");
+    assert!(devices.iter().any(|d| d.name.contains(harness::TEST_DEVICE)), "{devices:?}");
+}
+
+#[test]
+fn validation_canary_counts_a_deliberate_error() {
+    // The harness is only worth something if a real validation error is seen: provoke one on purpose.
+    let ctx = harness::open();
+    let log = ctx.validation();
+    assert_eq!(log.count(), 0);
+    ctx.provoke_validation_error();
+    assert!(log.count() >= 1, "the validation layer's message was not counted");
+    assert!(log.messages().iter().any(|m| m.contains("size")), "{:?}", log.messages());
+}
+
+#[test]
+fn leak_check_sees_a_live_allocation() {
+    gpu_test(|ctx| {
+        let b = ctx.create_buffer(BufferDesc::readback(256), "deliberately live").unwrap();
+        assert_eq!(ctx.live_allocations(), vec!["deliberately live".to_string()]);
+        // SAFETY: unused by the GPU.
+        unsafe { b.destroy(ctx) };
+        assert!(ctx.live_allocations().is_empty());
+    });
+}
+
+#[test]
+fn compute_pipeline_with_push_descriptors_and_specialization() {
+    gpu_test(|ctx| {
+        let n = 1000u32;
+        let input: Vec<f32> = (0..n).map(|i| i as f32 * 0.5).collect();
+        let src =
+            ctx.create_buffer_init(raw::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(&input), "in").unwrap();
+        let dst = ctx
+            .create_buffer(
+                BufferDesc::gpu_only(
+                    4 * n as u64,
+                    raw::BufferUsageFlags::STORAGE_BUFFER | raw::BufferUsageFlags::TRANSFER_SRC,
+                ),
+                "out",
+            )
+            .unwrap();
+        let bindings = [
+            Binding { binding: 0, kind: raw::DescriptorType::STORAGE_BUFFER, stages: raw::ShaderStageFlags::COMPUTE },
+            Binding { binding: 1, kind: raw::DescriptorType::STORAGE_BUFFER, stages: raw::ShaderStageFlags::COMPUTE },
+        ];
+        let pipeline = ctx
+            .create_compute_pipeline(&ComputePipelineDesc {
+                name: "selftest",
+                shader: shaders::SELFTEST_COMP,
+                specialization: SpecConstants::default().f32(0, 3.0),
+                bindings: &bindings,
+                push_constant_size: 8,
+            })
+            .unwrap();
+        let mut ring =
+            ctx.create_timestamp_ring(2, 1, "selftest timestamps").unwrap().expect("lavapipe has timestamps");
+        let push: Vec<u8> = [1.5f32.to_ne_bytes(), n.to_ne_bytes()].concat();
+        ctx.one_shot("selftest", |cmd| {
+            ring.begin_frame(ctx, cmd, 7);
+            let scope = ring.begin_scope(ctx, cmd, "square").unwrap();
+            ctx.bind(
+                cmd,
+                &pipeline,
+                &[DescriptorWrite::StorageBuffer(0, &src), DescriptorWrite::StorageBuffer(1, &dst)],
+                &push,
+            );
+            // SAFETY: recording, pipeline bound.
+            unsafe { ctx.device().cmd_dispatch(cmd, n.div_ceil(64), 1, 1) };
+            ring.end_scope(ctx, cmd, scope);
+            ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::TRANSFER_READ);
+        })
+        .unwrap();
+        let timings = ring.read(ctx, 7).unwrap();
+        assert_eq!(timings.len(), 1);
+        assert_eq!(timings[0].name, "square");
+        assert!(timings[0].ms >= 0.0 && timings[0].ms < 10_000.0, "{timings:?}");
+        let out: Vec<f32> = bytemuck::cast_slice(&ctx.read_buffer(&dst).unwrap()).to_vec();
+        for (i, (&x, &y)) in input.iter().zip(&out).enumerate() {
+            assert_eq!(y, 3.0 * x * x + 1.5, "element {i}");
+        }
+        // SAFETY: all work completed.
+        unsafe {
+            ring.destroy(ctx);
+            pipeline.destroy(ctx);
+            src.destroy(ctx);
+            dst.destroy(ctx);
+        }
+    });
+}
+
+#[test]
+fn rg32f_array_texture_round_trips() {
+    gpu_test(|ctx| {
+        let (w, h, layers) = (17u32, 9u32, 3u32);
+        let texels: Vec<f32> = (0..w * h * layers * 2).map(|i| (i as f32).sin() * 1e-3).collect();
+        let image = ctx
+            .create_image(ImageDesc::texture_array(w, h, layers, raw::Format::R32G32_SFLOAT), "taylor terms")
+            .unwrap();
+        ctx.upload_image(&image, bytemuck::cast_slice(&texels), ImageState::SHADER_READ).unwrap();
+        let back = ctx.read_image(&image, ImageState::SHADER_READ).unwrap();
+        assert_eq!(bytemuck::cast_slice::<u8, f32>(&back), &texels[..], "bit-exact round trip");
+        // SAFETY: all work completed.
+        unsafe { image.destroy(ctx) };
+    });
+}
+
+#[test]
+fn preview_scene_matches_golden_image() {
+    let frame = gpu_test(|ctx| render_offscreen(ctx, &PreviewScene::default_scene(), 128, 128).unwrap());
+    assert!(frame.gpu_ms.is_some(), "lavapipe has timestamps");
+    golden::check("preview_128", frame.width, frame.height, &frame.rgba8);
+}
+
+#[test]
+fn odd_sized_frames_render() {
+    let frame = gpu_test(|ctx| render_offscreen(ctx, &PreviewScene::default_scene(), 33, 7).unwrap());
+    assert_eq!(frame.rgba8.len(), 33 * 7 * 4);
+}
