@@ -12,6 +12,7 @@
 //! - [`render`]: frames, speaking in the project's terms: offscreen targets, passes, readback.
 //! - [`camera`], [`mesh`]: scene geometry on the CPU.
 //! - [`shaders`]: the SPIR-V that `build.rs` compiled from `glsl/`.
+//! - [`physics`]: height fields, the Taylor-term precomputation and the exact CPU reference of the BRDF (no GPU).
 //! - [`output`]: writing frames to image files.
 //! - [`cli`]: the `diffract` command line (a thin binary calls [`cli::main`]); `anyhow` lives only there.
 //!
@@ -22,6 +23,7 @@ pub mod cli;
 pub mod error;
 pub mod mesh;
 pub mod output;
+pub mod physics;
 pub mod render;
 pub mod shaders;
 pub mod vk;

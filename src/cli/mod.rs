@@ -1,6 +1,9 @@
 //! The `diffract` command line. `anyhow` is used here only; every failure ends as one line on stderr and a
 //! non-zero exit code.
 
+mod brdf;
+mod parse;
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -15,7 +18,11 @@ Examples:
   diffract devices                                   list Vulkan devices
   diffract render --out frame.png                    render the default scene (512x512)
   diffract render --out small.png --width 128 --height 128 --validation
-  diffract render --device llvmpipe --out cpu.png    force lavapipe (the CPU driver)";
+  diffract render --device llvmpipe --out cpu.png    force lavapipe (the CPU driver)
+  diffract brdf --heightfield grating.gsf --light-theta 0 --view-theta 0:60:0.5 --lambda 550
+  diffract brdf --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \
+                --light-theta 30 --light-phi 180 --view 20,0 --view 25,0 --lambda 380:780:5 --method taylor
+  diffract terms --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10";
 
 #[derive(Parser, Debug)]
 #[command(name = "diffract", version, about = "Render diffraction colours of measured nanostructures with Vulkan", after_help = EXAMPLES)]
@@ -52,7 +59,22 @@ pub enum Command {
     /// Render the default scene headless to a PNG
     #[command(after_help = "Example:\n  diffract render --out frame.png --width 256 --height 256")]
     Render(RenderArgs),
+    /// Evaluate the diffraction BRDF on the CPU (exact reference or Taylor sum) and print CSV
+    #[command(after_help = BRDF_HELP)]
+    Brdf(brdf::BrdfArgs),
+    /// Report a height field's units, the Taylor order a scene needs and what f32 can reach
+    Terms(brdf::TermsArgs),
 }
+
+const BRDF_HELP: &str = "\
+Conventions: patch x along image columns, y along rows, z the normal. Directions point from the surface to
+the light (θ_i, φ_i) and to the viewer (θ_r, φ_r). (u,v,w) = −ω_i − ω_r. power = |P(u/λ, v/λ)|², 1 for a flat
+mirror at specular; reflectance = C(ω_i, ω_r)·power (model.md §1.5).
+
+Examples:
+  diffract brdf --heightfield grating.gsf --light-theta 0 --view-theta 0:60:0.5 --lambda 550
+  diffract brdf --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \\
+                --light-theta 30 --light-phi 180 --view 20,0 --lambda 380:780:5 --method taylor";
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -83,6 +105,8 @@ fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
     match &cli.command {
         Command::Devices => devices(&cli.gpu),
         Command::Render(args) => render_cmd(&cli.gpu, args),
+        Command::Brdf(args) => brdf::brdf(args).map(|()| ExitCode::SUCCESS),
+        Command::Terms(args) => brdf::terms(args).map(|()| ExitCode::SUCCESS),
     }
 }
 

@@ -27,6 +27,12 @@ pub enum DeviceSelector {
 
 impl DeviceSelector {
     /// Parses `--device` text: a number is an index, anything else a name substring.
+    ///
+    /// ```
+    /// use diffract::vk::DeviceSelector;
+    /// assert_eq!(DeviceSelector::parse("1"), DeviceSelector::Index(1));
+    /// assert_eq!(DeviceSelector::parse("llvmpipe"), DeviceSelector::Name("llvmpipe".into()));
+    /// ```
     pub fn parse(text: &str) -> Self {
         match text.trim().parse::<usize>() {
             Ok(i) => DeviceSelector::Index(i),

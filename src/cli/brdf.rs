@@ -1,0 +1,221 @@
+//! `diffract brdf` (the CPU reference as CSV) and `diffract terms` (what the precomputation would do).
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::{bail, Context as _};
+use clap::{Args, ValueEnum};
+
+use super::parse;
+use crate::physics::taylor::DEFAULT_TOLERANCE;
+use crate::physics::window::DEFAULT_COHERENCE_UM;
+use crate::physics::{HeightField, Method, PngScale, Query, Reference, Window};
+
+/// A height field and its physical units, shared by every command that reads one.
+#[derive(Args, Debug, Clone)]
+pub struct HeightFieldArgs {
+    /// Height field: Gwyddion Simple Field (.gsf, units from the file) or greyscale PNG
+    #[arg(long, value_name = "FILE")]
+    pub heightfield: PathBuf,
+    /// PNG only: pixel size in µm
+    #[arg(long, value_name = "P")]
+    pub pixel_size_um: Option<f64>,
+    /// PNG only: height in µm of the brightest grey value (255 or 65535); black is 0
+    #[arg(long, value_name = "H")]
+    pub height_um: Option<f64>,
+    /// Repeat the patch periodically NX times along x and NY along y
+    #[arg(long, value_name = "NX[,NY]", value_parser = parse::tile)]
+    pub tile: Option<(usize, usize)>,
+}
+
+impl HeightFieldArgs {
+    pub fn load(&self) -> anyhow::Result<HeightField> {
+        let png = match (self.pixel_size_um, self.height_um) {
+            (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+            (None, None) => None,
+            _ => bail!("--pixel-size-um and --height-um go together"),
+        };
+        let hf = HeightField::load(&self.heightfield, png)?;
+        match self.tile {
+            Some((tx, ty)) => Ok(hf.tiled(tx, ty)?),
+            None => Ok(hf),
+        }
+    }
+}
+
+#[derive(Copy, Clone, Debug, ValueEnum)]
+pub enum MethodArg {
+    /// DFT of exp(i k w h) itself, f64, no Taylor series
+    Exact,
+    /// Sum of the precomputed Taylor terms (as the GPU does), f64
+    Taylor,
+    /// The same sum in f32 arithmetic, emulating the GPU
+    TaylorF32,
+}
+
+#[derive(Args, Debug)]
+pub struct BrdfArgs {
+    #[command(flatten)]
+    pub heightfield: HeightFieldArgs,
+    /// Light inclination θ_i in degrees (0 = normal incidence)
+    #[arg(long, value_name = "DEG")]
+    pub light_theta: f64,
+    /// Light azimuth φ_i in degrees
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    pub light_phi: f64,
+    /// A view direction θ_r,φ_r in degrees (repeatable)
+    #[arg(long, value_name = "THETA,PHI", value_parser = parse::pair, conflicts_with = "view_theta")]
+    pub view: Vec<(f64, f64)>,
+    /// Sweep the view inclination: FROM:TO:STEP in degrees (or a list)
+    #[arg(long, value_name = "FROM:TO:STEP")]
+    pub view_theta: Option<String>,
+    /// View azimuth for --view-theta, degrees
+    #[arg(long, value_name = "DEG", default_value_t = 0.0, requires = "view_theta")]
+    pub view_phi: f64,
+    /// Wavelengths in nm: NM, NM,NM,... or FROM:TO:STEP
+    #[arg(long, value_name = "NM")]
+    pub lambda: String,
+    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
+    pub method: MethodArg,
+    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
+    pub tolerance: f64,
+    /// Coherence length in µm (the Gaussian window has σ_s = L/4)
+    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
+    pub coherence_um: f64,
+    /// Window radius in bins either side of the nearest bin; default: the full window (weights ≥ 1e-17)
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+}
+
+pub fn brdf(args: &BrdfArgs) -> anyhow::Result<()> {
+    let hf = args.heightfield.load()?;
+    let lambdas = parse::values(&args.lambda).map_err(|e| anyhow::anyhow!("--lambda {e}"))?;
+    let views: Vec<(f64, f64)> = match &args.view_theta {
+        Some(t) => parse::values(t)
+            .map_err(|e| anyhow::anyhow!("--view-theta {e}"))?
+            .into_iter()
+            .map(|t| (t, args.view_phi))
+            .collect(),
+        None if !args.view.is_empty() => args.view.clone(),
+        None => bail!("give the views with --view THETA,PHI (repeatable) or --view-theta FROM:TO:STEP"),
+    };
+    let rows = lambdas.len().saturating_mul(views.len());
+    if rows > parse::MAX_VALUES {
+        bail!("{} wavelengths × {} views is {rows} rows (at most {})", lambdas.len(), views.len(), parse::MAX_VALUES);
+    }
+    let queries: Vec<Query> = lambdas
+        .iter()
+        .flat_map(|&lambda_nm| {
+            views.iter().map(move |&(theta_r, phi_r)| Query {
+                lambda_nm,
+                theta_i: args.light_theta,
+                phi_i: args.light_phi,
+                theta_r,
+                phi_r,
+            })
+        })
+        .collect();
+    for q in &queries {
+        q.check()?;
+    }
+    let (lx, ly) = hf.size_um();
+    let window = Window::new(lx, ly, args.coherence_um, args.window_radius)?;
+    let (method, plan) = match args.method {
+        MethodArg::Exact => (Method::Exact, None),
+        MethodArg::Taylor | MethodArg::TaylorF32 => {
+            let plan = Reference::plan_for(&hf, &window, &queries, args.tolerance, args.terms)?;
+            eprintln!("note: {}", plan.describe());
+            let method = if matches!(args.method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
+            (method, Some(plan))
+        }
+    };
+    let reference = Reference::new(&hf, window, method, plan)?;
+    let samples = reference.evaluate(&queries)?;
+    let out_of_band = samples.iter().filter(|s| !s.in_band).count();
+    if out_of_band > 0 {
+        eprintln!(
+            "note: {out_of_band} of {} rows ask for frequencies beyond what {:.4}×{:.4} µm pixels sample \
+             (|u/λ| ≤ {:.3}/µm): their power is 0",
+            samples.len(),
+            hf.dx_um,
+            hf.dy_um,
+            0.5 / hf.dx_um.max(hf.dy_um)
+        );
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    writeln!(out, "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance")?;
+    for s in &samples {
+        let q = &s.query;
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{:e},{:e}",
+            q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance
+        )?;
+    }
+    out.flush().context("writing the CSV")?;
+    Ok(())
+}
+
+#[derive(Args, Debug)]
+pub struct TermsArgs {
+    #[command(flatten)]
+    pub heightfield: HeightFieldArgs,
+    /// Shortest wavelength in use, nm
+    #[arg(long, default_value_t = 380.0)]
+    pub lambda_min: f64,
+    /// Largest |w| in use (2 covers every pair of directions)
+    #[arg(long, default_value_t = 2.0)]
+    pub w_max: f64,
+    /// Force the Taylor order N
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
+    pub tolerance: f64,
+    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
+    pub coherence_um: f64,
+    /// Also run the precomputation and report its time
+    #[arg(long)]
+    pub compute: bool,
+}
+
+pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
+    let hf = args.heightfield.load()?;
+    if !(args.w_max > 0.0 && args.w_max <= 2.0) {
+        bail!("--w-max must lie in (0, 2]");
+    }
+    if !(args.lambda_min.is_finite() && (100.0..=10_000.0).contains(&args.lambda_min)) {
+        bail!("--lambda-min must lie between 100 and 10000 nm");
+    }
+    let (lx, ly) = hf.size_um();
+    let window = Window::new(lx, ly, args.coherence_um, None)?;
+    let gain = crate::physics::reference::window_gain(&window, &hf);
+    let plan = crate::physics::TaylorPlan::new(
+        args.lambda_min * 1e-3,
+        args.w_max,
+        &crate::physics::HeightStats::of(&hf),
+        gain,
+        args.tolerance,
+        args.terms,
+    )?;
+    let (lo, hi) = hf.range();
+    println!("patch: {}×{} pixels of {:.4}×{:.4} µm = {:.3}×{:.3} µm", hf.nx, hf.ny, hf.dx_um, hf.dy_um, lx, ly);
+    println!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
+    println!(
+        "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
+        window.sigma_x, window.sigma_y, args.coherence_um
+    );
+    println!("{}", plan.describe());
+    let mib = (plan.order + 1) as f64 * (hf.nx * hf.ny) as f64 * 8.0 / (1 << 20) as f64;
+    println!("GPU texture: {} RG32F layers, {mib:.1} MiB", plan.order + 1);
+    if args.compute {
+        let start = std::time::Instant::now();
+        crate::physics::TaylorTerms::compute(&hf, plan.order, None)?;
+        println!("precomputed {} terms in {:.1} ms", plan.order + 1, start.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(())
+}

@@ -1,0 +1,65 @@
+//! Parsers for the command line's lists and ranges.
+
+/// Most values a list or range may expand to (a guard against a typo such as a step of 1e-9).
+pub const MAX_VALUES: usize = 1_000_000;
+
+/// `X`, `X,Y,...` or `FROM:TO:STEP` (inclusive of TO, within a millionth of a step).
+pub fn values(text: &str) -> Result<Vec<f64>, String> {
+    let num = |s: &str| -> Result<f64, String> {
+        s.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{s:?} is not a number"))
+    };
+    if let Some((from, rest)) = text.split_once(':') {
+        let (to, step) = rest.split_once(':').ok_or_else(|| format!("{text:?}: a range is FROM:TO:STEP"))?;
+        let (from, to, step) = (num(from)?, num(to)?, num(step)?);
+        if step <= 0.0 {
+            return Err(format!("{text:?}: the step must be positive"));
+        }
+        if to < from {
+            return Err(format!("{text:?}: TO is below FROM"));
+        }
+        let count = ((to - from) / step + 1e-6).floor() as usize + 1;
+        if count > MAX_VALUES {
+            return Err(format!("{text:?} expands to {count} values (at most {MAX_VALUES})"));
+        }
+        return Ok((0..count).map(|i| from + i as f64 * step).collect());
+    }
+    text.split(',').map(num).collect()
+}
+
+/// `THETA,PHI`.
+pub fn pair(text: &str) -> Result<(f64, f64), String> {
+    match values(text)?.as_slice() {
+        [a, b] if !text.contains(':') => Ok((*a, *b)),
+        _ => Err(format!("{text:?}: expected THETA,PHI in degrees")),
+    }
+}
+
+/// `N` or `NX,NY` (positive integers).
+pub fn tile(text: &str) -> Result<(usize, usize), String> {
+    let parts: Vec<_> = text.split(',').map(|s| s.trim().parse::<usize>()).collect();
+    match parts.as_slice() {
+        [Ok(n)] if *n > 0 => Ok((*n, *n)),
+        [Ok(x), Ok(y)] if *x > 0 && *y > 0 => Ok((*x, *y)),
+        _ => Err(format!("{text:?}: expected NX or NX,NY (positive integers)")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_include_their_end() {
+        assert_eq!(values("380:400:10").unwrap(), vec![380.0, 390.0, 400.0]);
+        assert_eq!(values("0:0.3:0.1").unwrap().len(), 4);
+        assert_eq!(values("500").unwrap(), vec![500.0]);
+        assert_eq!(values("450,550").unwrap(), vec![450.0, 550.0]);
+        assert!(values("1:0:1").is_err() && values("0:1:0").is_err() && values("0:1e9:1e-3").is_err());
+        assert!(values("abc").is_err() && values("nan").is_err());
+        assert_eq!(pair("10,180").unwrap(), (10.0, 180.0));
+        assert!(pair("10").is_err());
+        assert_eq!(tile("3").unwrap(), (3, 3));
+        assert_eq!(tile("2,5").unwrap(), (2, 5));
+        assert!(tile("0").is_err() && tile("a,b").is_err());
+    }
+}

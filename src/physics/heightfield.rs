@@ -1,0 +1,210 @@
+//! Height fields in physical units: loading (greyscale PNG, Gwyddion Simple Field), tiling, and the checks that
+//! keep hostile files from reaching an allocation or a NaN.
+//!
+//! Frame: pixel (column c, row r) sits at x = c·dx, y = r·dy in the patch frame (x along image columns, left to
+//! right; y along rows, top to bottom; z the surface normal). Heights are in µm.
+
+use std::path::Path;
+
+use super::gsf;
+use crate::error::{Error, Result};
+
+/// The most pixels a height field may have after tiling (a 8192² patch; its Taylor terms alone would need
+/// 8192²·16 B = 1 GiB per term in f64, so anything larger is certainly a mistake or a hostile file).
+pub const MAX_PIXELS: u64 = 8192 * 8192;
+/// The longest edge a height field may have.
+pub const MAX_EDGE: u32 = 65536;
+
+/// A measured or generated surface: heights in µm on a regular grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightField {
+    /// Columns (x).
+    pub nx: usize,
+    /// Rows (y).
+    pub ny: usize,
+    /// Pixel size along x and y in µm.
+    pub dx_um: f64,
+    pub dy_um: f64,
+    /// Row-major heights in µm: `heights_um[r * nx + c]`.
+    pub heights_um: Vec<f64>,
+}
+
+/// How a PNG's grey values become heights.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PngScale {
+    pub pixel_size_um: f64,
+    /// The height of the brightest possible grey value (255 or 65535); black is 0.
+    pub height_um: f64,
+}
+
+impl HeightField {
+    /// Builds a height field, checking sizes and values.
+    pub fn new(nx: usize, ny: usize, dx_um: f64, dy_um: f64, heights_um: Vec<f64>) -> Result<Self> {
+        check_dims(nx as u64, ny as u64)?;
+        if heights_um.len() != nx * ny {
+            return Err(Error::Invalid(format!("{} heights given for {nx}×{ny} pixels", heights_um.len())));
+        }
+        for (name, d) in [("x", dx_um), ("y", dy_um)] {
+            if !(d.is_finite() && d > 0.0) {
+                return Err(Error::Invalid(format!("the pixel size along {name} must be positive, got {d} µm")));
+            }
+        }
+        if let Some(i) = heights_um.iter().position(|h| !h.is_finite()) {
+            return Err(Error::Invalid(format!("height at column {}, row {} is {}", i % nx, i / nx, heights_um[i])));
+        }
+        Ok(Self { nx, ny, dx_um, dy_um, heights_um })
+    }
+
+    /// Loads a `.gsf` (units from the file) or a greyscale `.png` (units from `png`).
+    pub fn load(path: &Path, png: Option<PngScale>) -> Result<Self> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("gsf") => gsf::read(path),
+            Some("png") => {
+                let scale = png.ok_or_else(|| {
+                    Error::input(path, "a PNG height field needs --pixel-size-um P and --height-um H (physical units)")
+                })?;
+                read_png(path, scale)
+            }
+            _ => Err(Error::input(path, "unknown height-field format (expected .gsf or .png)")),
+        }
+    }
+
+    /// Patch edge lengths in µm.
+    pub fn size_um(&self) -> (f64, f64) {
+        (self.nx as f64 * self.dx_um, self.ny as f64 * self.dy_um)
+    }
+
+    pub fn mean(&self) -> f64 {
+        self.heights_um.iter().sum::<f64>() / self.heights_um.len() as f64
+    }
+
+    /// (min, max) height in µm.
+    pub fn range(&self) -> (f64, f64) {
+        self.heights_um.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| (lo.min(h), hi.max(h)))
+    }
+
+    /// The heights minus their mean: a constant offset changes only the phase of P, and centring halves the
+    /// argument of the Taylor series (model.md §2.1 step 1).
+    pub fn centred(&self) -> Vec<f64> {
+        let mean = self.mean();
+        self.heights_um.iter().map(|h| h - mean).collect()
+    }
+
+    /// The largest |h − mean| in µm.
+    pub fn max_deviation(&self) -> f64 {
+        let mean = self.mean();
+        self.heights_um.iter().fold(0.0f64, |m, h| m.max((h - mean).abs()))
+    }
+
+    /// Repeats the patch `tx` times along x and `ty` times along y (periodic tiling).
+    pub fn tiled(&self, tx: usize, ty: usize) -> Result<Self> {
+        if tx == 0 || ty == 0 {
+            return Err(Error::Invalid("--tile counts must be at least 1".into()));
+        }
+        let (nx, ny) = (self.nx as u64 * tx as u64, self.ny as u64 * ty as u64);
+        check_dims(nx, ny).map_err(|e| Error::Invalid(format!("tiling {tx}×{ty}: {e}")))?;
+        let (nx, ny) = (nx as usize, ny as usize);
+        let mut heights = Vec::with_capacity(nx * ny);
+        for r in 0..ny {
+            let row = &self.heights_um[(r % self.ny) * self.nx..][..self.nx];
+            for _ in 0..tx {
+                heights.extend_from_slice(row);
+            }
+        }
+        Ok(Self { nx, ny, dx_um: self.dx_um, dy_um: self.dy_um, heights_um: heights })
+    }
+}
+
+/// Refuses empty, absurd or memory-exhausting sizes before anything is allocated.
+pub fn check_dims(nx: u64, ny: u64) -> Result<()> {
+    if nx == 0 || ny == 0 {
+        return Err(Error::Invalid(format!("a height field of {nx}×{ny} pixels is empty")));
+    }
+    if nx > u64::from(MAX_EDGE) || ny > u64::from(MAX_EDGE) || nx.saturating_mul(ny) > MAX_PIXELS {
+        return Err(Error::Invalid(format!(
+            "{nx}×{ny} pixels is more than diffract handles (at most {MAX_PIXELS} pixels)"
+        )));
+    }
+    Ok(())
+}
+
+fn read_png(path: &Path, scale: PngScale) -> Result<HeightField> {
+    for (flag, v) in [("--pixel-size-um", scale.pixel_size_um), ("--height-um", scale.height_um)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::input(path, format!("{flag} must be a positive number of µm, got {v}")));
+        }
+    }
+    let reader = image::ImageReader::open(path)
+        .map_err(|e| Error::input(path, format!("cannot open: {e}")))?
+        .with_guessed_format()
+        .map_err(|e| Error::input(path, format!("cannot read: {e}")))?;
+    let (w, h) = reader.into_dimensions().map_err(|e| Error::input(path, format!("not a readable PNG: {e}")))?;
+    check_dims(u64::from(w), u64::from(h)).map_err(|e| Error::input(path, e.to_string()))?;
+    let mut reader = image::ImageReader::open(path).map_err(|e| Error::input(path, format!("cannot open: {e}")))?;
+    reader.set_format(image::ImageFormat::Png);
+    let img = reader.decode().map_err(|e| Error::input(path, format!("not a readable PNG: {e}")))?;
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let wide = matches!(
+        img.color(),
+        image::ColorType::L16 | image::ColorType::La16 | image::ColorType::Rgb16 | image::ColorType::Rgba16
+    );
+    let g_max = if wide { 65535.0 } else { 255.0 };
+    let rgb: Vec<[u16; 3]> = match &img {
+        image::DynamicImage::ImageLuma8(b) => b.pixels().map(|p| [p[0].into(); 3]).collect(),
+        image::DynamicImage::ImageLumaA8(b) => b.pixels().map(|p| [p[0].into(); 3]).collect(),
+        image::DynamicImage::ImageLuma16(b) => b.pixels().map(|p| [p[0]; 3]).collect(),
+        image::DynamicImage::ImageLumaA16(b) => b.pixels().map(|p| [p[0]; 3]).collect(),
+        image::DynamicImage::ImageRgb8(b) => b.pixels().map(|p| [p[0].into(), p[1].into(), p[2].into()]).collect(),
+        image::DynamicImage::ImageRgba8(b) => b.pixels().map(|p| [p[0].into(), p[1].into(), p[2].into()]).collect(),
+        image::DynamicImage::ImageRgb16(b) => b.pixels().map(|p| [p[0], p[1], p[2]]).collect(),
+        image::DynamicImage::ImageRgba16(b) => b.pixels().map(|p| [p[0], p[1], p[2]]).collect(),
+        other => return Err(Error::input(path, format!("unsupported PNG pixel type {:?}", other.color()))),
+    };
+    if let Some(i) = rgb.iter().position(|p| p[0] != p[1] || p[1] != p[2]) {
+        return Err(Error::input(
+            path,
+            format!(
+                "has real colour (pixel at column {}, row {} is {:?}); a height field must be grey",
+                i % w,
+                i / w,
+                rgb[i]
+            ),
+        ));
+    }
+    let heights = rgb.iter().map(|p| scale.height_um * f64::from(p[0]) / g_max).collect();
+    HeightField::new(w, h, scale.pixel_size_um, scale.pixel_size_um, heights)
+        .map_err(|e| Error::input(path, e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiling_repeats_rows_and_columns() {
+        let hf = HeightField::new(2, 2, 0.1, 0.1, vec![1.0, 2.0, 3.0, 4.0]).unwrap();
+        let t = hf.tiled(2, 3).unwrap();
+        assert_eq!((t.nx, t.ny), (4, 6));
+        assert_eq!(&t.heights_um[..8], &[1.0, 2.0, 1.0, 2.0, 3.0, 4.0, 3.0, 4.0]);
+        assert_eq!(t.heights_um[16..24], [1.0, 2.0, 1.0, 2.0, 3.0, 4.0, 3.0, 4.0]);
+    }
+
+    #[test]
+    fn absurd_sizes_and_bad_values_are_refused() {
+        assert!(check_dims(0, 5).is_err());
+        assert!(check_dims(1 << 20, 1 << 20).is_err());
+        assert!(HeightField::new(1, 1, 0.1, 0.1, vec![f64::NAN]).is_err());
+        assert!(HeightField::new(1, 1, 0.0, 0.1, vec![0.0]).is_err());
+        let hf = HeightField::new(1, 1, 0.1, 0.1, vec![0.0]).unwrap();
+        assert!(hf.tiled(1 << 16, 1 << 16).is_err());
+    }
+
+    #[test]
+    fn centring_and_deviation() {
+        let hf = HeightField::new(4, 1, 0.1, 0.1, vec![0.0, 0.1, 0.2, 0.5]).unwrap();
+        assert!((hf.mean() - 0.2).abs() < 1e-15);
+        assert!((hf.max_deviation() - 0.3).abs() < 1e-15);
+        assert!(hf.centred().iter().sum::<f64>().abs() < 1e-15);
+    }
+}

@@ -1,0 +1,90 @@
+//! Directions and the geometric factors of Stam's BRDF, in the patch frame (model.md §1.1, §1.5, §1.9, §1.10).
+//! `glsl/include/brdf.glsl` implements the same functions under the same names.
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+
+/// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds").
+pub const SKIN_INDEX: f64 = 1.5;
+
+/// A unit vector from the surface towards the light or the viewer: (sin θ cos φ, sin θ sin φ, cos θ).
+pub fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    DVec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+/// Checks an inclination: 0 ≤ θ < 90° (90° lies on the horizon, where the BRDF's 1/cos θ_r diverges).
+pub fn check_theta(what: &str, theta_deg: f64) -> Result<()> {
+    if !(theta_deg.is_finite() && (0.0..90.0).contains(&theta_deg)) {
+        return Err(Error::Invalid(format!("{what} θ = {theta_deg}° is not above the horizon (0 ≤ θ < 90°)")));
+    }
+    Ok(())
+}
+
+/// Stam's (u, v, w) = −ω_i − ω_r.
+pub fn uvw(omega_i: DVec3, omega_r: DVec3) -> DVec3 {
+    -omega_i - omega_r
+}
+
+/// Schlick's Fresnel reflectance relative to normal incidence, R(θ)/R₀, with cos θ = H·ω_r
+/// (model.md §1.9). Unsquared on purpose: Schlick approximates the reflectance itself, which is Stam's F²
+/// (model.md §7.2 item 2).
+pub fn fresnel_ratio(omega_i: DVec3, omega_r: DVec3, n: f64) -> f64 {
+    let h = (omega_i + omega_r).normalize();
+    let cos = h.dot(omega_r).clamp(0.0, 1.0);
+    let r0 = ((n - 1.0) / (n + 1.0)).powi(2);
+    1.0 + (1.0 - r0) / r0 * (1.0 - cos).powi(5)
+}
+
+/// The gain factor C(ω_i, ω_r) that turns |P|² into the relative reflectance ρ_λ (model.md §1.5):
+/// C = (R/R₀)·(1 + ω_i·ω_r)² / (cos θ_r · w²). A flat mirror at normal incidence gets C = 1.
+pub fn gain_factor(omega_i: DVec3, omega_r: DVec3) -> f64 {
+    if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
+        return 0.0;
+    }
+    let w = uvw(omega_i, omega_r).z;
+    let cos_sum = 1.0 + omega_i.dot(omega_r);
+    fresnel_ratio(omega_i, omega_r, SKIN_INDEX) * cos_sum * cos_sum / (omega_r.z * w * w)
+}
+
+/// V-groove shadowing and masking in the patch frame (n = z), after Stam's appendix and Torrance–Sparrow:
+/// min(1, 2(h·n)(ω_r·n)/(ω_r·h), 2(h·n)(ω_i·n)/(ω_r·h)).
+pub fn shadow_mask(omega_i: DVec3, omega_r: DVec3) -> f64 {
+    let h = (omega_i + omega_r).normalize();
+    let eh = omega_r.dot(h).max(1e-12);
+    (2.0 * h.z * omega_r.z / eh).min(2.0 * h.z * omega_i.z / eh).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirror_at_normal_incidence_has_unit_gain() {
+        let z = direction(0.0, 0.0);
+        assert!((gain_factor(z, z) - 1.0).abs() < 1e-15);
+        assert_eq!(uvw(z, z), DVec3::new(0.0, 0.0, -2.0));
+    }
+
+    #[test]
+    fn fresnel_ratio_matches_schlick_over_r0() {
+        let (wi, wr) = (direction(60.0, 0.0), direction(60.0, 180.0));
+        // H = z, cos θ = cos 60° = 0.5.
+        let r0: f64 = 0.04;
+        let schlick = r0 + (1.0 - r0) * 0.5f64.powi(5);
+        assert!((fresnel_ratio(wi, wr, 1.5) - schlick / r0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn grazing_angles_stay_finite() {
+        for theta in [89.0, 89.9, 89.99] {
+            let (wi, wr) = (direction(theta, 0.0), direction(theta, 0.0));
+            let c = gain_factor(wi, wr);
+            assert!(c.is_finite() && c > 0.0, "θ = {theta}: {c}");
+        }
+        assert!(check_theta("view", 90.0).is_err());
+        assert!(check_theta("view", -1.0).is_err());
+        assert!(check_theta("view", 89.99).is_ok());
+    }
+}

@@ -1,0 +1,251 @@
+//! The CPU reference of the diffraction BRDF (model.md §1.2–§1.7), in f64.
+//!
+//! `power` = |P(u/λ, v/λ)|², where P is the coherence-windowed DTFT of p = exp(i·k·w·h) normalised so that a
+//! flat patch gives 1 at specular ([`super::window`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of
+//! [`super::optics::gain_factor`].
+//!
+//! Two methods, which share the lookup and the window:
+//! - [`Method::Exact`] evaluates the DFT coefficients of p itself at the window's bins, by a separable direct
+//!   sum (rows, then columns), with no Taylor series and no FFT — an independent check on the precomputation.
+//! - [`Method::Taylor`] sums the precomputed terms, P = Σ_taps g · Σ_n c_n F_n with c_n = (k w)^n/n! built
+//!   incrementally, exactly as the shaders do (but in f64).
+
+use glam::DVec3;
+use rustfft::num_complex::Complex64;
+
+use super::heightfield::HeightField;
+use super::optics;
+use super::taylor::{HeightStats, TaylorPlan, TaylorTerms};
+use super::window::{Lookup, Window};
+use crate::error::{Error, Result};
+
+/// How P is evaluated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    Exact,
+    Taylor,
+    /// The Taylor sum with f32 terms and f32 arithmetic, in the shaders' order: what a GPU computes.
+    TaylorF32,
+}
+
+/// One evaluation: a wavelength and a pair of directions (angles in degrees).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Query {
+    pub lambda_nm: f64,
+    pub theta_i: f64,
+    pub phi_i: f64,
+    pub theta_r: f64,
+    pub phi_r: f64,
+}
+
+impl Query {
+    pub fn omega_i(&self) -> DVec3 {
+        optics::direction(self.theta_i, self.phi_i)
+    }
+
+    pub fn omega_r(&self) -> DVec3 {
+        optics::direction(self.theta_r, self.phi_r)
+    }
+
+    pub fn uvw(&self) -> DVec3 {
+        optics::uvw(self.omega_i(), self.omega_r())
+    }
+
+    /// Refuses directions below the horizon and wavelengths outside 100 nm–10 µm.
+    pub fn check(&self) -> Result<()> {
+        optics::check_theta("light", self.theta_i)?;
+        optics::check_theta("view", self.theta_r)?;
+        if !(self.phi_i.is_finite() && self.phi_r.is_finite()) {
+            return Err(Error::Invalid("azimuths must be finite".into()));
+        }
+        if !(self.lambda_nm.is_finite() && (100.0..=10_000.0).contains(&self.lambda_nm)) {
+            return Err(Error::Invalid(format!("λ = {} nm is outside 100 nm–10 µm", self.lambda_nm)));
+        }
+        Ok(())
+    }
+}
+
+/// The result of one query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub query: Query,
+    pub uvw: DVec3,
+    pub power: f64,
+    pub reflectance: f64,
+    /// False where (u/λ, v/λ) lies beyond the frequencies the height field samples: P is 0 there.
+    pub in_band: bool,
+}
+
+/// A patch prepared for evaluation.
+pub struct Reference {
+    nx: usize,
+    ny: usize,
+    lx_um: f64,
+    ly_um: f64,
+    heights: Vec<f64>,
+    window: Window,
+    terms: Option<TaylorTerms>,
+    plan: Option<TaylorPlan>,
+    f32_arithmetic: bool,
+}
+
+impl Reference {
+    /// Prepares `hf` for `method`. For Taylor, N comes from `plan` (see [`Reference::plan_for`]).
+    pub fn new(hf: &HeightField, window: Window, method: Method, plan: Option<TaylorPlan>) -> Result<Self> {
+        let (lx_um, ly_um) = hf.size_um();
+        let (terms, plan) = match method {
+            Method::Exact => (None, None),
+            Method::Taylor | Method::TaylorF32 => {
+                let plan = plan.ok_or_else(|| Error::Invalid("the Taylor method needs a plan".into()))?;
+                (Some(TaylorTerms::compute(hf, plan.order, None)?), Some(plan))
+            }
+        };
+        let f32_arithmetic = method == Method::TaylorF32;
+        Ok(Self { nx: hf.nx, ny: hf.ny, lx_um, ly_um, heights: hf.centred(), window, terms, plan, f32_arithmetic })
+    }
+
+    /// The Taylor plan for a set of queries: N from the shortest wavelength and largest |w| among them.
+    pub fn plan_for(
+        hf: &HeightField,
+        window: &Window,
+        queries: &[Query],
+        tolerance: f64,
+        order: Option<usize>,
+    ) -> Result<TaylorPlan> {
+        let lambda_min = queries.iter().map(|q| q.lambda_nm).fold(f64::INFINITY, f64::min);
+        let w_max = queries.iter().map(|q| q.uvw().z.abs()).fold(0.0, f64::max);
+        if queries.is_empty() {
+            return Err(Error::Invalid("no wavelengths or views to evaluate".into()));
+        }
+        TaylorPlan::new(lambda_min * 1e-3, w_max, &HeightStats::of(hf), window_gain(window, hf), tolerance, order)
+    }
+
+    pub fn plan(&self) -> Option<&TaylorPlan> {
+        self.plan.as_ref()
+    }
+
+    /// P for wavenumber·w = `kw` (µm⁻¹) at `at`.
+    pub fn amplitude(&self, at: Lookup, kw: f64) -> Complex64 {
+        let taps = self.window.taps(at, self.nx, self.ny);
+        match &self.terms {
+            Some(terms) if self.f32_arithmetic => taylor_sum_f32(terms, &taps, kw),
+            Some(terms) => taylor_sum(terms, &taps, kw),
+            None => self.exact_sum(&taps, kw),
+        }
+    }
+
+    fn exact_sum(&self, taps: &[(usize, usize, f64)], kw: f64) -> Complex64 {
+        if taps.is_empty() {
+            return Complex64::default();
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        let mut cols: Vec<usize> = taps.iter().map(|t| t.0).collect();
+        cols.sort_unstable();
+        cols.dedup();
+        let (hx, hy) = (nx / 2, ny / 2);
+        let twiddle = |n: usize| -> Vec<Complex64> {
+            (0..n).map(|m| Complex64::from_polar(1.0, 2.0 * std::f64::consts::PI * m as f64 / n as f64)).collect()
+        };
+        let (tx, ty) = (twiddle(nx), twiddle(ny));
+        // Bin j (centred index i = j + ⌊N/2⌋) at sample x has phase e^{+2πi j x / N}: index (j·x) mod N.
+        let bin = |i: usize, half: usize, n: usize| (i as i64 - half as i64).rem_euclid(n as i64) as usize;
+        // rows[r][c] = Σ_x p[r][x] e^{+2πi jx x/Nx} for each needed column bin.
+        let mut rows = vec![Complex64::default(); ny * cols.len()];
+        for r in 0..ny {
+            let line = &self.heights[r * nx..][..nx];
+            let p: Vec<Complex64> = line.iter().map(|&h| Complex64::from_polar(1.0, kw * h)).collect();
+            for (ci, &c) in cols.iter().enumerate() {
+                let j = bin(c, hx, nx);
+                rows[r * cols.len() + ci] = p.iter().enumerate().map(|(x, v)| v * tx[(j * x) % nx]).sum();
+            }
+        }
+        let norm = 1.0 / (nx * ny) as f64;
+        taps.iter()
+            .map(|&(c, r, g)| {
+                let ci = cols.binary_search(&c).expect("column collected above");
+                let j = bin(r, hy, ny);
+                let coef: Complex64 = (0..ny).map(|y| rows[y * cols.len() + ci] * ty[(j * y) % ny]).sum();
+                coef * norm * g
+            })
+            .sum()
+    }
+
+    /// Evaluates every query (in parallel), in order.
+    pub fn evaluate(&self, queries: &[Query]) -> Result<Vec<Sample>> {
+        for q in queries {
+            q.check()?;
+        }
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let chunk = queries.len().div_ceil(threads).max(1);
+        let mut out = Vec::with_capacity(queries.len());
+        std::thread::scope(|s| {
+            let handles: Vec<_> = queries
+                .chunks(chunk)
+                .map(|c| s.spawn(move || c.iter().map(|q| self.sample(q)).collect::<Vec<_>>()))
+                .collect();
+            for h in handles {
+                out.extend(h.join().expect("evaluation thread"));
+            }
+        });
+        Ok(out)
+    }
+
+    fn sample(&self, q: &Query) -> Sample {
+        let uvw = q.uvw();
+        let lambda_um = q.lambda_nm * 1e-3;
+        let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
+        let in_band = at.in_band(self.nx, self.ny);
+        let k = 2.0 * std::f64::consts::PI / lambda_um;
+        let power = if in_band { self.amplitude(at, k * uvw.z).norm_sqr() } else { 0.0 };
+        let reflectance = optics::gain_factor(q.omega_i(), q.omega_r()) * power;
+        Sample { query: *q, uvw, power, reflectance, in_band }
+    }
+}
+
+/// Σ_taps g · Σ_n c_n F_n[tap], with c_0 = 1 and c_n = c_{n−1}·kw/n.
+fn taylor_sum(terms: &TaylorTerms, taps: &[(usize, usize, f64)], kw: f64) -> Complex64 {
+    let nx = terms.nx;
+    let mut p = Complex64::default();
+    let mut c = 1.0;
+    for (n, layer) in terms.layers.iter().enumerate() {
+        if n > 0 {
+            c *= kw / n as f64;
+        }
+        let windowed: Complex64 = taps.iter().map(|&(x, y, g)| layer[y * nx + x] * g).sum();
+        p += windowed * c;
+    }
+    p
+}
+
+/// The same sum as the GPU does it: f32 texels, f32 weights and coefficients, f32 accumulation.
+fn taylor_sum_f32(terms: &TaylorTerms, taps: &[(usize, usize, f64)], kw: f64) -> Complex64 {
+    let nx = terms.nx;
+    let kw = kw as f32;
+    let (mut re, mut im) = (0.0f32, 0.0f32);
+    let mut c = 1.0f32;
+    for (n, layer) in terms.layers.iter().enumerate() {
+        if n > 0 {
+            c *= kw / n as f32;
+        }
+        let (mut wr, mut wi) = (0.0f32, 0.0f32);
+        for &(x, y, g) in taps {
+            let t = layer[y * nx + x];
+            wr += t.re as f32 * g as f32;
+            wi += t.im as f32 * g as f32;
+        }
+        re += c * wr;
+        im += c * wi;
+    }
+    Complex64::new(f64::from(re), f64::from(im))
+}
+
+/// The largest sum of window weights over lookup positions (it scales the truncation and rounding bounds).
+pub fn window_gain(window: &Window, hf: &HeightField) -> f64 {
+    let axis = |sigma: f64, radius: i64, n: usize| {
+        [0.0, 0.25, 0.5]
+            .iter()
+            .map(|&s| Window::axis_taps(s, sigma, radius, n).map(|t| t.1).sum::<f64>())
+            .fold(0.0, f64::max)
+    };
+    axis(window.sigma_x, window.radius_x, hf.nx) * axis(window.sigma_y, window.radius_y, hf.ny)
+}
