@@ -25,6 +25,6 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 if ! command -v cargo >/dev/null 2>&1; then
-  echo "setup: cargo is missing; install Rust (1.80 or newer) with rustup, then run this again" >&2
+  echo "setup: cargo is missing; install Rust (1.85 or newer) with rustup, then run this again" >&2
   exit 1
 fi

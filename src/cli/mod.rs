@@ -60,9 +60,10 @@ pub enum Command {
     #[command(after_help = "Example:\n  diffract render --out frame.png --width 256 --height 256")]
     Render(RenderArgs),
     /// Evaluate the diffraction BRDF on the CPU (exact reference or Taylor sum) and print CSV
-    #[command(after_help = BRDF_HELP)]
+    #[command(after_help = BRDF_HELP, allow_negative_numbers = true)]
     Brdf(brdf::BrdfArgs),
     /// Report a height field's units, the Taylor order a scene needs and what f32 can reach
+    #[command(allow_negative_numbers = true)]
     Terms(brdf::TermsArgs),
 }
 

@@ -97,7 +97,8 @@ mod tests {
     #[test]
     fn a_bin_centre_weights_its_bin_by_one() {
         let w = Window::new(65.0, 65.0, 65.0, Some(1)).unwrap();
-        assert!((w.sigma_x - 0.6366).abs() < 1e-4, "model.md §1.4: σ = 0.6366 bins for L = 65 µm");
+        // σ = L/(2π·L/4) = 2/π bins when the patch is as wide as the coherence length (model.md §1.4: 0.6366).
+        assert!((w.sigma_x - std::f64::consts::FRAC_2_PI).abs() < 1e-15);
         let taps = w.taps(Lookup { sx: 3.0, sy: -2.0 }, 16, 16);
         assert_eq!(taps.len(), 9);
         let centre = taps.iter().find(|t| t.0 == 8 + 3 && t.1 == 8 - 2).unwrap();

@@ -1,0 +1,223 @@
+//! `diffract brdf` and `diffract terms` as a user runs them: PNG and GSF input give the Bessel orders of a
+//! sinusoidal grating, and hostile files end in one line and a non-zero exit.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use diffract::physics::{gsf, HeightField};
+
+fn diffract(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_diffract")).args(args).output().expect("run diffract")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_brdf");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn bessel_j(m: i32, x: f64) -> f64 {
+    const STEPS: usize = 512;
+    (0..STEPS)
+        .map(|i| {
+            (m as f64 * i as f64 / STEPS as f64 * std::f64::consts::TAU
+                - x * (i as f64 / STEPS as f64 * std::f64::consts::TAU).sin())
+            .cos()
+        })
+        .sum::<f64>()
+        / STEPS as f64
+}
+
+/// Parses the CSV into rows of (header → value).
+fn csv(o: &Output) -> Vec<std::collections::HashMap<String, f64>> {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    assert_eq!(header.join(","), "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance");
+    lines.map(|l| header.iter().cloned().zip(l.split(',').map(|v| v.parse::<f64>().unwrap())).collect()).collect()
+}
+
+const A_UM: f64 = 0.1;
+const PERIOD_PX: usize = 32;
+const DX_UM: f64 = 0.05;
+
+/// The grating as GSF and as a 16-bit PNG (grey g ↦ h = H·g/65535 with H = 2a, so h = a·(1 + cos)).
+fn grating_files() -> (PathBuf, PathBuf) {
+    let n = PERIOD_PX * 20;
+    let phase = |x: usize| (std::f64::consts::TAU * x as f64 / PERIOD_PX as f64).cos();
+    let gsf_path = scratch("sine.gsf");
+    let hf = HeightField::new(n, 2, DX_UM, DX_UM, (0..2 * n).map(|i| A_UM * phase(i % n)).collect()).unwrap();
+    gsf::write(&gsf_path, &hf, "sinusoidal grating").unwrap();
+    let png_path = scratch("sine.png");
+    let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(n as u32, 2, |x, _| {
+        image::Luma([(32767.5 * (1.0 + phase(x as usize))).round() as u16])
+    });
+    img.save(&png_path).unwrap();
+    (gsf_path, png_path)
+}
+
+#[test]
+fn both_inputs_and_both_methods_give_bessel_orders() {
+    let (gsf_path, png_path) = grating_files();
+    let d_um = PERIOD_PX as f64 * DX_UM;
+    let lambda = 550.0;
+    let views: Vec<String> =
+        (0..=2).map(|m| format!("{},180", (m as f64 * lambda * 1e-3 / d_um).asin().to_degrees())).collect();
+    for (file, extra) in [(&gsf_path, vec![]), (&png_path, vec!["--pixel-size-um", "0.05", "--height-um", "0.2"])] {
+        for method in ["exact", "taylor"] {
+            let mut args =
+                vec!["brdf", "--heightfield", file.to_str().unwrap(), "--light-theta", "0", "--lambda", "550"];
+            args.extend(extra.iter().copied());
+            args.extend(["--method", method]);
+            for v in &views {
+                args.extend(["--view", v.as_str()]);
+            }
+            let rows = csv(&diffract(&args));
+            assert_eq!(rows.len(), 3);
+            for (m, row) in rows.iter().enumerate() {
+                let k = std::f64::consts::TAU / (lambda * 1e-3);
+                let expected = bessel_j(m as i32, k * row["w"] * A_UM).powi(2);
+                let rel = (row["power"] - expected).abs() / expected;
+                assert!(rel < 5e-3, "{} {method} m={m}: {} vs {expected}", file.display(), row["power"]);
+            }
+        }
+    }
+}
+
+#[test]
+fn flat_png_is_a_mirror() {
+    let path = scratch("flat.png");
+    image::GrayImage::from_pixel(16, 16, image::Luma([128])).save(&path).unwrap();
+    let o = diffract(&[
+        "brdf",
+        "--heightfield",
+        path.to_str().unwrap(),
+        "--pixel-size-um",
+        "0.1",
+        "--height-um",
+        "0.3",
+        "--light-theta",
+        "0",
+        "--view",
+        "0,0",
+        "--view",
+        "10,0",
+        "--lambda",
+        "400:700:100",
+    ]);
+    let rows = csv(&o);
+    assert_eq!(rows.len(), 8, "4 wavelengths × 2 views, wavelength-major");
+    for pair in rows.chunks(2) {
+        assert_eq!(pair[0]["power"], 1.0);
+        assert!((pair[0]["reflectance"] - 1.0).abs() < 1e-12);
+        assert!(pair[1]["power"] < 1e-12);
+    }
+}
+
+fn assert_one_line_error(o: &Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "expected a failure: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(err.contains(needle), "{needle:?} not in {err:?}");
+}
+
+fn brdf_on(file: &str, extra: &[&str]) -> Output {
+    let mut args = vec!["brdf", "--heightfield", file, "--light-theta", "0", "--view", "0,0", "--lambda", "500"];
+    args.extend_from_slice(extra);
+    diffract(&args)
+}
+
+#[test]
+fn hostile_input_is_refused_in_one_line() {
+    let png = ["--pixel-size-um", "0.1", "--height-um", "0.3"];
+    assert_one_line_error(&brdf_on("/no/such/file.gsf", &[]), "cannot open");
+    let colour = scratch("colour.png");
+    image::RgbImage::from_pixel(4, 4, image::Rgb([10, 200, 30])).save(&colour).unwrap();
+    assert_one_line_error(&brdf_on(colour.to_str().unwrap(), &png), "real colour");
+    let grey_rgb = scratch("grey-rgb.png");
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([90, 90, 90, 255])).save(&grey_rgb).unwrap();
+    assert!(brdf_on(grey_rgb.to_str().unwrap(), &png).status.success(), "grey stored as RGBA is grey");
+    let truncated = scratch("truncated.png");
+    let bytes = std::fs::read(&colour).unwrap();
+    std::fs::write(&truncated, &bytes[..bytes.len() / 2]).unwrap();
+    assert_one_line_error(&brdf_on(truncated.to_str().unwrap(), &png), "truncated.png");
+    let garbage = scratch("garbage.gsf");
+    std::fs::write(&garbage, b"\x89PNG not really").unwrap();
+    assert_one_line_error(&brdf_on(garbage.to_str().unwrap(), &[]), "not a Gwyddion");
+    assert_one_line_error(&brdf_on(grey_rgb.to_str().unwrap(), &[]), "--pixel-size-um");
+    assert_one_line_error(
+        &brdf_on(grey_rgb.to_str().unwrap(), &["--pixel-size-um", "0", "--height-um", "0.3"]),
+        "positive",
+    );
+    assert_one_line_error(
+        &brdf_on(grey_rgb.to_str().unwrap(), &["--pixel-size-um", "-1", "--height-um", "0.3"]),
+        "positive",
+    );
+    // A PNG header that claims a huge image is refused before decoding.
+    let huge = scratch("huge.png");
+    let mut header = bytes[..33].to_vec();
+    header[16..20].copy_from_slice(&100_000u32.to_be_bytes());
+    header[20..24].copy_from_slice(&100_000u32.to_be_bytes());
+    std::fs::write(&huge, &header).unwrap();
+    let o = brdf_on(huge.to_str().unwrap(), &png);
+    assert!(!o.status.success() && !String::from_utf8_lossy(&o.stderr).contains("panicked"));
+}
+
+#[test]
+fn invalid_parameters_are_errors_not_zeros() {
+    let (gsf_path, _) = grating_files();
+    let f = gsf_path.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["brdf", "--heightfield", f];
+        args.extend_from_slice(extra);
+        diffract(&args)
+    };
+    assert_one_line_error(&run(&["--light-theta", "0", "--view", "90,0", "--lambda", "500"]), "horizon");
+    assert_one_line_error(&run(&["--light-theta", "95", "--view", "10,0", "--lambda", "500"]), "horizon");
+    assert_one_line_error(&run(&["--light-theta", "0", "--view", "10,0", "--lambda", "0"]), "λ");
+    assert_one_line_error(&run(&["--light-theta", "0", "--view-theta", "10:0:1", "--lambda", "500"]), "TO is below");
+    assert_one_line_error(&run(&["--light-theta", "0", "--lambda", "500"]), "--view");
+    assert_one_line_error(
+        &run(&["--light-theta", "0", "--view", "10,0", "--lambda", "500", "--coherence-um", "-3"]),
+        "coherence",
+    );
+    assert_one_line_error(
+        &run(&["--light-theta", "0", "--view", "10,0", "--lambda", "500", "--method", "taylor", "--terms", "999"]),
+        "limit",
+    );
+}
+
+#[test]
+fn grazing_rows_are_finite() {
+    let (gsf_path, _) = grating_files();
+    let rows = csv(&diffract(&[
+        "brdf",
+        "--heightfield",
+        gsf_path.to_str().unwrap(),
+        "--light-theta",
+        "89.99",
+        "--view-theta",
+        "89.9,89.99",
+        "--view-phi",
+        "180",
+        "--lambda",
+        "500",
+        "--method",
+        "taylor",
+    ]));
+    for r in rows {
+        assert!(r["power"].is_finite() && r["reflectance"].is_finite(), "{r:?}");
+    }
+}
+
+#[test]
+fn terms_reports_the_plan_for_the_afm_patch() {
+    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/afm/elaphe-100px.png");
+    let o =
+        diffract(&["terms", "--heightfield", afm, "--pixel-size-um", "0.065", "--height-um", "0.375", "--tile", "3"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("300×300 pixels") && out.contains("Taylor order N ="), "{out}");
+}
