@@ -151,14 +151,23 @@ pub fn brdf(args: &BrdfArgs) -> anyhow::Result<()> {
     writeln!(out, "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance")?;
     for s in &samples {
         let q = &s.query;
-        writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{:e},{:e}",
-            q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance
-        )?;
+        let fields =
+            [q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance];
+        let line: Vec<String> = fields.iter().map(|&x| number(x)).collect();
+        writeln!(out, "{}", line.join(","))?;
     }
     out.flush().context("writing the CSV")?;
     Ok(())
+}
+
+/// Shortest round-trip text of `x`: plain for ordinary magnitudes, scientific for tiny or huge ones; −0 is 0.
+fn number(x: f64) -> String {
+    let x = x + 0.0;
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 #[derive(Args, Debug)]
