@@ -26,6 +26,7 @@ pub mod output;
 pub mod physics;
 pub mod render;
 pub mod shaders;
+pub mod shading;
 pub mod vk;
 
 pub use error::{Error, Result};

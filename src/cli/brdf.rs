@@ -75,8 +75,12 @@ pub struct BrdfArgs {
     /// Wavelengths in nm: NM, NM,NM,... or FROM:TO:STEP
     #[arg(long, value_name = "NM")]
     pub lambda: String,
-    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
-    pub method: MethodArg,
+    /// How P is evaluated (default: exact on the CPU, taylor with --gpu)
+    #[arg(long, value_enum)]
+    pub method: Option<MethodArg>,
+    /// Evaluate the Taylor sum on the GPU with the shaders' code (f32), printing the same CSV
+    #[arg(long)]
+    pub gpu: bool,
     /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance
     #[arg(long, value_name = "N")]
     pub terms: Option<usize>,
@@ -91,7 +95,7 @@ pub struct BrdfArgs {
     pub window_radius: Option<u32>,
 }
 
-pub fn brdf(args: &BrdfArgs) -> anyhow::Result<()> {
+pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::process::ExitCode> {
     let hf = args.heightfield.load()?;
     let lambdas = parse::values(&args.lambda).map_err(|e| anyhow::anyhow!("--lambda {e}"))?;
     let views: Vec<(f64, f64)> = match &args.view_theta {
@@ -124,17 +128,70 @@ pub fn brdf(args: &BrdfArgs) -> anyhow::Result<()> {
     }
     let (lx, ly) = hf.size_um();
     let window = Window::new(lx, ly, args.coherence_um, args.window_radius)?;
-    let (method, plan) = match args.method {
+    let method = args.method.unwrap_or(if args.gpu { MethodArg::Taylor } else { MethodArg::Exact });
+    if args.gpu && !matches!(method, MethodArg::Taylor) {
+        bail!("--gpu evaluates the Taylor sum; use --method taylor (or leave --method out)");
+    }
+    if args.gpu {
+        return brdf_gpu(gpu, args, &hf, window, &queries);
+    }
+    let (method, plan) = match method {
         MethodArg::Exact => (Method::Exact, None),
         MethodArg::Taylor | MethodArg::TaylorF32 => {
             let plan = Reference::plan_for(&hf, &window, &queries, args.tolerance, args.terms)?;
             eprintln!("note: {}", plan.describe());
-            let method = if matches!(args.method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
+            let method = if matches!(method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
             (method, Some(plan))
         }
     };
     let reference = Reference::new(&hf, window, method, plan)?;
     let samples = reference.evaluate(&queries)?;
+    write_csv(&hf, &samples)?;
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// `brdf --gpu`: the same rows from the compute shader.
+fn brdf_gpu(
+    gpu: &super::GpuArgs,
+    args: &BrdfArgs,
+    hf: &HeightField,
+    window: Window,
+    queries: &[Query],
+) -> anyhow::Result<std::process::ExitCode> {
+    let plan = Reference::plan_for(hf, &window, queries, args.tolerance, args.terms)?;
+    eprintln!("note: {}", plan.describe());
+    let radius = window.radius_x.max(window.radius_y) as u32;
+    let settings = crate::shading::Settings {
+        order: Some(plan.order),
+        tolerance: args.tolerance,
+        window_radius: Some(radius),
+        coherence_um: args.coherence_um,
+        accept_f32_error: true,
+        ..Default::default()
+    };
+    if !plan.f32_suffices() {
+        eprintln!("warning: f32 cannot reach the tolerance here (see the note); the GPU's rows carry that error");
+    }
+    let material = crate::shading::Material::prepare(hf, settings, 2.0)?;
+    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let values = crate::render::diffraction::evaluate_brdf(&ctx, &material, queries)?;
+    let samples: Vec<crate::physics::Sample> = queries
+        .iter()
+        .zip(values)
+        .map(|(q, (power, reflectance))| {
+            let uvw = q.uvw();
+            let (lx, ly) = hf.size_um();
+            let in_band = crate::physics::Lookup::new(uvw.x, uvw.y, q.lambda_nm * 1e-3, lx, ly).in_band(hf.nx, hf.ny);
+            crate::physics::Sample { query: *q, uvw, power, reflectance, in_band }
+        })
+        .collect();
+    write_csv(hf, &samples)?;
+    let log = ctx.validation();
+    drop(ctx);
+    Ok(super::validation_status(&log))
+}
+
+fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Result<()> {
     let out_of_band = samples.iter().filter(|s| !s.in_band).count();
     if out_of_band > 0 {
         eprintln!(
@@ -149,7 +206,7 @@ pub fn brdf(args: &BrdfArgs) -> anyhow::Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     writeln!(out, "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance")?;
-    for s in &samples {
+    for s in samples {
         let q = &s.query;
         let fields =
             [q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance];

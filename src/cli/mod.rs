@@ -2,6 +2,7 @@
 //! non-zero exit code.
 
 mod brdf;
+mod map;
 mod parse;
 
 use std::path::PathBuf;
@@ -65,7 +66,19 @@ pub enum Command {
     /// Report a height field's units, the Taylor order a scene needs and what f32 can reach
     #[command(allow_negative_numbers = true)]
     Terms(brdf::TermsArgs),
+    /// Render the BRDF map of a height field (the hemisphere of views for one light) on the GPU
+    #[command(after_help = MAP_HELP, allow_negative_numbers = true)]
+    Map(map::MapArgs),
 }
+
+const MAP_HELP: &str = "\
+The map's inscribed disk is the hemisphere of view directions: the pixel at (x, y) from the centre (x right, y up,
+radius 1) looks along sin θ_r = √(x²+y²), φ_r = atan2(y, x), so the patch's x axis points right.
+
+Examples:
+  diffract map --heightfield blaze.gsf --light-theta 0 --out blaze.png --exposure 4
+  diffract map --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \\
+               --light-theta 20 --approach nmm --out elaphe-nmm.png --exr elaphe-nmm.exr";
 
 const BRDF_HELP: &str = "\
 Conventions: patch x along image columns, y along rows, z the normal. Directions point from the surface to
@@ -106,7 +119,8 @@ fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
     match &cli.command {
         Command::Devices => devices(&cli.gpu),
         Command::Render(args) => render_cmd(&cli.gpu, args),
-        Command::Brdf(args) => brdf::brdf(args).map(|()| ExitCode::SUCCESS),
+        Command::Brdf(args) => brdf::brdf(&cli.gpu, args),
+        Command::Map(args) => map::map(&cli.gpu, args),
         Command::Terms(args) => brdf::terms(args).map(|()| ExitCode::SUCCESS),
     }
 }

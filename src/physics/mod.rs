@@ -9,10 +9,12 @@
 //! - `power` = |P(u/λ, v/λ)|², the coherence-windowed DTFT of exp(i·k·w·h), 1 for a flat mirror at specular.
 //! - `reflectance` = C(ω_i, ω_r)·power, the thesis's relative reflectance ρ_λ (model.md §1.5).
 
+pub mod cie_tables;
 pub mod gsf;
 pub mod heightfield;
 pub mod optics;
 pub mod reference;
+pub mod spectrum;
 pub mod taylor;
 pub mod window;
 

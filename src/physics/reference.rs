@@ -190,6 +190,26 @@ impl Reference {
         Ok(out)
     }
 
+    /// The colour of one pair of directions by full wavelength sampling (the CPU twin of `diffraction_xyz` in
+    /// glsl/include/approaches.glsl for FLSS): XYZ relative to a D65 mirror, times C and the V-groove shadowing.
+    pub fn flss_xyz(&self, omega_i: DVec3, omega_r: DVec3, sampling: &super::spectrum::Sampling) -> DVec3 {
+        if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let uvw = optics::uvw(omega_i, omega_r);
+        let intensity = |lambda_nm: f64| {
+            let lambda_um = lambda_nm * 1e-3;
+            let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
+            if !at.in_band(self.nx, self.ny) {
+                return 0.0;
+            }
+            self.amplitude(at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
+        };
+        super::spectrum::reflectance_to_xyz(sampling, intensity)
+            * optics::gain_factor(omega_i, omega_r)
+            * optics::shadow_mask(omega_i, omega_r)
+    }
+
     fn sample(&self, q: &Query) -> Sample {
         let uvw = q.uvw();
         let lambda_um = q.lambda_nm * 1e-3;
@@ -217,24 +237,25 @@ fn taylor_sum(terms: &TaylorTerms, taps: &[(usize, usize, f64)], kw: f64) -> Com
     p
 }
 
-/// The same sum as the GPU does it: f32 texels, f32 weights and coefficients, f32 accumulation.
+/// The same sum as the GPU does it (`taylor_sum` in glsl/include/taylor.glsl): f32 texels, weights and
+/// coefficients c_n computed incrementally in f32 first, then per tap Σ_n c_n F_n, weighted and accumulated.
 fn taylor_sum_f32(terms: &TaylorTerms, taps: &[(usize, usize, f64)], kw: f64) -> Complex64 {
     let nx = terms.nx;
     let kw = kw as f32;
+    let mut c = vec![1.0f32; terms.layers.len()];
+    for n in 1..c.len() {
+        c[n] = c[n - 1] * kw / n as f32;
+    }
     let (mut re, mut im) = (0.0f32, 0.0f32);
-    let mut c = 1.0f32;
-    for (n, layer) in terms.layers.iter().enumerate() {
-        if n > 0 {
-            c *= kw / n as f32;
-        }
-        let (mut wr, mut wi) = (0.0f32, 0.0f32);
-        for &(x, y, g) in taps {
+    for &(x, y, g) in taps {
+        let (mut ar, mut ai) = (0.0f32, 0.0f32);
+        for (layer, cn) in terms.layers.iter().zip(&c) {
             let t = layer[y * nx + x];
-            wr += t.re as f32 * g as f32;
-            wi += t.im as f32 * g as f32;
+            ar += cn * t.re as f32;
+            ai += cn * t.im as f32;
         }
-        re += c * wr;
-        im += c * wi;
+        re += g as f32 * ar;
+        im += g as f32 * ai;
     }
     Complex64::new(f64::from(re), f64::from(im))
 }

@@ -70,7 +70,8 @@ impl Window {
     pub fn axis_taps(s: f64, sigma: f64, radius: i64, n: usize) -> impl Iterator<Item = (usize, f64)> {
         let half = (n / 2) as i64;
         let (lo, hi) = (-half, n as i64 - 1 - half);
-        let nearest = s.round() as i64;
+        // floor(s + 0.5), as the shaders round (GLSL's round() may go either way at .5).
+        let nearest = (s + 0.5).floor() as i64;
         (nearest - radius..=nearest + radius).filter(move |j| (lo..=hi).contains(j)).map(move |j| {
             let d = (j as f64 - s) / sigma;
             ((j + half) as usize, (-0.5 * d * d).exp())

@@ -3,6 +3,7 @@
 //! Offscreen capture and the window share everything but the final target: a pass records into a
 //! [`TargetView`], which either an [`OffscreenTarget`] or a swapchain image provides.
 
+pub mod diffraction;
 pub mod preview;
 
 use ash::vk;
@@ -18,25 +19,42 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// The largest edge a frame may have (a sanity bound for user input; far above any display).
 pub const MAX_EDGE: u32 = 16384;
 
+/// Linear, scene-referred float colour (BRDF maps, EXR output).
+pub const LINEAR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
 /// What a pass draws into.
 #[derive(Clone, Copy, Debug)]
 pub struct TargetView {
     pub color: vk::ImageView,
-    pub depth: vk::ImageView,
+    pub depth: Option<vk::ImageView>,
     pub extent: vk::Extent2D,
 }
 
-/// A colour and a depth image for headless rendering.
+/// A colour and (optionally) a depth image for headless rendering.
 pub struct OffscreenTarget {
     pub color: Image,
-    pub depth: Image,
+    pub depth: Option<Image>,
 }
 
 impl OffscreenTarget {
+    /// An 8-bit sRGB colour target with depth.
     pub fn new(ctx: &Context, width: u32, height: u32) -> Result<Self> {
-        let color = ctx.create_image(ImageDesc::render_target(width, height, COLOR_FORMAT), "offscreen colour")?;
+        Self::with_format(ctx, width, height, COLOR_FORMAT, true)
+    }
+
+    pub fn with_format(ctx: &Context, width: u32, height: u32, format: vk::Format, depth: bool) -> Result<Self> {
+        let limit = ctx.info.limits.max_image_dimension2_d;
+        if width > limit || height > limit {
+            return Err(crate::Error::Invalid(format!(
+                "{width}×{height} exceeds the device's {limit}-pixel image limit"
+            )));
+        }
+        let color = ctx.create_image(ImageDesc::render_target(width, height, format), "offscreen colour")?;
+        if !depth {
+            return Ok(Self { color, depth: None });
+        }
         match ctx.create_image(ImageDesc::depth(width, height), "offscreen depth") {
-            Ok(depth) => Ok(Self { color, depth }),
+            Ok(depth) => Ok(Self { color, depth: Some(depth) }),
             Err(e) => {
                 // SAFETY: never used.
                 unsafe { color.destroy(ctx) };
@@ -46,53 +64,71 @@ impl OffscreenTarget {
     }
 
     pub fn view(&self) -> TargetView {
-        TargetView { color: self.color.view, depth: self.depth.view, extent: self.color.extent() }
+        TargetView { color: self.color.view, depth: self.depth.as_ref().map(|d| d.view), extent: self.color.extent() }
     }
 
-    /// Puts both images into attachment layouts (their contents are discarded).
+    /// Puts the images into attachment layouts (their contents are discarded).
     pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer) {
         ctx.barrier_image(cmd, &self.color, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
-        ctx.barrier_image(cmd, &self.depth, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        if let Some(depth) = &self.depth {
+            ctx.barrier_image(cmd, depth, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        }
     }
 
-    /// Reads the colour image back as tightly packed RGBA8 (sRGB-encoded) rows, top row first.
-    pub fn read_rgba8(&self, ctx: &Context) -> Result<Vec<u8>> {
+    /// Orders this submission's attachment writes after the previous one's (rendering in bands).
+    pub fn continue_rendering(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        ctx.barrier_image(cmd, &self.color, ImageState::COLOR_ATTACHMENT, ImageState::COLOR_ATTACHMENT);
+    }
+
+    /// Reads the colour image back as tightly packed rows, top row first (RGBA8 sRGB-encoded, or RGBA32F).
+    pub fn read(&self, ctx: &Context) -> Result<Vec<u8>> {
         ctx.read_image(&self.color, ImageState::COLOR_ATTACHMENT)
     }
 
     /// # Safety
-    /// The GPU must be done with both images.
+    /// The GPU must be done with the images.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.color.destroy(ctx);
-        self.depth.destroy(ctx);
+        if let Some(depth) = self.depth {
+            depth.destroy(ctx);
+        }
     }
 }
 
-/// Begins dynamic rendering into `target`, clearing colour to `clear` and depth to 1, and sets a full viewport.
-pub fn begin_rendering(ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, clear: [f32; 4]) {
+/// Begins dynamic rendering into `target` within `area` (the whole target when `None`), clearing colour to
+/// `clear` and depth to 1 there; the viewport covers the whole target.
+pub fn begin_rendering(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    target: &TargetView,
+    clear: [f32; 4],
+    area: Option<vk::Rect2D>,
+) {
     let color = [vk::RenderingAttachmentInfo::default()
         .image_view(target.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
         .load_op(vk::AttachmentLoadOp::CLEAR)
         .store_op(vk::AttachmentStoreOp::STORE)
         .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
-    let depth = vk::RenderingAttachmentInfo::default()
-        .image_view(target.depth)
-        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
-        .store_op(vk::AttachmentStoreOp::DONT_CARE)
-        .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
-    let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
-    let info = vk::RenderingInfo::default()
-        .render_area(area)
-        .layer_count(1)
-        .color_attachments(&color)
-        .depth_attachment(&depth);
+    let depth = target.depth.map(|view| {
+        vk::RenderingAttachmentInfo::default()
+            .image_view(view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } })
+    });
+    let full = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+    let area = area.unwrap_or(full);
+    let mut info = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color);
+    if let Some(depth) = &depth {
+        info = info.depth_attachment(depth);
+    }
     let viewport = vk::Viewport {
         x: 0.0,
         y: 0.0,
-        width: target.extent.width as f32,
-        height: target.extent.height as f32,
+        width: full.extent.width as f32,
+        height: full.extent.height as f32,
         min_depth: 0.0,
         max_depth: 1.0,
     };

@@ -148,7 +148,7 @@ impl PreviewPass {
 
     /// Records the pass into `target`, which must be in attachment layouts.
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
-        begin_rendering(ctx, cmd, target, background);
+        begin_rendering(ctx, cmd, target, background, None);
         ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(0, &self.uniforms)], &[]);
         // SAFETY: cmd is recording inside a rendering scope with this pipeline bound.
         unsafe {
@@ -216,7 +216,7 @@ pub fn render_offscreen(ctx: &Context, scene: &PreviewScene, width: u32, height:
                 Some(r) => r.read(ctx, 0)?.first().map(|s| s.ms),
                 None => None,
             };
-            let rgba8 = target.read_rgba8(ctx)?;
+            let rgba8 = target.read(ctx)?;
             Ok(Frame { width, height, rgba8, gpu_ms })
         })();
         // SAFETY: one_shot and read_rgba8 waited for all work.

@@ -16,25 +16,27 @@ pub struct ImageDesc {
     pub layers: u32,
     pub format: vk::Format,
     pub usage: vk::ImageUsageFlags,
+    /// View it as a 2D array even with one layer (shaders that declare `sampler2DArray` need that).
+    pub array: bool,
 }
 
 impl ImageDesc {
     /// A colour target that can be read back.
     pub fn render_target(width: u32, height: u32, format: vk::Format) -> Self {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers: 1, format, usage }
+        Self { width, height, layers: 1, format, usage, array: false }
     }
 
     pub fn depth(width: u32, height: u32) -> Self {
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage }
+        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage, array: false }
     }
 
     /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
     pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
         let usage =
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers, format, usage }
+        Self { width, height, layers, format, usage, array: true }
     }
 
     /// Bytes per texel of the formats diffract uses.
@@ -138,7 +140,8 @@ impl Context {
         } else {
             vk::ImageAspectFlags::COLOR
         };
-        let view_type = if desc.layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
+        let view_type =
+            if desc.array || desc.layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
         // SAFETY: memory fits the requirements; the view describes the image just created.
         let view = unsafe {
             self.device()

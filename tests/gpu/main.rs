@@ -1,5 +1,6 @@
 //! All GPU tests, in one binary, on lavapipe with validation (see `harness`).
 
+mod diffraction;
 mod golden;
 mod harness;
 

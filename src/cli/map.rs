@@ -1,0 +1,119 @@
+//! `diffract map`: the BRDF map of a height field for one light, on the GPU.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::Context as _;
+use clap::Args;
+
+use super::brdf::HeightFieldArgs;
+use super::GpuArgs;
+use crate::physics::optics;
+use crate::physics::taylor::DEFAULT_TOLERANCE;
+use crate::physics::window::DEFAULT_COHERENCE_UM;
+use crate::render::diffraction;
+use crate::shading::{Approach, Material, Settings};
+
+/// Every setting that trades speed for accuracy (shared by the commands that shade).
+#[derive(Args, Debug, Clone)]
+pub struct ShadingArgs {
+    /// Shading approach
+    #[arg(long, value_enum, default_value_t = Approach::Flss)]
+    pub approach: Approach,
+    /// Force the Taylor order N (terms 0..=N); default: the smallest N meeting --tolerance
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
+    pub tolerance: f64,
+    /// Wavelength step in nm over 380–780 nm (FLSS, PQ)
+    #[arg(long, value_name = "NM", default_value_t = 5.0)]
+    pub lambda_step: f64,
+    /// Window taps either side of the nearest bin (default: until the Gaussian weight is below 1e-3)
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+    /// Coherence length in µm (Gaussian window σ_s = L/4)
+    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
+    pub coherence_um: f64,
+    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
+    #[arg(long, value_name = "EV", default_value_t = 0.0)]
+    pub exposure: f64,
+    /// Render even where f32 sums cannot reach --tolerance (the plan's estimate)
+    #[arg(long)]
+    pub accept_f32_error: bool,
+}
+
+impl ShadingArgs {
+    pub fn settings(&self) -> Settings {
+        Settings {
+            approach: self.approach,
+            order: self.terms,
+            tolerance: self.tolerance,
+            lambda_step_nm: self.lambda_step,
+            window_radius: self.window_radius,
+            coherence_um: self.coherence_um,
+            exposure_ev: self.exposure,
+            accept_f32_error: self.accept_f32_error,
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct MapArgs {
+    #[command(flatten)]
+    pub heightfield: HeightFieldArgs,
+    /// Light inclination θ_i in degrees
+    #[arg(long, value_name = "DEG")]
+    pub light_theta: f64,
+    /// Light azimuth φ_i in degrees
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    pub light_phi: f64,
+    /// Output PNG (display-referred 8-bit sRGB after --exposure)
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+    /// Also write the linear scene-referred RGB (sRGB primaries, before exposure) as 32-bit float EXR
+    #[arg(long, value_name = "FILE.exr")]
+    pub exr: Option<PathBuf>,
+    /// Map size in pixels (odd sizes put a pixel exactly at normal view)
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub size: u32,
+    #[command(flatten)]
+    pub shading: ShadingArgs,
+}
+
+pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCode> {
+    crate::output::check_png_path(&args.out)?;
+    if let Some(exr) = &args.exr {
+        crate::output::check_exr_path(exr)?;
+    }
+    optics::check_theta("light", args.light_theta)?;
+    let hf = args.heightfield.load()?;
+    let light = optics::direction(args.light_theta, args.light_phi);
+    let start = Instant::now();
+    let material = Material::prepare(&hf, args.shading.settings(), 1.0 + light.z)?;
+    let prep_ms = start.elapsed().as_secs_f64() * 1e3;
+    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let map = diffraction::render_map(&ctx, &material, args.size, light).context("rendering the BRDF map")?;
+    let bad = map.non_finite();
+    if bad > 0 {
+        anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");
+    }
+    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(args.shading.exposure))?;
+    if let Some(exr) = &args.exr {
+        crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
+    }
+    let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
+    let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
+    let taps = 2 * material.window.radius_x + 1;
+    println!(
+        "wrote {} ({size}×{size} {approach}: {plan}{lambdas} λ, {taps}×{taps} taps; precompute {prep_ms:.0} ms{gpu_time} on {device})",
+        args.out.display(),
+        size = args.size,
+        approach = material.settings.approach.name(),
+        lambdas = material.sampling.count,
+        device = ctx.info.name
+    );
+    let log = ctx.validation();
+    drop(ctx);
+    Ok(super::validation_status(&log))
+}

@@ -1,0 +1,151 @@
+//! Spectral integration into colour (model.md §1.8, with the thesis's errors of §7.2 items 7–9 fixed):
+//! X = Σ_λ ρ(λ)·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ (likewise Y, Z) with the CIE 1931 2° observer and S = D65, so a
+//! perfect mirror integrates to the D65 white point with Y = 1; then XYZ → linear sRGB (IEC 61966-2-1, not the
+//! thesis's CIE-RGB matrix), exposure 2^EV, and the sRGB transfer function.
+//! `glsl/include/spectrum.glsl` implements the same functions under the same names.
+
+use glam::DVec3;
+
+use super::cie_tables::{CIE1931_XYZ, D65, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+
+/// The visible range the renderer integrates over, nm (model.md §5.2).
+pub const VISIBLE_MIN_NM: f64 = TABLE_LAMBDA_MIN_NM;
+pub const VISIBLE_MAX_NM: f64 = TABLE_LAMBDA_MAX_NM;
+
+/// XYZ → linear sRGB (D65), rows of the matrix of IEC 61966-2-1 derived from the primaries and the white point.
+pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] =
+    [[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560], [0.0556434, -0.2040259, 1.0572252]];
+
+/// (x̄, ȳ, z̄, S/100) at `lambda_nm`, linearly interpolated in the 1 nm tables; zero outside 380–780 nm.
+pub fn spectrum_at(lambda_nm: f64) -> [f64; 4] {
+    if !(TABLE_LAMBDA_MIN_NM..=TABLE_LAMBDA_MAX_NM).contains(&lambda_nm) {
+        return [0.0; 4];
+    }
+    let x = lambda_nm - TABLE_LAMBDA_MIN_NM;
+    let i = (x.floor() as usize).min(TABLE_ROWS - 2);
+    let t = x - i as f64;
+    let row = |k: usize| [CIE1931_XYZ[k][0], CIE1931_XYZ[k][1], CIE1931_XYZ[k][2], D65[k] / 100.0];
+    let (a, b) = (row(i), row(i + 1));
+    [0, 1, 2, 3].map(|c| a[c] + (b[c] - a[c]) * t)
+}
+
+/// The table as the GPU reads it: (x̄, ȳ, z̄, S/100) per nm from 380 to 780 as f32 vec4s.
+pub fn gpu_table() -> Vec<[f32; 4]> {
+    (0..TABLE_ROWS).map(|k| spectrum_at(TABLE_LAMBDA_MIN_NM + k as f64).map(|v| v as f32)).collect()
+}
+
+/// Evenly spaced wavelengths: `lambda_min_nm + k·step` for k = 0..count, each weighing `step` nm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sampling {
+    pub lambda_min_nm: f64,
+    pub step_nm: f64,
+    pub count: usize,
+}
+
+impl Sampling {
+    /// Every `step_nm` from 380 nm up to 780 nm (inclusive when the step divides 400 nm).
+    pub fn visible(step_nm: f64) -> Self {
+        let count = ((VISIBLE_MAX_NM - VISIBLE_MIN_NM) / step_nm + 1e-9).floor() as usize + 1;
+        Self { lambda_min_nm: VISIBLE_MIN_NM, step_nm, count }
+    }
+
+    pub fn wavelengths(&self) -> impl Iterator<Item = f64> + '_ {
+        (0..self.count).map(|k| self.lambda_min_nm + k as f64 * self.step_nm)
+    }
+
+    /// The normaliser Σ ȳ·S·Δλ of this sampling: a mirror then has Y = 1.
+    pub fn y_norm(&self) -> f64 {
+        self.wavelengths().map(|l| spectrum_at(l)[1] * spectrum_at(l)[3] * self.step_nm).sum()
+    }
+}
+
+/// The normaliser ∫ ȳ·S dλ over the 1 nm tables: the constant for non-uniform samplings (NMM).
+pub fn y_norm_continuous() -> f64 {
+    Sampling::visible(1.0).y_norm()
+}
+
+/// XYZ of a spectral reflectance ρ(λ) under D65, normalised so a mirror has Y = 1.
+pub fn reflectance_to_xyz(sampling: &Sampling, rho: impl Fn(f64) -> f64) -> DVec3 {
+    let mut xyz = DVec3::ZERO;
+    for l in sampling.wavelengths() {
+        let s = spectrum_at(l);
+        xyz += DVec3::new(s[0], s[1], s[2]) * (rho(l) * s[3] * sampling.step_nm);
+    }
+    xyz / sampling.y_norm()
+}
+
+pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
+    let m = XYZ_TO_LINEAR_SRGB;
+    DVec3::new(
+        m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
+        m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
+        m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
+    )
+}
+
+/// The sRGB transfer function (IEC 61966-2-1) of one channel, clamped to [0, 1].
+pub fn srgb_oetf(c: f64) -> f64 {
+    let c = c.clamp(0.0, 1.0);
+    if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Linear scene-referred RGB → display-referred 8-bit sRGB, after an exposure of `exposure_ev` stops.
+/// A NaN channel becomes 0 in the clamp; the renderer never produces one (see the GPU tests).
+pub fn display_encode(linear: DVec3, exposure_ev: f64) -> [u8; 3] {
+    let scale = exposure_ev.exp2();
+    [linear.x, linear.y, linear.z].map(|c| (srgb_oetf(c * scale) * 255.0).round() as u8)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mirror_under_d65_is_the_d65_white_point_and_srgb_white() {
+        let white = reflectance_to_xyz(&Sampling::visible(1.0), |_| 1.0);
+        // CIE D65 white point of the 2° observer: X = 0.95047, Z = 1.08883 (the tables truncated to 380–780 nm
+        // give X to 5·10⁻⁵ and Z to 2.2·10⁻⁴).
+        assert!(
+            (white.x - 0.95047).abs() < 3e-4 && (white.y - 1.0).abs() < 1e-12 && (white.z - 1.08883).abs() < 3e-4,
+            "{white}"
+        );
+        let rgb = xyz_to_linear_srgb(white);
+        for c in rgb.to_array() {
+            assert!((c - 1.0).abs() < 1e-3, "{rgb}");
+        }
+        let coarse = xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible(5.0), |_| 1.0));
+        for c in coarse.to_array() {
+            assert!((c - 1.0).abs() < 2e-3, "5 nm sampling: {coarse}");
+        }
+    }
+
+    #[test]
+    fn tables_match_published_values() {
+        let s = spectrum_at(555.0);
+        assert!((s[1] - 1.0).abs() < 1e-3, "ȳ peaks at 1 near 555 nm: {s:?}");
+        assert!((spectrum_at(560.0)[3] - 1.0).abs() < 1e-12, "D65 is 100 at 560 nm");
+        assert_eq!(spectrum_at(379.0), [0.0; 4]);
+        let mid = spectrum_at(550.5);
+        let (a, b) = (spectrum_at(550.0), spectrum_at(551.0));
+        assert!((mid[0] - 0.5 * (a[0] + b[0])).abs() < 1e-15);
+    }
+
+    #[test]
+    fn oetf_matches_the_standard() {
+        assert_eq!(srgb_oetf(0.0), 0.0);
+        assert!((srgb_oetf(1.0) - 1.0).abs() < 1e-12);
+        assert!((srgb_oetf(0.18) - 0.46135).abs() < 1e-4);
+        assert_eq!(display_encode(DVec3::splat(0.5), 1.0), [255, 255, 255]);
+    }
+
+    #[test]
+    fn sampling_counts() {
+        assert_eq!(Sampling::visible(5.0).count, 81);
+        assert_eq!(Sampling::visible(1.0).count, 401);
+        assert_eq!(Sampling::visible(7.0).wavelengths().last().unwrap(), 779.0);
+    }
+}

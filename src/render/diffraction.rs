@@ -1,0 +1,354 @@
+//! Diffraction shading on the GPU: a patch's resources (the Taylor terms as one RG32F 2D-array image, the
+//! spectral table, the `DiffractionParams` uniforms), the BRDF-map pass and the compute evaluation behind
+//! `diffract brdf --gpu`.
+
+use std::io::IsTerminal;
+
+use ash::vk;
+use glam::DVec3;
+
+use super::{begin_rendering, end_rendering, OffscreenTarget, LINEAR_FORMAT};
+use crate::error::{Error, Result};
+use crate::physics::spectrum;
+use crate::physics::Query;
+use crate::shaders;
+use crate::shading::Material;
+use crate::vk::{
+    Binding, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Image, ImageDesc,
+    ImageState, MemoryState, Pipeline, Sampler,
+};
+
+/// Rows per submission of a BRDF map: keeps each submission short (no driver watchdog) and lets long maps
+/// report progress.
+const MAP_BAND_ROWS: u32 = 32;
+
+/// The descriptor bindings every diffraction shader declares (glsl/include/params.glsl).
+pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
+    [
+        Binding { binding: 1, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
+        Binding { binding: 2, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
+        Binding { binding: 3, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+    ]
+}
+
+/// A material's GPU resources, uploaded once.
+pub struct PatchResources {
+    pub terms: Image,
+    pub sampler: Sampler,
+    pub spectrum: Buffer,
+    pub params: Buffer,
+}
+
+impl PatchResources {
+    pub fn new(ctx: &Context, material: &Material) -> Result<Self> {
+        let limits = &ctx.info.limits;
+        let (nx, ny) = (material.nx as u32, material.ny as u32);
+        if nx > limits.max_image_dimension2_d || ny > limits.max_image_dimension2_d {
+            return Err(Error::Invalid(format!(
+                "a {nx}×{ny} patch exceeds the device's {}-texel image limit",
+                limits.max_image_dimension2_d
+            )));
+        }
+        if material.layers > limits.max_image_array_layers {
+            return Err(Error::Invalid(format!(
+                "{} Taylor terms exceed the device's {} image layers",
+                material.layers, limits.max_image_array_layers
+            )));
+        }
+        let desc = ImageDesc::texture_array(nx, ny, material.layers, vk::Format::R32G32_SFLOAT);
+        let terms = ctx.create_image(desc, "taylor terms")?;
+        let mut made = PartialPatch { terms: Some(terms), ..Default::default() };
+        let result = (|| {
+            let terms = made.terms.as_ref().expect("just made");
+            ctx.upload_image(terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?;
+            made.sampler = Some(ctx.create_sampler("taylor terms (nearest)")?);
+            let table = spectrum::gpu_table();
+            made.spectrum = Some(ctx.create_buffer_init(
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                bytemuck::cast_slice(&table),
+                "CIE 1931 × D65",
+            )?);
+            let size = std::mem::size_of_val(&material.params) as u64;
+            let mut params = ctx
+                .create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "diffraction params")?;
+            params.write(bytemuck::bytes_of(&material.params))?;
+            made.params = Some(params);
+            Ok(())
+        })();
+        match result {
+            Ok(()) => Ok(Self {
+                terms: made.terms.take().expect("made"),
+                sampler: made.sampler.take().expect("made"),
+                spectrum: made.spectrum.take().expect("made"),
+                params: made.params.take().expect("made"),
+            }),
+            Err(e) => {
+                // SAFETY: the failed upload was waited for; nothing else uses these.
+                unsafe { made.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Writes the uniforms (the light direction of a map, say); no submitted work may be reading them.
+    pub fn update(&mut self, params: &crate::shading::DiffractionParams) -> Result<()> {
+        self.params.write(bytemuck::bytes_of(params))
+    }
+
+    pub fn writes(&self) -> [DescriptorWrite<'_>; 3] {
+        [
+            DescriptorWrite::UniformBuffer(1, &self.params),
+            DescriptorWrite::SampledImage(2, &self.terms, &self.sampler),
+            DescriptorWrite::StorageBuffer(3, &self.spectrum),
+        ]
+    }
+
+    /// # Safety
+    /// The GPU must be done with the resources.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.terms.destroy(ctx);
+        self.sampler.destroy(ctx);
+        self.spectrum.destroy(ctx);
+        self.params.destroy(ctx);
+    }
+}
+
+/// What [`PatchResources::new`] has made so far, for clean-up on failure.
+#[derive(Default)]
+struct PartialPatch {
+    terms: Option<Image>,
+    sampler: Option<Sampler>,
+    spectrum: Option<Buffer>,
+    params: Option<Buffer>,
+}
+
+impl PartialPatch {
+    unsafe fn destroy(mut self, ctx: &Context) {
+        if let Some(x) = self.terms.take() {
+            x.destroy(ctx);
+        }
+        if let Some(x) = self.sampler.take() {
+            x.destroy(ctx);
+        }
+        if let Some(x) = self.spectrum.take() {
+            x.destroy(ctx);
+        }
+        if let Some(x) = self.params.take() {
+            x.destroy(ctx);
+        }
+    }
+}
+
+/// A BRDF map read back: linear scene-referred sRGB-primaries RGBA, rows top first.
+#[derive(Clone, Debug)]
+pub struct MapImage {
+    pub size: u32,
+    pub rgba: Vec<f32>,
+    /// GPU time of the map pass (all bands), where the device has timestamps.
+    pub gpu_ms: Option<f64>,
+}
+
+impl MapImage {
+    pub fn pixel(&self, x: u32, y: u32) -> DVec3 {
+        let i = ((y * self.size + x) * 4) as usize;
+        DVec3::new(f64::from(self.rgba[i]), f64::from(self.rgba[i + 1]), f64::from(self.rgba[i + 2]))
+    }
+
+    /// Pixels whose colour is not a finite number (a bug, reported loudly rather than written).
+    pub fn non_finite(&self) -> usize {
+        self.rgba.chunks(4).filter(|p| p.iter().any(|c| !c.is_finite())).count()
+    }
+
+    /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
+    pub fn to_rgba8(&self, exposure_ev: f64) -> Vec<u8> {
+        self.rgba
+            .chunks(4)
+            .flat_map(|p| {
+                let [r, g, b] =
+                    spectrum::display_encode(DVec3::new(p[0].into(), p[1].into(), p[2].into()), exposure_ev);
+                [r, g, b, 255]
+            })
+            .collect()
+    }
+}
+
+/// The material's uniforms with the light direction `light` (unit, patch frame).
+fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
+    let mut params = material.params;
+    params.light = [light.x as f32, light.y as f32, light.z as f32, 0.0];
+    params
+}
+
+/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels.
+pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3) -> Result<MapImage> {
+    let mut patch = PatchResources::new(ctx, material)?;
+    let result = (|| {
+        patch.update(&light_params(material, light))?;
+        let bindings = patch_bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
+        let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+            name: "brdf map",
+            vertex: shaders::FULLSCREEN_VERT,
+            fragment: shaders::MAP_FRAG,
+            specialization: material.spec_constants(false),
+            bindings: &bindings,
+            push_constant_size: 8,
+            vertex_stride: 0,
+            vertex_attributes: &[],
+            color_format: LINEAR_FORMAT,
+            depth_format: None,
+            cull_back_faces: false,
+        })?;
+        let out = draw_map_bands(ctx, &pipeline, &patch, size);
+        // SAFETY: draw_map_bands waited for its work.
+        unsafe { pipeline.destroy(ctx) };
+        out
+    })();
+    // SAFETY: all work has completed.
+    unsafe { patch.destroy(ctx) };
+    result
+}
+
+fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, size: u32) -> Result<MapImage> {
+    let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
+    let mut ring = match ctx.create_timestamp_ring(1, 1, "brdf map timestamps") {
+        Ok(r) => r,
+        Err(e) => {
+            // SAFETY: unused.
+            unsafe { target.destroy(ctx) };
+            return Err(e);
+        }
+    };
+    let result = (|| {
+        let push: Vec<u8> = [(size as f32).to_ne_bytes(), (size as f32).to_ne_bytes()].concat();
+        let show_progress = std::io::stderr().is_terminal() && size >= 128;
+        let mut gpu_ms = ring.as_ref().map(|_| 0.0);
+        let bands = size.div_ceil(MAP_BAND_ROWS);
+        for band in 0..bands {
+            let y0 = band * MAP_BAND_ROWS;
+            let area = vk::Rect2D {
+                offset: vk::Offset2D { x: 0, y: y0 as i32 },
+                extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
+            };
+            let mut scope_err = None;
+            ctx.one_shot("brdf map band", |cmd| {
+                if band == 0 {
+                    target.begin(ctx, cmd);
+                } else {
+                    target.continue_rendering(ctx, cmd);
+                }
+                let scope = ring.as_mut().map(|r| {
+                    r.begin_frame(ctx, cmd, 0);
+                    r.begin_scope(ctx, cmd, "brdf map")
+                });
+                begin_rendering(ctx, cmd, &target.view(), [0.0, 0.0, 0.0, 1.0], Some(area));
+                ctx.bind(cmd, pipeline, &patch.writes(), &push);
+                // SAFETY: recording inside the rendering scope with the pipeline bound.
+                unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
+                end_rendering(ctx, cmd);
+                match (ring.as_mut(), scope) {
+                    (Some(r), Some(Ok(i))) => r.end_scope(ctx, cmd, i),
+                    (_, Some(Err(e))) => scope_err = Some(e),
+                    _ => {}
+                }
+            })?;
+            if let Some(e) = scope_err {
+                return Err(e);
+            }
+            if let (Some(r), Some(total)) = (&ring, gpu_ms.as_mut()) {
+                *total += r.read(ctx, 0)?.iter().map(|s| s.ms).sum::<f64>();
+            }
+            if show_progress {
+                eprint!("\rrendering map: {:3.0} %", 100.0 * f64::from(band + 1) / f64::from(bands));
+            }
+        }
+        if show_progress {
+            eprintln!();
+        }
+        let bytes = target.read(ctx)?;
+        Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
+    })();
+    // SAFETY: every submission was waited for.
+    unsafe {
+        if let Some(r) = ring {
+            r.destroy(ctx);
+        }
+        target.destroy(ctx);
+    }
+    result
+}
+
+/// One query as `glsl/brdf_eval.comp.glsl` reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuQuery {
+    omega_i_lambda: [f32; 4],
+    omega_r: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuQuery>() == 32);
+
+/// Evaluates (power, reflectance) of the Taylor sum for each query on the GPU, in f32.
+pub fn evaluate_brdf(ctx: &Context, material: &Material, queries: &[Query]) -> Result<Vec<(f64, f64)>> {
+    if queries.is_empty() {
+        return Ok(Vec::new());
+    }
+    let gpu: Vec<GpuQuery> = queries
+        .iter()
+        .map(|q| {
+            let (i, r) = (q.omega_i(), q.omega_r());
+            GpuQuery {
+                omega_i_lambda: [i.x as f32, i.y as f32, i.z as f32, q.lambda_nm as f32],
+                omega_r: [r.x as f32, r.y as f32, r.z as f32, 0.0],
+            }
+        })
+        .collect();
+    let patch = PatchResources::new(ctx, material)?;
+    let mut buffers: Vec<Buffer> = Vec::new();
+    let result = (|| {
+        buffers.push(ctx.create_buffer_init(
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            bytemuck::cast_slice(&gpu),
+            "brdf queries",
+        )?);
+        buffers.push(ctx.create_buffer(BufferDesc::readback(8 * queries.len() as u64), "brdf results")?);
+        let stages = vk::ShaderStageFlags::COMPUTE;
+        let bindings = patch_bindings(stages);
+        let all = [
+            bindings[0],
+            bindings[1],
+            bindings[2],
+            Binding { binding: 4, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+            Binding { binding: 5, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+        ];
+        let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
+            name: "brdf evaluation",
+            shader: shaders::BRDF_EVAL_COMP,
+            specialization: material.spec_constants(false),
+            bindings: &all,
+            push_constant_size: 4,
+        })?;
+        let [p, t, s] = patch.writes();
+        let writes =
+            [p, t, s, DescriptorWrite::StorageBuffer(4, &buffers[0]), DescriptorWrite::StorageBuffer(5, &buffers[1])];
+        let count = queries.len() as u32;
+        let submitted = ctx.one_shot("brdf evaluation", |cmd| {
+            ctx.bind(cmd, &pipeline, &writes, &count.to_ne_bytes());
+            // SAFETY: recording with the pipeline bound.
+            unsafe { ctx.device().cmd_dispatch(cmd, count.div_ceil(64), 1, 1) };
+            ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::HOST_READ);
+        });
+        // SAFETY: one_shot waited.
+        unsafe { pipeline.destroy(ctx) };
+        submitted?;
+        let bytes = ctx.read_buffer(&buffers[1])?;
+        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
+        Ok(values.chunks(2).map(|v| (f64::from(v[0]), f64::from(v[1]))).collect())
+    })();
+    // SAFETY: all work has completed.
+    unsafe {
+        for b in buffers {
+            b.destroy(ctx);
+        }
+        patch.destroy(ctx);
+    }
+    result
+}

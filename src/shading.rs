@@ -1,0 +1,277 @@
+//! Shading approaches and everything a patch needs before the GPU sees it (model.md §3): which approach, the
+//! settings that trade speed for accuracy, and the prepared [`Material`] — Taylor terms, plan, window,
+//! wavelength sampling and the uniform block `DiffractionParams` of `glsl/include/params.glsl`.
+//!
+//! Approaches are selected by name; their variants (term count, wavelength count, window radius, approach) are
+//! specialization constants of one shader, not copies of it.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::error::{Error, Result};
+use crate::physics::reference::window_gain;
+use crate::physics::spectrum::{self, Sampling};
+use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLERANCE};
+use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};
+use crate::physics::HeightField;
+
+/// The thesis's shading approaches (model.md §3.1–§3.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Approach {
+    /// Full λ-space sampling: every wavelength step, the Taylor sum with the Gaussian window (the reference)
+    Flss,
+    /// One wavelength per DFT bin crossed, with the dλ Jacobian the thesis left out (model.md §3.2)
+    Nmm,
+    /// The periodic-tiling (Dirichlet) factor with the patch's exact DTFT kernel (model.md §1.11, §1.12)
+    Pq,
+    /// Stam's analytic grating: only the dominant spacing, no height field (GPU Gems ch. 8)
+    Gem,
+}
+
+impl Approach {
+    pub const ALL: [Approach; 4] = [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem];
+
+    /// The value of the `APPROACH` specialization constant.
+    pub fn id(self) -> u32 {
+        match self {
+            Approach::Flss => 0,
+            Approach::Nmm => 1,
+            Approach::Pq => 2,
+            Approach::Gem => 3,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Approach::Flss => "flss",
+            Approach::Nmm => "nmm",
+            Approach::Pq => "pq",
+            Approach::Gem => "gem",
+        }
+    }
+
+    /// Whether the approach samples the Taylor terms (all but `gem`).
+    pub fn uses_terms(self) -> bool {
+        self != Approach::Gem
+    }
+}
+
+/// Every setting that trades speed for accuracy, with the defaults a user gets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub approach: Approach,
+    /// Force the Taylor order N (terms 0..=N); default: the smallest N meeting `tolerance`.
+    pub order: Option<usize>,
+    pub tolerance: f64,
+    /// Wavelength step of FLSS and PQ (and of gem's specular term), nm.
+    pub lambda_step_nm: f64,
+    /// Window taps either side of the nearest bin; default: until the weight falls below 10⁻³.
+    pub window_radius: Option<u32>,
+    pub coherence_um: f64,
+    /// Linear scene-referred RGB is scaled by 2^EV before the sRGB transfer function.
+    pub exposure_ev: f64,
+    /// Render although f32 cannot reach the tolerance (the plan's estimate says so).
+    pub accept_f32_error: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            approach: Approach::Flss,
+            order: None,
+            tolerance: DEFAULT_TOLERANCE,
+            lambda_step_nm: 5.0,
+            window_radius: None,
+            coherence_um: DEFAULT_COHERENCE_UM,
+            exposure_ev: 0.0,
+            accept_f32_error: false,
+        }
+    }
+}
+
+/// The window weight at which the default render window stops (the first tap left out weighs less).
+pub const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
+/// Most wavelengths one pixel may sample (a 1 nm step over 380–780 nm is 401).
+pub const MAX_LAMBDA_COUNT: usize = 4001;
+/// Largest window radius (taps (2r+1)² per term and wavelength).
+pub const MAX_WINDOW_RADIUS: u32 = 16;
+/// Efficiency of each non-zero order in Stam's analytic grating (his GPU Gems shader scales orders by 0.1).
+pub const GEM_ORDER_EFFICIENCY: f32 = 0.1;
+
+/// Mirrors `DiffractionParams` in `glsl/include/params.glsl` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DiffractionParams {
+    /// nx, ny, layers, 0.
+    pub patch_px: [i32; 4],
+    /// Lx, Ly, dx, dy in µm.
+    pub patch_um: [f32; 4],
+    /// σ_x, σ_y in bins, σ_f in cycles/µm, 0.
+    pub window: [f32; 4],
+    /// λ_min nm, Δλ nm, Σ ȳSΔλ of that sampling, ∫ȳS dλ (1 nm).
+    pub spectral: [f32; 4],
+    /// ω_i in the patch frame (BRDF maps and the compute pass read it; geometry computes its own).
+    pub light: [f32; 4],
+    /// PQ: periods along x and y, 0, 0.
+    pub pq: [f32; 4],
+    /// gem: unit grating direction (x, y), spacing µm (0: none), order efficiency.
+    pub gem: [f32; 4],
+    /// 2^exposure, 0, 0, 0.
+    pub display: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 128);
+
+/// A patch prepared for one approach and its settings.
+pub struct Material {
+    pub settings: Settings,
+    pub nx: usize,
+    pub ny: usize,
+    /// The Taylor plan (None for gem).
+    pub plan: Option<TaylorPlan>,
+    pub window: Window,
+    pub sampling: Sampling,
+    /// F_0..=F_N as interleaved f32 (re, im), layer after layer; one zero layer for gem.
+    pub texels: Vec<f32>,
+    pub layers: u32,
+    pub params: DiffractionParams,
+}
+
+impl Material {
+    /// Precomputes what `settings.approach` needs of `hf`, for light and views with |w| ≤ `w_max`.
+    pub fn prepare(hf: &HeightField, settings: Settings, w_max: f64) -> Result<Self> {
+        let s = settings;
+        if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
+            return Err(Error::Invalid(format!("the wavelength step must be positive, got {} nm", s.lambda_step_nm)));
+        }
+        let sampling = Sampling::visible(s.lambda_step_nm);
+        if sampling.count > MAX_LAMBDA_COUNT {
+            return Err(Error::Invalid(format!(
+                "a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})",
+                s.lambda_step_nm, sampling.count
+            )));
+        }
+        if s.window_radius.is_some_and(|r| r > MAX_WINDOW_RADIUS) {
+            return Err(Error::Invalid(format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
+        }
+        let (lx, ly) = hf.size_um();
+        let full = Window::new(lx, ly, s.coherence_um, None)?;
+        let radius = s.window_radius.unwrap_or_else(|| {
+            let r = |sigma: f64| ((-2.0 * RENDER_WINDOW_CUTOFF.ln()).sqrt() * sigma - 0.5).ceil().max(0.0) as u32;
+            r(full.sigma_x).max(r(full.sigma_y)).min(MAX_WINDOW_RADIUS)
+        });
+        let window = Window::new(lx, ly, s.coherence_um, Some(radius))?;
+        let (plan, texels, layers) = if s.approach.uses_terms() {
+            let gain = window_gain(&window, hf);
+            let plan = TaylorPlan::new(VISIBLE_MIN_UM, w_max, &HeightStats::of(hf), gain, s.tolerance, s.order)?;
+            if !plan.f32_suffices() && !s.accept_f32_error {
+                return Err(Error::Invalid(format!(
+                    "the GPU's f32 sums cannot reach the tolerance for this patch ({}); raise --tolerance, lower the \
+                     heights, or pass --accept-f32-error",
+                    plan.describe()
+                )));
+            }
+            let terms = TaylorTerms::compute(hf, plan.order, None)?;
+            (Some(plan), terms.to_f32_texels(plan.order), plan.order as u32 + 1)
+        } else {
+            (None, vec![0.0; hf.nx * hf.ny * 2], 1)
+        };
+        let sigma_s = s.coherence_um / 4.0;
+        let sigma_f = 1.0 / (2.0 * std::f64::consts::PI * sigma_s);
+        let (gx, gy, spacing) = if s.approach == Approach::Gem { dominant_grating(hf) } else { (1.0, 0.0, 0.0) };
+        let params = DiffractionParams {
+            patch_px: [hf.nx as i32, hf.ny as i32, layers as i32, 0],
+            patch_um: [lx as f32, ly as f32, hf.dx_um as f32, hf.dy_um as f32],
+            window: [window.sigma_x as f32, window.sigma_y as f32, sigma_f as f32, 0.0],
+            spectral: [
+                sampling.lambda_min_nm as f32,
+                sampling.step_nm as f32,
+                sampling.y_norm() as f32,
+                spectrum::y_norm_continuous() as f32,
+            ],
+            light: [0.0, 0.0, 1.0, 0.0],
+            pq: [(s.coherence_um / lx).ceil().max(1.0) as f32, (s.coherence_um / ly).ceil().max(1.0) as f32, 0.0, 0.0],
+            gem: [gx as f32, gy as f32, spacing as f32, GEM_ORDER_EFFICIENCY],
+            display: [s.exposure_ev.exp2() as f32, 0.0, 0.0, 0.0],
+        };
+        Ok(Self { settings, nx: hf.nx, ny: hf.ny, plan, window, sampling, texels, layers, params })
+    }
+
+    /// Specialization constants: TERMS, WINDOW_RADIUS, LAMBDA_COUNT, APPROACH, DISPLAY_OUTPUT.
+    pub fn spec_constants(&self, display_output: bool) -> crate::vk::SpecConstants {
+        crate::vk::SpecConstants::default()
+            .u32(0, self.layers)
+            .i32(1, self.window.radius_x.max(self.window.radius_y) as i32)
+            .u32(2, self.sampling.count as u32)
+            .u32(3, self.settings.approach.id())
+            .u32(4, u32::from(display_output))
+    }
+
+    /// Texture fetches one BRDF evaluation costs at most (FLSS/PQ; NMM and gem vary per pixel).
+    pub fn fetches_per_evaluation(&self) -> usize {
+        let taps = (2 * self.window.radius_x as usize + 1) * (2 * self.window.radius_y as usize + 1);
+        self.sampling.count * self.layers as usize * taps
+    }
+}
+
+const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
+
+/// The strongest non-DC frequency of the heights (largest |DFT(h)| bin): gem's grating direction (unit) and
+/// spacing in µm. A flat patch has none (spacing 0).
+pub fn dominant_grating(hf: &HeightField) -> (f64, f64, f64) {
+    let Ok(terms) = TaylorTerms::compute(hf, 1, None) else { return (1.0, 0.0, 0.0) };
+    let f1 = &terms.layers[1];
+    let (hx, hy) = ((hf.nx / 2) as i64, (hf.ny / 2) as i64);
+    let (lx, ly) = hf.size_um();
+    let mut best = (0.0, 0i64, 0i64);
+    for (i, c) in f1.iter().enumerate() {
+        let (jx, jy) = ((i % hf.nx) as i64 - hx, (i / hf.nx) as i64 - hy);
+        // Half the spectrum: h is real, so bin −j mirrors bin j.
+        if (jy, jx) <= (0, 0) {
+            continue;
+        }
+        if c.norm() > best.0 {
+            best = (c.norm(), jx, jy);
+        }
+    }
+    if best.0 < 1e-12 {
+        return (1.0, 0.0, 0.0);
+    }
+    let (fx, fy) = (best.1 as f64 / lx, best.2 as f64 / ly);
+    let f = (fx * fx + fy * fy).sqrt();
+    (fx / f, fy / f, 1.0 / f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gem_finds_the_period_and_direction_of_a_grating() {
+        let (nx, ny, period) = (64, 8, 16);
+        let h = (0..nx * ny)
+            .map(|i| ((i / nx) as f64 * 0.0 + (std::f64::consts::TAU * (i % nx) as f64 / period as f64).cos()) * 0.1)
+            .collect();
+        let hf = HeightField::new(nx, ny, 0.1, 0.1, h).unwrap();
+        let (gx, gy, d) = dominant_grating(&hf);
+        assert!((gx.abs() - 1.0).abs() < 1e-12 && gy.abs() < 1e-12);
+        assert!((d - 1.6).abs() < 1e-9, "{d}");
+    }
+
+    #[test]
+    fn default_window_radius_follows_the_cutoff() {
+        let hf = HeightField::new(650, 650, 0.1, 0.1, vec![0.0; 650 * 650]).unwrap();
+        let m = Material::prepare(&hf, Settings::default(), 2.0).unwrap();
+        assert_eq!(m.window.radius_x, 2, "σ = 2/π bins needs ±2 taps for a 1e-3 cutoff");
+        assert_eq!(m.layers, 1, "a flat patch needs one term");
+        assert_eq!(m.sampling.count, 81);
+    }
+
+    #[test]
+    fn f32_trouble_is_refused_unless_accepted() {
+        let h: Vec<f64> = (0..64 * 64).map(|i| if (i % 64) < 32 { 0.0 } else { 1.5 }).collect();
+        let hf = HeightField::new(64, 64, 0.1, 0.1, h).unwrap();
+        let e = Material::prepare(&hf, Settings::default(), 2.0).err().expect("refused");
+        assert!(e.to_string().contains("f32"), "{e}");
+        let accepted = Settings { accept_f32_error: true, ..Settings::default() };
+        assert!(Material::prepare(&hf, accepted, 2.0).is_ok());
+    }
+}
