@@ -182,10 +182,12 @@ fn map_pixels_match_the_cpu_colour_reference() {
 
 #[test]
 fn golden_maps_per_approach() {
-    let hf = elaphe(4);
+    // An 8 µm coherence length widens every order to about a pixel at this size, so the golden images hold
+    // smooth colour rather than a few undersampled dots.
+    let hf = elaphe(2);
     let light = direction(15.0, 0.0);
     for approach in Approach::ALL {
-        let settings = Settings { approach, lambda_step_nm: 10.0, exposure_ev: 3.0, ..Settings::default() };
+        let settings = Settings { approach, lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
         let (_, image) = map(&hf, settings, 48, light);
         golden::check(&format!("map_elaphe_{}_48", approach.name()), 48, 48, &image.to_rgba8(3.0));
     }
