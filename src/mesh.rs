@@ -54,6 +54,22 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// A square of half-size `half` in the z = 0 plane, normal +z, tangent +x, UVs over [0, 1]².
+    pub fn quad(half: f32) -> Self {
+        let corner = |x: f32, y: f32| Vertex {
+            position: [x * half, y * half, 0.0],
+            normal: [0.0, 0.0, 1.0],
+            tangent: [1.0, 0.0, 0.0, 1.0],
+            uv: [0.5 * (x + 1.0), 0.5 * (1.0 - y)],
+        };
+        Self {
+            vertices: vec![corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
+            indices: vec![0, 1, 2, 0, 2, 3],
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,6 +5,7 @@
 
 pub mod diffraction;
 pub mod preview;
+pub mod surface;
 
 use ash::vk;
 

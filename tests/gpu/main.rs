@@ -3,6 +3,7 @@
 mod diffraction;
 mod golden;
 mod harness;
+mod surface;
 
 use ash::vk as raw;
 use diffract::render::preview::{render_offscreen, PreviewScene};

@@ -1,0 +1,28 @@
+#version 460
+// The surface pass: a mesh shaded by diffraction. The tangent frame orients the patch on the surface:
+// x = the vertex tangent (made orthogonal to the normal), y = w·(normal × tangent), z = the normal.
+// Light and view are expressed in that frame here and interpolated per fragment; the view vector stays
+// unnormalised so that its interpolation is exact (model.md §4). Positions go through the model matrix and the
+// camera is the current one (the thesis used object-space positions and a stale camera: §7.2 item 14).
+#include "surface_frame.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec4 in_tangent;
+layout(location = 3) in vec2 in_uv;
+
+layout(location = 0) out vec3 patch_light;
+layout(location = 1) out vec3 patch_view;
+
+void main() {
+    vec4 p = frame.model * vec4(in_position, 1.0);
+    vec3 n = normalize(mat3(frame.normal_matrix) * in_normal);
+    vec3 t = mat3(frame.model) * in_tangent.xyz;
+    t = normalize(t - n * dot(n, t));
+    vec3 b = in_tangent.w * cross(n, t);
+    vec3 l = normalize(frame.light_dir.xyz);
+    patch_light = vec3(dot(l, t), dot(l, b), dot(l, n));
+    vec3 v = frame.camera_pos.xyz - p.xyz;
+    patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
+    gl_Position = frame.view_proj * p;
+}
