@@ -21,6 +21,7 @@
 pub mod camera;
 pub mod cli;
 pub mod error;
+pub mod generate;
 pub mod mesh;
 pub mod output;
 pub mod physics;

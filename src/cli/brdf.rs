@@ -275,6 +275,10 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
         window.sigma_x, window.sigma_y, args.coherence_um
     );
+    let (gx, gy, spacing) = crate::shading::dominant_grating(&hf);
+    if spacing > 0.0 {
+        println!("dominant spacing: {spacing:.4} µm along ({gx:.3}, {gy:.3}) (what the gem approach uses)");
+    }
     println!("{}", plan.describe());
     let mib = (plan.order + 1) as f64 * (hf.nx * hf.ny) as f64 * 8.0 / (1 << 20) as f64;
     println!("GPU texture: {} RG32F layers, {mib:.1} MiB", plan.order + 1);

@@ -2,6 +2,7 @@
 //! non-zero exit code.
 
 mod brdf;
+mod generate;
 mod map;
 mod parse;
 
@@ -66,6 +67,9 @@ pub enum Command {
     /// Report a height field's units, the Taylor order a scene needs and what f32 can reach
     #[command(allow_negative_numbers = true)]
     Terms(brdf::TermsArgs),
+    /// Generate nanostructure patches
+    #[command(subcommand)]
+    Gen(generate::GenCommand),
     /// Render the BRDF map of a height field (the hemisphere of views for one light) on the GPU
     #[command(after_help = MAP_HELP, allow_negative_numbers = true)]
     Map(map::MapArgs),
@@ -121,6 +125,7 @@ fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
         Command::Render(args) => render_cmd(&cli.gpu, args),
         Command::Brdf(args) => brdf::brdf(&cli.gpu, args),
         Command::Map(args) => map::map(&cli.gpu, args),
+        Command::Gen(command) => generate::run(command).map(|()| ExitCode::SUCCESS),
         Command::Terms(args) => brdf::terms(args).map(|()| ExitCode::SUCCESS),
     }
 }
