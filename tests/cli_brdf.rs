@@ -221,3 +221,135 @@ fn terms_reports_the_plan_for_the_afm_patch() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("300×300 pixels") && out.contains("Taylor order N ="), "{out}");
 }
+
+#[test]
+fn map_renders_every_approach_validation_clean_with_exr() {
+    let patch = scratch("map-blazed.gsf");
+    let o = diffract(&[
+        "gen",
+        "patch",
+        "blazed",
+        "--size-um",
+        "13",
+        "--pixel-um",
+        "0.05",
+        "--out",
+        patch.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for approach in ["flss", "nmm", "pq", "gem"] {
+        let png = scratch(&format!("map-{approach}.png"));
+        let exr = scratch(&format!("map-{approach}.exr"));
+        let o = diffract(&[
+            "map",
+            "--heightfield",
+            patch.to_str().unwrap(),
+            "--light-theta",
+            "0",
+            "--light-phi",
+            "-90",
+            "--size",
+            "33",
+            "--approach",
+            approach,
+            "--lambda-step",
+            "20",
+            "--exposure",
+            "4",
+            "--out",
+            png.to_str().unwrap(),
+            "--exr",
+            exr.to_str().unwrap(),
+            "--validation",
+            "--device",
+            "llvmpipe",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !err.contains("validation"), "{approach}: {err}");
+        let img = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), (33, 33));
+        assert!(img.pixels().any(|p| p.0 != [0, 0, 0]), "{approach}: blank map");
+        let linear = image::open(&exr).unwrap();
+        assert!(
+            matches!(linear, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)),
+            "{approach}: EXR holds floats"
+        );
+        let max = linear.to_rgb32f().pixels().flat_map(|p| p.0).fold(0.0f32, f32::max);
+        assert!(max > 0.1, "{approach}: the specular reflection is in the linear EXR ({max})");
+    }
+}
+
+#[test]
+fn map_refuses_bad_input_in_one_line() {
+    let patch = scratch("map-flat.gsf");
+    assert!(diffract(&["gen", "patch", "flat", "--size-um", "2", "--out", patch.to_str().unwrap()]).status.success());
+    let p = patch.to_str().unwrap();
+    let out = scratch("never.png");
+    let o = out.to_str().unwrap();
+    assert_one_line_error(&diffract(&["map", "--heightfield", p, "--light-theta", "90", "--out", o]), "horizon");
+    assert_one_line_error(
+        &diffract(&["map", "--heightfield", p, "--light-theta", "0", "--out", "/nope/x.png"]),
+        "does not exist",
+    );
+    assert_one_line_error(
+        &diffract(&["map", "--heightfield", p, "--light-theta", "0", "--out", o, "--exr", "x.tiff"]),
+        ".exr",
+    );
+    assert_one_line_error(
+        &diffract(&["map", "--heightfield", p, "--light-theta", "0", "--out", o, "--lambda-step", "0"]),
+        "step",
+    );
+    assert_one_line_error(
+        &diffract(&["map", "--heightfield", p, "--light-theta", "0", "--out", o, "--device", "nope"]),
+        "nope",
+    );
+    let tall = scratch("map-tall.gsf");
+    assert!(diffract(&[
+        "gen",
+        "patch",
+        "blazed",
+        "--size-um",
+        "13",
+        "--height-um",
+        "3",
+        "--out",
+        tall.to_str().unwrap()
+    ])
+    .status
+    .success());
+    assert_one_line_error(
+        &diffract(&["map", "--heightfield", tall.to_str().unwrap(), "--light-theta", "0", "--out", o]),
+        "f32",
+    );
+}
+
+#[test]
+fn brdf_gpu_prints_the_same_csv_as_the_cpu() {
+    let (gsf_path, _) = grating_files();
+    let args = [
+        "brdf",
+        "--heightfield",
+        gsf_path.to_str().unwrap(),
+        "--light-theta",
+        "0",
+        "--view-theta",
+        "0:40:5",
+        "--view-phi",
+        "180",
+        "--lambda",
+        "500,600",
+    ];
+    let cpu = csv(&diffract(&[&args[..], &["--method", "taylor"]].concat()));
+    let gpu = csv(&diffract(&[&args[..], &["--gpu", "--validation", "--device", "llvmpipe"]].concat()));
+    assert_eq!(cpu.len(), gpu.len());
+    for (c, g) in cpu.iter().zip(&gpu) {
+        for key in ["lambda_nm", "theta_r_deg", "u", "v", "w"] {
+            assert_eq!(c[key], g[key]);
+        }
+        if c["power"] > 1e-4 {
+            assert!((c["power"] - g["power"]).abs() / c["power"] < 1e-3, "{c:?} vs {g:?}");
+        }
+    }
+    let o = diffract(&[&args[..], &["--gpu", "--method", "exact"]].concat());
+    assert_one_line_error(&o, "--gpu evaluates the Taylor sum");
+}

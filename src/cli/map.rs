@@ -105,12 +105,16 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
     let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
     let taps = 2 * material.window.radius_x + 1;
+    let sampling = match material.settings.approach {
+        Approach::Nmm => format!("one λ per DFT bin crossed ({} λ near specular)", material.sampling.count),
+        Approach::Gem => format!("orders of the {:.3} µm spacing", material.params.gem[2]),
+        _ => format!("{} λ", material.sampling.count),
+    };
     println!(
-        "wrote {} ({size}×{size} {approach}: {plan}{lambdas} λ, {taps}×{taps} taps; precompute {prep_ms:.0} ms{gpu_time} on {device})",
+        "wrote {} ({size}×{size} {approach}: {plan}{sampling}, {taps}×{taps} taps; precompute {prep_ms:.0} ms{gpu_time} on {device})",
         args.out.display(),
         size = args.size,
         approach = material.settings.approach.name(),
-        lambdas = material.sampling.count,
         device = ctx.info.name
     );
     let log = ctx.validation();
