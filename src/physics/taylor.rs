@@ -1,7 +1,7 @@
 //! The Taylor expansion of p = exp(i·k·w·h) and its precomputed Fourier terms (model.md §1.6, §2.1, §7.3).
 //!
 //! P = Σ_n (k·w)^n/n! · F_n, where F_n is the centred, normalised inverse DFT of (i·h)^n over the mean-centred
-//! heights h (µm):  F_n[j] = 1/(Nx·Ny) · Σ_x (i·h[x])^n · e^{+2πi j·x/N}, DC at index (⌊Nx/2⌋, ⌊Ny/2⌋).
+//! heights h (µm):  F_n\[j\] = 1/(Nx·Ny) · Σ_x (i·h\[x\])^n · e^{+2πi j·x/N}, DC at index (⌊Nx/2⌋, ⌊Ny/2⌋).
 //! The +i exponent is Stam's sign convention (P(α) = ∫ p e^{+iαx} dx), so the bin for a view is +u·L/λ.
 //!
 //! Everything is computed in f64. Two real powers are transformed with one complex FFT (h^n + i·h^{n+1}) and

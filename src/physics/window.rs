@@ -3,7 +3,7 @@
 //! A view asks for P at the spatial frequency (u/λ, v/λ) in cycles/µm, which lies at the fractional bin
 //! position s = (u·Lx/λ, v·Ly/λ) relative to DC. The surface is the periodic replica of the patch times a
 //! Gaussian g of the spatial coherence (σ_s = coherence length / 4), so P is the line spectrum of the DFT
-//! convolved with g's transform: P(s) = Σ_j F[j]·exp(−½·|(j − s)/σ|²) with σ = L/(2π σ_s) bins per axis.
+//! convolved with g's transform: P(s) = Σ_j F\[j\]·exp(−½·|(j − s)/σ|²) with σ = L/(2π σ_s) bins per axis.
 //! The weight is 1 at a bin centre, so a flat patch gives exactly 1 at specular.
 //!
 //! Taps: the nearest bin n = round(s) and `radius` bins either side, per axis; bins outside the sampled
