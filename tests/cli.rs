@@ -1,34 +1,19 @@
 //! The `diffract` binary as a user meets it: its outputs, and one clear line and a non-zero exit for every
 //! mistake a user can make, never a panic.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-fn diffract(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_diffract"))
-        .args(args)
-        .env_remove("DIFFRACT_VALIDATION")
-        .output()
-        .expect("run diffract")
-}
+use common::{assert_one_line_error, diffract};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::scratch("cli", name)
 }
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// A user error: non-zero exit, exactly one line on stderr, no panic.
-fn assert_one_line_error(o: &Output, needle: &str) {
-    let err = stderr(o);
-    assert!(!o.status.success(), "expected failure, stderr: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
-    assert!(err.contains(needle), "expected {needle:?} in {err:?}");
 }
 
 #[test]

@@ -1,19 +1,16 @@
 //! `diffract brdf` and `diffract terms` as a user runs them: PNG and GSF input give the Bessel orders of a
 //! sinusoidal grating, and hostile files end in one line and a non-zero exit.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
+use std::path::PathBuf;
+use std::process::Output;
+
+use common::{assert_one_line_error, diffract};
 use diffract::physics::{gsf, HeightField};
 
-fn diffract(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_diffract")).args(args).output().expect("run diffract")
-}
-
 fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli_brdf");
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    common::scratch("cli_brdf", name)
 }
 
 fn bessel_j(m: i32, x: f64) -> f64 {
@@ -113,14 +110,6 @@ fn flat_png_is_a_mirror() {
         assert!((pair[0]["reflectance"] - 1.0).abs() < 1e-12);
         assert!(pair[1]["power"] < 1e-12);
     }
-}
-
-fn assert_one_line_error(o: &Output, needle: &str) {
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success(), "expected a failure: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-    assert!(err.contains(needle), "{needle:?} not in {err:?}");
 }
 
 fn brdf_on(file: &str, extra: &[&str]) -> Output {

@@ -13,12 +13,10 @@ float intensity_at(vec3 uvw, float lambda_nm) {
     vec2 s = uvw.xy * params.patch_um.xy / lambda_um;
     if (!in_band(s)) return 0.0;
     float kw = 2.0 * PI / lambda_um * uvw.z;
-    if (APPROACH == APPROACH_PQ) {
-        vec2 p = taylor_sum_sinc(s, kw);
-        return dot(p, p) * periodic_gain(s.x, params.pq.x) * periodic_gain(s.y, params.pq.y);
-    }
     vec2 p = taylor_sum(s, kw);
-    return dot(p, p);
+    float intensity = dot(p, p);
+    if (APPROACH == APPROACH_PQ) intensity *= periodic_gain(s.x, params.pq.x) * periodic_gain(s.y, params.pq.y);
+    return intensity;
 }
 
 // Uniform wavelength sampling (FLSS; PQ with its own intensity): X = Σ I x̄ S Δλ / Σ ȳ S Δλ.

@@ -24,29 +24,6 @@ vec2 taylor_series_at(ivec2 texel, float c[TERMS]) {
     return acc;
 }
 
-// The coherence-windowed amplitude at fractional bin position s (relative to DC) for k·w = kw (1/µm).
-vec2 taylor_sum(vec2 s, float kw) {
-    float c[TERMS];
-    taylor_coefficients(kw, c);
-    ivec2 n = params.patch_px.xy;
-    ivec2 half_n = n / 2;
-    ivec2 nearest = ivec2(floor(s + 0.5));
-    vec2 p = vec2(0.0);
-    for (int dy = -WINDOW_RADIUS; dy <= WINDOW_RADIUS; ++dy) {
-        int jy = nearest.y + dy;
-        if (jy + half_n.y < 0 || jy + half_n.y >= n.y) continue;
-        float ey = (float(jy) - s.y) / params.window.y;
-        for (int dx = -WINDOW_RADIUS; dx <= WINDOW_RADIUS; ++dx) {
-            int jx = nearest.x + dx;
-            if (jx + half_n.x < 0 || jx + half_n.x >= n.x) continue;
-            float ex = (float(jx) - s.x) / params.window.x;
-            float g = exp(-0.5 * (ex * ex + ey * ey));
-            p += g * taylor_series_at(ivec2(jx, jy) + half_n, c);
-        }
-    }
-    return p;
-}
-
 // The exact DTFT kernel of an n-sample patch, (1/n) Σ_x e^{2πi d x/n} = e^{iπd(n−1)/n} sin(πd) / (n sin(πd/n)):
 // sinc reconstruction of the single patch's spectrum from its bins (model.md §1.12, with the kernel's
 // argument in bins, not in units of σ_f: §7.2 item 4).
@@ -58,8 +35,18 @@ vec2 dtft_kernel(float d, int n) {
     return magnitude * vec2(cos(phase), sin(phase));
 }
 
-// The single patch's amplitude at s, reconstructed with the DTFT kernel over the window's taps (PQ).
-vec2 taylor_sum_sinc(vec2 s, float kw) {
+// The complex weight of bin j for a lookup at s: the Gaussian coherence window (1 at a bin centre), or for PQ
+// the single patch's DTFT kernel.
+vec2 tap_weight(vec2 s, ivec2 j) {
+    if (APPROACH == APPROACH_PQ) {
+        return cmul(dtft_kernel(s.x - float(j.x), params.patch_px.x), dtft_kernel(s.y - float(j.y), params.patch_px.y));
+    }
+    vec2 e = (vec2(j) - s) / params.window.xy;
+    return vec2(exp(-0.5 * dot(e, e)), 0.0);
+}
+
+// The windowed amplitude at fractional bin position s (relative to DC) for k·w = kw (1/µm).
+vec2 taylor_sum(vec2 s, float kw) {
     float c[TERMS];
     taylor_coefficients(kw, c);
     ivec2 n = params.patch_px.xy;
@@ -67,14 +54,11 @@ vec2 taylor_sum_sinc(vec2 s, float kw) {
     ivec2 nearest = ivec2(floor(s + 0.5));
     vec2 p = vec2(0.0);
     for (int dy = -WINDOW_RADIUS; dy <= WINDOW_RADIUS; ++dy) {
-        int jy = nearest.y + dy;
-        if (jy + half_n.y < 0 || jy + half_n.y >= n.y) continue;
-        vec2 ky = dtft_kernel(s.y - float(jy), n.y);
         for (int dx = -WINDOW_RADIUS; dx <= WINDOW_RADIUS; ++dx) {
-            int jx = nearest.x + dx;
-            if (jx + half_n.x < 0 || jx + half_n.x >= n.x) continue;
-            vec2 k = cmul(dtft_kernel(s.x - float(jx), n.x), ky);
-            p += cmul(k, taylor_series_at(ivec2(jx, jy) + half_n, c));
+            ivec2 j = nearest + ivec2(dx, dy);
+            ivec2 texel = j + half_n;
+            if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, n))) continue;
+            p += cmul(tap_weight(s, j), taylor_series_at(texel, c));
         }
     }
     return p;

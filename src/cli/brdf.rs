@@ -1,47 +1,13 @@
 //! `diffract brdf` (the CPU reference as CSV) and `diffract terms` (what the precomputation would do).
 
 use std::io::Write;
-use std::path::PathBuf;
 
 use anyhow::{bail, Context as _};
 use clap::{Args, ValueEnum};
 
+use super::args::{AccuracyArgs, HeightFieldArgs};
 use super::parse;
-use crate::physics::taylor::DEFAULT_TOLERANCE;
-use crate::physics::window::DEFAULT_COHERENCE_UM;
-use crate::physics::{HeightField, Method, PngScale, Query, Reference, Window};
-
-/// A height field and its physical units, shared by every command that reads one.
-#[derive(Args, Debug, Clone)]
-pub struct HeightFieldArgs {
-    /// Height field: Gwyddion Simple Field (.gsf, units from the file) or greyscale PNG
-    #[arg(long, value_name = "FILE")]
-    pub heightfield: PathBuf,
-    /// PNG only: pixel size in µm
-    #[arg(long, value_name = "P")]
-    pub pixel_size_um: Option<f64>,
-    /// PNG only: height in µm of the brightest grey value (255 or 65535); black is 0
-    #[arg(long, value_name = "H")]
-    pub height_um: Option<f64>,
-    /// Repeat the patch periodically NX times along x and NY along y
-    #[arg(long, value_name = "NX[,NY]", value_parser = parse::tile)]
-    pub tile: Option<(usize, usize)>,
-}
-
-impl HeightFieldArgs {
-    pub fn load(&self) -> anyhow::Result<HeightField> {
-        let png = match (self.pixel_size_um, self.height_um) {
-            (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
-            (None, None) => None,
-            _ => bail!("--pixel-size-um and --height-um go together"),
-        };
-        let hf = HeightField::load(&self.heightfield, png)?;
-        match self.tile {
-            Some((tx, ty)) => Ok(hf.tiled(tx, ty)?),
-            None => Ok(hf),
-        }
-    }
-}
+use crate::physics::{HeightField, Method, Query, Reference, Window};
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
 pub enum MethodArg {
@@ -81,18 +47,8 @@ pub struct BrdfArgs {
     /// Evaluate the Taylor sum on the GPU with the shaders' code (f32), printing the same CSV
     #[arg(long)]
     pub gpu: bool,
-    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
-    /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
-    pub tolerance: f64,
-    /// Coherence length in µm (the Gaussian window has σ_s = L/4)
-    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
-    pub coherence_um: f64,
-    /// Window radius in bins either side of the nearest bin; default: the full window (weights ≥ 1e-17)
-    #[arg(long, value_name = "R")]
-    pub window_radius: Option<u32>,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
 }
 
 pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::process::ExitCode> {
@@ -127,7 +83,8 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         q.check()?;
     }
     let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, args.coherence_um, args.window_radius)?;
+    let acc = &args.accuracy;
+    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
     let method = args.method.unwrap_or(if args.gpu { MethodArg::Taylor } else { MethodArg::Exact });
     if args.gpu && !matches!(method, MethodArg::Taylor) {
         bail!("--gpu evaluates the Taylor sum; use --method taylor (or leave --method out)");
@@ -138,7 +95,7 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
     let (method, plan) = match method {
         MethodArg::Exact => (Method::Exact, None),
         MethodArg::Taylor | MethodArg::TaylorF32 => {
-            let plan = Reference::plan_for(&hf, &window, &queries, args.tolerance, args.terms)?;
+            let plan = Reference::plan_for(&hf, &window, &queries, acc.tolerance, acc.terms)?;
             eprintln!("note: {}", plan.describe());
             let method = if matches!(method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
             (method, Some(plan))
@@ -158,14 +115,15 @@ fn brdf_gpu(
     window: Window,
     queries: &[Query],
 ) -> anyhow::Result<std::process::ExitCode> {
-    let plan = Reference::plan_for(hf, &window, queries, args.tolerance, args.terms)?;
+    let acc = &args.accuracy;
+    let plan = Reference::plan_for(hf, &window, queries, acc.tolerance, acc.terms)?;
     eprintln!("note: {}", plan.describe());
     let radius = window.radius_x.max(window.radius_y) as u32;
     let settings = crate::shading::Settings {
         order: Some(plan.order),
-        tolerance: args.tolerance,
+        tolerance: acc.tolerance,
         window_radius: Some(radius),
-        coherence_um: args.coherence_um,
+        coherence_um: acc.coherence_um,
         accept_f32_error: true,
         ..Default::default()
     };
@@ -237,13 +195,8 @@ pub struct TermsArgs {
     /// Largest |w| in use (2 covers every pair of directions)
     #[arg(long, default_value_t = 2.0)]
     pub w_max: f64,
-    /// Force the Taylor order N
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
-    pub tolerance: f64,
-    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
-    pub coherence_um: f64,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
     /// Also run the precomputation and report its time
     #[arg(long)]
     pub compute: bool,
@@ -258,22 +211,23 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         bail!("--lambda-min must lie between 100 and 10000 nm");
     }
     let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, args.coherence_um, None)?;
+    let acc = &args.accuracy;
+    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
     let gain = crate::physics::reference::window_gain(&window, &hf);
     let plan = crate::physics::TaylorPlan::new(
         args.lambda_min * 1e-3,
         args.w_max,
         &crate::physics::HeightStats::of(&hf),
         gain,
-        args.tolerance,
-        args.terms,
+        acc.tolerance,
+        acc.terms,
     )?;
     let (lo, hi) = hf.range();
     println!("patch: {}×{} pixels of {:.4}×{:.4} µm = {:.3}×{:.3} µm", hf.nx, hf.ny, hf.dx_um, hf.dy_um, lx, ly);
     println!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
     println!(
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
-        window.sigma_x, window.sigma_y, args.coherence_um
+        window.sigma_x, window.sigma_y, acc.coherence_um
     );
     let (gx, gy, spacing) = crate::shading::dominant_grating(&hf);
     if spacing > 0.0 {

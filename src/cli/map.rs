@@ -6,57 +6,11 @@ use std::time::Instant;
 use anyhow::Context as _;
 use clap::Args;
 
-use super::brdf::HeightFieldArgs;
+use super::args::{HeightFieldArgs, ShadingArgs};
 use super::GpuArgs;
 use crate::physics::optics;
-use crate::physics::taylor::DEFAULT_TOLERANCE;
-use crate::physics::window::DEFAULT_COHERENCE_UM;
 use crate::render::diffraction;
-use crate::shading::{Approach, Material, Settings};
-
-/// Every setting that trades speed for accuracy (shared by the commands that shade).
-#[derive(Args, Debug, Clone)]
-pub struct ShadingArgs {
-    /// Shading approach
-    #[arg(long, value_enum, default_value_t = Approach::Flss)]
-    pub approach: Approach,
-    /// Force the Taylor order N (terms 0..=N); default: the smallest N meeting --tolerance
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
-    /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
-    pub tolerance: f64,
-    /// Wavelength step in nm over 380–780 nm (FLSS, PQ)
-    #[arg(long, value_name = "NM", default_value_t = 5.0)]
-    pub lambda_step: f64,
-    /// Window taps either side of the nearest bin (default: until the Gaussian weight is below 1e-3)
-    #[arg(long, value_name = "R")]
-    pub window_radius: Option<u32>,
-    /// Coherence length in µm (Gaussian window σ_s = L/4)
-    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
-    pub coherence_um: f64,
-    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
-    #[arg(long, value_name = "EV", default_value_t = 0.0)]
-    pub exposure: f64,
-    /// Render even where f32 sums cannot reach --tolerance (the plan's estimate)
-    #[arg(long)]
-    pub accept_f32_error: bool,
-}
-
-impl ShadingArgs {
-    pub fn settings(&self) -> Settings {
-        Settings {
-            approach: self.approach,
-            order: self.terms,
-            tolerance: self.tolerance,
-            lambda_step_nm: self.lambda_step,
-            window_radius: self.window_radius,
-            coherence_um: self.coherence_um,
-            exposure_ev: self.exposure,
-            accept_f32_error: self.accept_f32_error,
-        }
-    }
-}
+use crate::shading::{Approach, Material};
 
 #[derive(Args, Debug)]
 pub struct MapArgs {

@@ -1,6 +1,7 @@
 //! The `diffract` command line. `anyhow` is used here only; every failure ends as one line on stderr and a
 //! non-zero exit code.
 
+mod args;
 mod brdf;
 mod generate;
 mod map;

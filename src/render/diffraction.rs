@@ -210,18 +210,10 @@ pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3) -
 
 fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, size: u32) -> Result<MapImage> {
     let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
-    let mut ring = match ctx.create_timestamp_ring(1, 1, "brdf map timestamps") {
-        Ok(r) => r,
-        Err(e) => {
-            // SAFETY: unused.
-            unsafe { target.destroy(ctx) };
-            return Err(e);
-        }
-    };
     let result = (|| {
         let push: Vec<u8> = [(size as f32).to_ne_bytes(), (size as f32).to_ne_bytes()].concat();
         let show_progress = std::io::stderr().is_terminal() && size >= 128;
-        let mut gpu_ms = ring.as_ref().map(|_| 0.0);
+        let mut gpu_ms = Some(0.0);
         let bands = size.div_ceil(MAP_BAND_ROWS);
         for band in 0..bands {
             let y0 = band * MAP_BAND_ROWS;
@@ -229,34 +221,19 @@ fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, si
                 offset: vk::Offset2D { x: 0, y: y0 as i32 },
                 extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
             };
-            let mut scope_err = None;
-            ctx.one_shot("brdf map band", |cmd| {
+            let band_ms = ctx.one_shot_timed("brdf map", |cmd| {
                 if band == 0 {
                     target.begin(ctx, cmd);
                 } else {
                     target.continue_rendering(ctx, cmd);
                 }
-                let scope = ring.as_mut().map(|r| {
-                    r.begin_frame(ctx, cmd, 0);
-                    r.begin_scope(ctx, cmd, "brdf map")
-                });
                 begin_rendering(ctx, cmd, &target.view(), [0.0, 0.0, 0.0, 1.0], Some(area));
                 ctx.bind(cmd, pipeline, &patch.writes(), &push);
                 // SAFETY: recording inside the rendering scope with the pipeline bound.
                 unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
                 end_rendering(ctx, cmd);
-                match (ring.as_mut(), scope) {
-                    (Some(r), Some(Ok(i))) => r.end_scope(ctx, cmd, i),
-                    (_, Some(Err(e))) => scope_err = Some(e),
-                    _ => {}
-                }
             })?;
-            if let Some(e) = scope_err {
-                return Err(e);
-            }
-            if let (Some(r), Some(total)) = (&ring, gpu_ms.as_mut()) {
-                *total += r.read(ctx, 0)?.iter().map(|s| s.ms).sum::<f64>();
-            }
+            gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
             if show_progress {
                 eprint!("\rrendering map: {:3.0} %", 100.0 * f64::from(band + 1) / f64::from(bands));
             }
@@ -268,12 +245,7 @@ fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, si
         Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
     })();
     // SAFETY: every submission was waited for.
-    unsafe {
-        if let Some(r) = ring {
-            r.destroy(ctx);
-        }
-        target.destroy(ctx);
-    }
+    unsafe { target.destroy(ctx) };
     result
 }
 

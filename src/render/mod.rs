@@ -9,8 +9,9 @@ pub mod surface;
 
 use ash::vk;
 
-use crate::error::Result;
-use crate::vk::{Context, Image, ImageDesc, ImageState};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::vk::{Buffer, Context, Image, ImageDesc, ImageState};
 
 /// The format of offscreen colour targets: 8-bit sRGB, so the store applies the sRGB transfer function and the
 /// bytes read back are what a PNG holds.
@@ -144,4 +145,54 @@ pub fn begin_rendering(
 pub fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {
     // SAFETY: paired with begin_rendering.
     unsafe { ctx.device().cmd_end_rendering(cmd) };
+}
+
+/// A mesh's vertex and index buffers on the GPU.
+pub struct MeshBuffers {
+    pub vertices: Buffer,
+    pub indices: Buffer,
+    pub index_count: u32,
+}
+
+impl MeshBuffers {
+    pub fn new(ctx: &Context, mesh: &Mesh, name: &str) -> Result<Self> {
+        if mesh.indices.is_empty() {
+            return Err(Error::Invalid(format!("the mesh {name:?} has no triangles")));
+        }
+        let vertices = ctx.create_buffer_init(
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            bytemuck::cast_slice(&mesh.vertices),
+            &format!("{name} vertices"),
+        )?;
+        let indices = ctx.create_buffer_init(
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            bytemuck::cast_slice(&mesh.indices),
+            &format!("{name} indices"),
+        );
+        match indices {
+            Ok(indices) => Ok(Self { vertices, indices, index_count: mesh.indices.len() as u32 }),
+            Err(e) => {
+                // SAFETY: never used.
+                unsafe { vertices.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Binds the buffers and draws every triangle (a pipeline must be bound inside a rendering scope).
+    pub fn draw(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        // SAFETY: cmd is recording inside a rendering scope with a pipeline of this vertex layout bound.
+        unsafe {
+            ctx.device().cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
+            ctx.device().cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
+            ctx.device().cmd_draw_indexed(cmd, self.index_count, 1, 0, 0, 0);
+        }
+    }
+
+    /// # Safety
+    /// The GPU must be done with the buffers.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.vertices.destroy(ctx);
+        self.indices.destroy(ctx);
+    }
 }

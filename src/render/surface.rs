@@ -5,9 +5,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use super::diffraction::{patch_bindings, PatchResources};
-use super::{begin_rendering, end_rendering, OffscreenTarget, TargetView, DEPTH_FORMAT, LINEAR_FORMAT};
+use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, TargetView, DEPTH_FORMAT, LINEAR_FORMAT};
 use crate::camera::Camera;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shading::Material;
@@ -50,10 +50,8 @@ pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
 pub struct SurfacePass {
     pipeline: Pipeline,
     patch: PatchResources,
-    vertices: Buffer,
-    indices: Buffer,
+    mesh: MeshBuffers,
     uniforms: Buffer,
-    index_count: u32,
 }
 
 impl SurfacePass {
@@ -67,66 +65,54 @@ impl SurfacePass {
         color_format: vk::Format,
         display_output: bool,
     ) -> Result<Self> {
-        if mesh.indices.is_empty() {
-            return Err(Error::Invalid("the mesh has no triangles".into()));
-        }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let [p, t, s] = patch_bindings(stages);
         let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }, p, t, s];
-        let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-            name: Self::NAME,
-            vertex: shaders::SURFACE_VERT,
-            fragment: shaders::SURFACE_FRAG,
-            specialization: material.spec_constants(display_output),
-            bindings: &bindings,
-            push_constant_size: 0,
-            vertex_stride: std::mem::size_of::<Vertex>() as u32,
-            vertex_attributes: &VERTEX_ATTRIBUTES,
-            color_format,
-            depth_format: Some(DEPTH_FORMAT),
-            cull_back_faces: false,
-        })?;
-        let patch = match PatchResources::new(ctx, material) {
-            Ok(p) => p,
-            Err(e) => {
-                // SAFETY: unused.
-                unsafe { pipeline.destroy(ctx) };
-                return Err(e);
-            }
-        };
-        let mut made: Vec<Buffer> = Vec::new();
-        let buffers = (|| {
-            made.push(ctx.create_buffer_init(
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                bytemuck::cast_slice(&mesh.vertices),
-                "surface vertices",
-            )?);
-            made.push(ctx.create_buffer_init(
-                vk::BufferUsageFlags::INDEX_BUFFER,
-                bytemuck::cast_slice(&mesh.indices),
-                "surface indices",
-            )?);
+        let mesh = MeshBuffers::new(ctx, mesh, Self::NAME)?;
+        let mut uniforms = None;
+        let mut patch = None;
+        let made = (|| {
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;
-            made.push(
+            uniforms = Some(
                 ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "surface uniforms")?,
             );
-            Ok::<(), Error>(())
+            patch = Some(PatchResources::new(ctx, material)?);
+            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: Self::NAME,
+                vertex: shaders::SURFACE_VERT,
+                fragment: shaders::SURFACE_FRAG,
+                specialization: material.spec_constants(display_output),
+                bindings: &bindings,
+                push_constant_size: 0,
+                vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                vertex_attributes: &VERTEX_ATTRIBUTES,
+                color_format,
+                depth_format: Some(DEPTH_FORMAT),
+                cull_back_faces: false,
+            })
         })();
-        if let Err(e) = buffers {
-            // SAFETY: no pending work uses them.
-            unsafe {
-                for b in made {
-                    b.destroy(ctx);
+        match made {
+            // The uniforms and the patch are made before the pipeline.
+            Ok(pipeline) => Ok(Self {
+                pipeline,
+                patch: patch.expect("made before the pipeline"),
+                mesh,
+                uniforms: uniforms.expect("made before the pipeline"),
+            }),
+            Err(e) => {
+                // SAFETY: nothing was submitted with these.
+                unsafe {
+                    mesh.destroy(ctx);
+                    if let Some(u) = uniforms {
+                        u.destroy(ctx);
+                    }
+                    if let Some(p) = patch {
+                        p.destroy(ctx);
+                    }
                 }
-                patch.destroy(ctx);
-                pipeline.destroy(ctx);
+                Err(e)
             }
-            return Err(e);
         }
-        let uniforms = made.pop().expect("three buffers");
-        let indices = made.pop().expect("three buffers");
-        let vertices = made.pop().expect("three buffers");
-        Ok(Self { pipeline, patch, vertices, indices, uniforms, index_count: mesh.indices.len() as u32 })
     }
 
     /// Writes the frame's uniforms; no submitted work may still read them.
@@ -147,12 +133,7 @@ impl SurfacePass {
         begin_rendering(ctx, cmd, target, background, None);
         let [p, t, s] = self.patch.writes();
         ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(0, &self.uniforms), p, t, s], &[]);
-        // SAFETY: recording inside a rendering scope with the pipeline bound.
-        unsafe {
-            ctx.device().cmd_bind_vertex_buffers(cmd, 0, &[self.vertices.raw], &[0]);
-            ctx.device().cmd_bind_index_buffer(cmd, self.indices.raw, 0, vk::IndexType::UINT32);
-            ctx.device().cmd_draw_indexed(cmd, self.index_count, 1, 0, 0, 0);
-        }
+        self.mesh.draw(ctx, cmd);
         end_rendering(ctx, cmd);
     }
 
@@ -161,8 +142,7 @@ impl SurfacePass {
     pub unsafe fn destroy(self, ctx: &Context) {
         self.pipeline.destroy(ctx);
         self.patch.destroy(ctx);
-        self.vertices.destroy(ctx);
-        self.indices.destroy(ctx);
+        self.mesh.destroy(ctx);
         self.uniforms.destroy(ctx);
     }
 }
@@ -192,33 +172,10 @@ pub fn render_surface(
         let target = OffscreenTarget::with_format(ctx, width, height, format, true)?;
         let frame = (|| {
             pass.update(scene, width as f32 / height as f32)?;
-            let mut ring = ctx.create_timestamp_ring(1, 1, "surface timestamps")?;
-            let mut scope_err = None;
-            let submitted = ctx.one_shot("surface frame", |cmd| {
+            let gpu_ms = ctx.one_shot_timed(SurfacePass::NAME, |cmd| {
                 target.begin(ctx, cmd);
-                let scope = ring.as_mut().map(|r| {
-                    r.begin_frame(ctx, cmd, 0);
-                    r.begin_scope(ctx, cmd, SurfacePass::NAME)
-                });
                 pass.record(ctx, cmd, &target.view(), scene.background);
-                match (ring.as_mut(), scope) {
-                    (Some(r), Some(Ok(i))) => r.end_scope(ctx, cmd, i),
-                    (_, Some(Err(e))) => scope_err = Some(e),
-                    _ => {}
-                }
-            });
-            let gpu_ms = match (&submitted, &ring) {
-                (Ok(()), Some(r)) => r.read(ctx, 0).ok().and_then(|t| t.first().map(|s| s.ms)),
-                _ => None,
-            };
-            if let Some(r) = ring {
-                // SAFETY: one_shot waited.
-                unsafe { r.destroy(ctx) };
-            }
-            submitted?;
-            if let Some(e) = scope_err {
-                return Err(e);
-            }
+            })?;
             let bytes = target.read(ctx)?;
             let (linear, rgba8) =
                 if display_output { (None, Some(bytes)) } else { (Some(bytemuck::pod_collect_to_vec(&bytes)), None) };

@@ -98,6 +98,33 @@ impl TimestampRing {
 }
 
 impl Context {
+    /// [`Context::one_shot`] with the recorded work inside one timed scope named `name` (its debug label too);
+    /// returns its GPU time in ms where the queue has timestamps.
+    pub fn one_shot_timed(&self, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<Option<f64>> {
+        let Some(mut ring) = self.create_timestamp_ring(1, 1, name)? else {
+            self.one_shot(name, record)?;
+            return Ok(None);
+        };
+        let mut scope_error = None;
+        let submitted = self.one_shot(name, |cmd| {
+            ring.begin_frame(self, cmd, 0);
+            match ring.begin_scope(self, cmd, name) {
+                Ok(scope) => {
+                    record(cmd);
+                    ring.end_scope(self, cmd, scope);
+                }
+                Err(e) => scope_error = Some(e),
+            }
+        });
+        let timing = submitted.and_then(|()| match scope_error {
+            Some(e) => Err(e),
+            None => ring.read(self, 0).map(|t| t.first().map(|s| s.ms)),
+        });
+        // SAFETY: one_shot waited for the work that wrote the queries.
+        unsafe { ring.destroy(self) };
+        timing
+    }
+
     /// A ring of `frames` slots with room for `scopes_per_frame` timed scopes each; `None` where the queue has
     /// no timestamps.
     pub fn create_timestamp_ring(

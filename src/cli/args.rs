@@ -1,0 +1,97 @@
+//! Argument groups shared by several commands: a height field with its units, and the settings that trade
+//! speed for accuracy.
+
+use std::path::PathBuf;
+
+use anyhow::bail;
+use clap::Args;
+
+use super::parse;
+use crate::physics::taylor::DEFAULT_TOLERANCE;
+use crate::physics::window::DEFAULT_COHERENCE_UM;
+use crate::physics::{HeightField, PngScale};
+use crate::shading::{Approach, Settings};
+
+/// A height field and its physical units, shared by every command that reads one.
+#[derive(Args, Debug, Clone)]
+pub struct HeightFieldArgs {
+    /// Height field: Gwyddion Simple Field (.gsf, units from the file) or greyscale PNG
+    #[arg(long, value_name = "FILE")]
+    pub heightfield: PathBuf,
+    /// PNG only: pixel size in µm
+    #[arg(long, value_name = "P")]
+    pub pixel_size_um: Option<f64>,
+    /// PNG only: height in µm of the brightest grey value (255 or 65535); black is 0
+    #[arg(long, value_name = "H")]
+    pub height_um: Option<f64>,
+    /// Repeat the patch periodically NX times along x and NY along y
+    #[arg(long, value_name = "NX[,NY]", value_parser = parse::tile)]
+    pub tile: Option<(usize, usize)>,
+}
+
+impl HeightFieldArgs {
+    pub fn load(&self) -> anyhow::Result<HeightField> {
+        let png = match (self.pixel_size_um, self.height_um) {
+            (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+            (None, None) => None,
+            _ => bail!("--pixel-size-um and --height-um go together"),
+        };
+        let hf = HeightField::load(&self.heightfield, png)?;
+        match self.tile {
+            Some((tx, ty)) => Ok(hf.tiled(tx, ty)?),
+            None => Ok(hf),
+        }
+    }
+}
+
+/// The accuracy of the Taylor sum and of the window, for every command that evaluates P.
+#[derive(Args, Debug, Clone)]
+pub struct AccuracyArgs {
+    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
+    pub tolerance: f64,
+    /// Coherence length in µm (the Gaussian window has σ_s = L/4)
+    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
+    pub coherence_um: f64,
+    /// Window taps either side of the nearest bin (default: brdf and terms the full window, weights ≥ 1e-17;
+    /// map and render down to a weight of 1e-3)
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+}
+
+/// Every setting of the shaders that trades speed for accuracy.
+#[derive(Args, Debug, Clone)]
+pub struct ShadingArgs {
+    /// Shading approach
+    #[arg(long, value_enum, default_value_t = Approach::Flss)]
+    pub approach: Approach,
+    #[command(flatten)]
+    pub accuracy: AccuracyArgs,
+    /// Wavelength step in nm over 380–780 nm (FLSS, PQ)
+    #[arg(long, value_name = "NM", default_value_t = 5.0)]
+    pub lambda_step: f64,
+    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
+    #[arg(long, value_name = "EV", default_value_t = 0.0)]
+    pub exposure: f64,
+    /// Render even where f32 sums cannot reach --tolerance (the plan's estimate)
+    #[arg(long)]
+    pub accept_f32_error: bool,
+}
+
+impl ShadingArgs {
+    pub fn settings(&self) -> Settings {
+        Settings {
+            approach: self.approach,
+            order: self.accuracy.terms,
+            tolerance: self.accuracy.tolerance,
+            lambda_step_nm: self.lambda_step,
+            window_radius: self.accuracy.window_radius,
+            coherence_um: self.accuracy.coherence_um,
+            exposure_ev: self.exposure,
+            accept_f32_error: self.accept_f32_error,
+        }
+    }
+}

@@ -1,0 +1,29 @@
+//! Helpers shared by the command-line tests.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs the `diffract` binary (without DIFFRACT_VALIDATION from the environment).
+pub fn diffract(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_diffract"))
+        .args(args)
+        .env_remove("DIFFRACT_VALIDATION")
+        .output()
+        .expect("run diffract")
+}
+
+/// A path under the target's scratch folder for the test binary `group`.
+pub fn scratch(group: &str, name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(group);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// A user error: non-zero exit, exactly one line on stderr that contains `needle`, no panic.
+pub fn assert_one_line_error(o: &Output, needle: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "expected a failure, stderr: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert!(err.contains(needle), "expected {needle:?} in {err:?}");
+}
