@@ -95,3 +95,14 @@ impl ShadingArgs {
         }
     }
 }
+
+/// A directional light in the patch frame.
+#[derive(Args, Debug, Clone)]
+pub struct LightArgs {
+    /// Light inclination θ_i in degrees (0 = normal incidence)
+    #[arg(long, value_name = "DEG")]
+    pub light_theta: f64,
+    /// Light azimuth φ_i in degrees
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    pub light_phi: f64,
+}

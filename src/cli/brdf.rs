@@ -5,7 +5,7 @@ use std::io::Write;
 use anyhow::{bail, Context as _};
 use clap::{Args, ValueEnum};
 
-use super::args::{AccuracyArgs, HeightFieldArgs};
+use super::args::{AccuracyArgs, HeightFieldArgs, LightArgs};
 use super::parse;
 use crate::physics::{HeightField, Method, Query, Reference, Window};
 
@@ -23,12 +23,8 @@ pub enum MethodArg {
 pub struct BrdfArgs {
     #[command(flatten)]
     pub heightfield: HeightFieldArgs,
-    /// Light inclination θ_i in degrees (0 = normal incidence)
-    #[arg(long, value_name = "DEG")]
-    pub light_theta: f64,
-    /// Light azimuth φ_i in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
-    pub light_phi: f64,
+    #[command(flatten)]
+    pub light: LightArgs,
     /// A view direction θ_r,φ_r in degrees (repeatable)
     #[arg(long, value_name = "THETA,PHI", value_parser = parse::pair, conflicts_with = "view_theta")]
     pub view: Vec<(f64, f64)>,
@@ -72,8 +68,8 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         .flat_map(|&lambda_nm| {
             views.iter().map(move |&(theta_r, phi_r)| Query {
                 lambda_nm,
-                theta_i: args.light_theta,
-                phi_i: args.light_phi,
+                theta_i: args.light.light_theta,
+                phi_i: args.light.light_phi,
                 theta_r,
                 phi_r,
             })

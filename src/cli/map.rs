@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 use clap::Args;
 
-use super::args::{HeightFieldArgs, ShadingArgs};
+use super::args::{HeightFieldArgs, LightArgs, ShadingArgs};
 use super::GpuArgs;
 use crate::physics::optics;
 use crate::render::diffraction;
@@ -16,12 +16,8 @@ use crate::shading::{Approach, Material};
 pub struct MapArgs {
     #[command(flatten)]
     pub heightfield: HeightFieldArgs,
-    /// Light inclination θ_i in degrees
-    #[arg(long, value_name = "DEG")]
-    pub light_theta: f64,
-    /// Light azimuth φ_i in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
-    pub light_phi: f64,
+    #[command(flatten)]
+    pub light: LightArgs,
     /// Output PNG (display-referred 8-bit sRGB after --exposure)
     #[arg(long, value_name = "FILE.png")]
     pub out: PathBuf,
@@ -40,9 +36,9 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if let Some(exr) = &args.exr {
         crate::output::check_exr_path(exr)?;
     }
-    optics::check_theta("light", args.light_theta)?;
+    optics::check_theta("light", args.light.light_theta)?;
     let hf = args.heightfield.load()?;
-    let light = optics::direction(args.light_theta, args.light_phi);
+    let light = optics::direction(args.light.light_theta, args.light.light_phi);
     let start = Instant::now();
     let material = Material::prepare(&hf, args.shading.settings(), 1.0 + light.z)?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
