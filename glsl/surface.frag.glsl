@@ -1,14 +1,30 @@
 #version 460
+// The surface pass: diffraction (the thesis's approaches) plus the skin's pigment under the grating, lit by the
+// light the surface transmits (1 − R, Schlick; the thesis's texture blending, model.md §3.8) from the sun's
+// disc and from a uniform sky.
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
 #include "taylor.glsl"
 #include "approaches.glsl"
+#include "surface_frame.glsl"
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
 layout(location = 0) out vec4 out_color;
 
+// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
+const float SUN_SOLID_ANGLE = 6.8e-5;
+
 void main() {
-    out_color = vec4(shade(normalize(patch_light), normalize(patch_view)), 1.0);
+    vec3 omega_i = normalize(patch_light);
+    vec3 omega_r = normalize(patch_view);
+    vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
+    if (omega_r.z > 0.0) {
+        float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
+        float transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
+        float irradiance = frame.pigment.w + SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0);
+        rgb += transmitted * frame.pigment.rgb * irradiance;
+    }
+    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
 }

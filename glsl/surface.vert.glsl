@@ -20,6 +20,11 @@ void main() {
     vec3 t = mat3(frame.model) * in_tangent.xyz;
     t = normalize(t - n * dot(n, t));
     vec3 b = in_tangent.w * cross(n, t);
+    // The material's orientation turns the patch about the normal.
+    vec3 patch_x = frame.orientation.x * t + frame.orientation.y * b;
+    vec3 patch_y = frame.orientation.x * b - frame.orientation.y * t;
+    t = patch_x;
+    b = patch_y;
     vec3 l = normalize(frame.light_dir.xyz);
     patch_light = vec3(dot(l, t), dot(l, b), dot(l, n));
     vec3 v = frame.camera_pos.xyz - p.xyz;

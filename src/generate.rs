@@ -10,7 +10,8 @@ use crate::error::{Error, Result};
 use crate::physics::heightfield::{check_dims, HeightField};
 
 /// The structures `diffract gen patch` makes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum PatchKind {
     /// h = H/2·(1 + cos 2πx/d): a sinusoidal phase grating (orders of power J_m²)
     Sinusoidal,
@@ -155,22 +156,26 @@ fn cd(nx: usize, ny: usize, p: f64, pitch: f64, depth: f64, rng: &mut Rng) -> Ve
 /// small random offset across, and a profile across that rises steeply and falls slowly (overlapping scales).
 fn fingers(nx: usize, ny: usize, p: f64, d: f64, hgt: f64, rng: &mut Rng) -> Vec<f64> {
     const LENGTH_UM: (f64, f64) = (2.0, 6.0);
+    // The rows wander across by up to WANDER·d over a few µm, as the ridges of the AFM scan do: the local
+    // orientation of the grating varies by several degrees, which spreads its orders along the ridges.
+    const WANDER: f64 = 0.12;
+    const WANDER_PERIOD_UM: (f64, f64) = (4.0, 9.0);
     let (lx, ly) = (nx as f64 * p, ny as f64 * p);
     let mut h = vec![0.0f64; nx * ny];
     let rows = (ly / d).ceil() as i64 + 2;
     for k in -1..rows {
+        let (wander_period, wander_phase) = (rng.range(WANDER_PERIOD_UM.0, WANDER_PERIOD_UM.1), rng.range(0.0, 6.3));
         let mut x = -rng.range(0.0, LENGTH_UM.1);
         while x < lx {
             let len = rng.range(LENGTH_UM.0, LENGTH_UM.1);
             let y0 = k as f64 * d + rng.range(-0.08, 0.08) * d;
-            let tilt = 0.0;
             let width = d;
             let (c0, c1) = (((x / p).floor().max(0.0)) as usize, (((x + len) / p).ceil().min(nx as f64)) as usize);
             for c in c0..c1 {
                 let xx = c as f64 * p;
                 // Round the finger's ends over 0.3 µm.
                 let end = ((xx - x).min(x + len - xx) / 0.3).clamp(0.0, 1.0);
-                let yc = y0 + (xx - x) * tilt;
+                let yc = y0 + WANDER * d * (std::f64::consts::TAU * xx / wander_period + wander_phase).sin();
                 let (r0, r1) =
                     (((yc / p).floor().max(0.0)) as usize, (((yc + width) / p).ceil().min(ny as f64)) as usize);
                 for r in r0..r1 {

@@ -26,6 +26,7 @@ pub mod mesh;
 pub mod output;
 pub mod physics;
 pub mod render;
+pub mod scene;
 pub mod shaders;
 pub mod shading;
 pub mod vk;

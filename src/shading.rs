@@ -15,7 +15,8 @@ use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};
 use crate::physics::HeightField;
 
 /// The thesis's shading approaches (model.md §3.1–§3.4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Approach {
     /// Full λ-space sampling: every wavelength step, the Taylor sum with the Gaussian window (the reference)
     Flss,

@@ -16,6 +16,33 @@ pub enum GenCommand {
   diffract gen patch sinusoidal --period-um 1.6 --height-um 0.1 --size-um 32 --out sine.gsf
   diffract gen patch elaphe --size-um 65 --pixel-um 0.065 --seed 7 --out elaphe.gsf --preview elaphe.png")]
     Patch(PatchArgs),
+    /// The procedural snake as Wavefront OBJ (UVs run along the body, so readers derive tangents along it)
+    #[command(after_help = "Examples:
+  diffract gen snake --out snake.obj                     flat overlapping scales (the default)
+  diffract gen snake --smooth --out smooth-snake.obj     a smooth body")]
+    Snake(SnakeArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct SnakeArgs {
+    /// Output .obj
+    #[arg(long, value_name = "FILE.obj")]
+    pub out: PathBuf,
+    /// Body length (scene units)
+    #[arg(long, default_value_t = 4.0)]
+    pub length: f32,
+    /// A smooth body instead of flat scales
+    #[arg(long)]
+    pub smooth: bool,
+    /// Rows of scales along the body
+    #[arg(long, default_value_t = 110)]
+    pub scale_rows: u32,
+    /// Scales around the body
+    #[arg(long, default_value_t = 20)]
+    pub scales_around: u32,
+    /// Seed of the scales' random turns
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 #[derive(Args, Debug)]
@@ -49,7 +76,24 @@ pub struct PatchArgs {
 pub fn run(command: &GenCommand) -> anyhow::Result<()> {
     match command {
         GenCommand::Patch(args) => patch(args),
+        GenCommand::Snake(args) => snake(args),
     }
+}
+
+fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
+    if args.out.extension().and_then(|e| e.to_str()) != Some("obj") {
+        bail!("cannot write {}: the output must be a .obj file", args.out.display());
+    }
+    if !(args.length.is_finite() && args.length > 0.0) || args.scale_rows > 10_000 || args.scales_around > 1000 {
+        bail!("--length must be positive, --scale-rows at most 10000 and --scales-around at most 1000");
+    }
+    let mut spec = crate::mesh::shapes::SnakeSpec { length: args.length, seed: args.seed, ..Default::default() };
+    spec.scale_rows = if args.smooth { 0 } else { args.scale_rows };
+    spec.scales_around = args.scales_around;
+    let mesh = crate::mesh::shapes::snake(&spec);
+    crate::mesh::obj::save(&args.out, &mesh, "diffract gen snake: tangents along the body follow increasing u")?;
+    println!("wrote {} ({} vertices, {} triangles)", args.out.display(), mesh.vertices.len(), mesh.indices.len() / 3);
+    Ok(())
 }
 
 fn patch(args: &PatchArgs) -> anyhow::Result<()> {

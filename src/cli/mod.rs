@@ -6,14 +6,12 @@ mod brdf;
 mod generate;
 mod map;
 mod parse;
+mod render;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context as _;
 use clap::{Args, Parser, Subcommand};
 
-use crate::render::{self, preview};
 use crate::vk::{self, ContextDesc, DeviceSelector};
 
 const EXAMPLES: &str = "\
@@ -59,9 +57,9 @@ impl GpuArgs {
 pub enum Command {
     /// List every Vulkan device with its index, name, type, Vulkan version and driver
     Devices,
-    /// Render the default scene headless to a PNG
-    #[command(after_help = "Example:\n  diffract render --out frame.png --width 256 --height 256")]
-    Render(RenderArgs),
+    /// Render a scene (default: the Elaphe snake) headless to PNG and EXR, one frame or a sequence
+    #[command(after_help = RENDER_HELP, allow_negative_numbers = true)]
+    Render(render::RenderArgs),
     /// Evaluate the diffraction BRDF on the CPU (exact reference or Taylor sum) and print CSV
     #[command(after_help = BRDF_HELP, allow_negative_numbers = true)]
     Brdf(brdf::BrdfArgs),
@@ -75,6 +73,13 @@ pub enum Command {
     #[command(after_help = MAP_HELP, allow_negative_numbers = true)]
     Map(map::MapArgs),
 }
+
+const RENDER_HELP: &str = "\
+Examples:
+  diffract render --out snake.png                            the built-in Elaphe snake, 512x512
+  diffract render assets/scenes/xenopeltis-snake.toml --out x.png --exr x.exr --approach nmm
+  diffract render assets/scenes/blazed-disk.toml --out turn.png --frames 36 --orbit
+  diffract render my-scene.toml --out quick.png --preview      lit without diffraction, to frame the camera";
 
 const MAP_HELP: &str = "\
 The map's inscribed disk is the hemisphere of view directions: the pixel at (x, y) from the centre (x right, y up,
@@ -95,19 +100,6 @@ Examples:
   diffract brdf --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \\
                 --light-theta 30 --light-phi 180 --view 20,0 --lambda 380:780:5 --method taylor";
 
-#[derive(Args, Debug)]
-pub struct RenderArgs {
-    /// Output PNG (8-bit sRGB)
-    #[arg(long, value_name = "FILE.png")]
-    pub out: PathBuf,
-    /// Width in pixels
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=render::MAX_EDGE as i64))]
-    pub width: u32,
-    /// Height in pixels
-    #[arg(long, default_value_t = 512, value_parser = clap::value_parser!(u32).range(1..=render::MAX_EDGE as i64))]
-    pub height: u32,
-}
-
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -123,7 +115,7 @@ pub fn main() -> ExitCode {
 fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
     match &cli.command {
         Command::Devices => devices(&cli.gpu),
-        Command::Render(args) => render_cmd(&cli.gpu, args),
+        Command::Render(args) => render::render(&cli.gpu, args),
         Command::Brdf(args) => brdf::brdf(&cli.gpu, args),
         Command::Map(args) => map::map(&cli.gpu, args),
         Command::Gen(command) => generate::run(command).map(|()| ExitCode::SUCCESS),
@@ -151,19 +143,5 @@ fn devices(gpu: &GpuArgs) -> anyhow::Result<ExitCode> {
     for d in &devices {
         println!("{:<5} {:<40} {:<15} {:<8} {}", d.index, d.name, d.kind_name(), d.api_version_string(), d.driver);
     }
-    Ok(validation_status(&log))
-}
-
-fn render_cmd(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<ExitCode> {
-    crate::output::check_png_path(&args.out)?;
-    let ctx = vk::Context::new(&gpu.context_desc())?;
-    let scene = preview::PreviewScene::default_scene();
-    let frame =
-        preview::render_offscreen(&ctx, &scene, args.width, args.height).context("rendering the default scene")?;
-    crate::output::write_png_rgba8(&args.out, frame.width, frame.height, &frame.rgba8)?;
-    let gpu_time = frame.gpu_ms.map(|ms| format!(", GPU {ms:.2} ms")).unwrap_or_default();
-    println!("wrote {} ({}x{} on {}{gpu_time})", args.out.display(), frame.width, frame.height, ctx.info.name);
-    let log = ctx.validation();
-    drop(ctx);
     Ok(validation_status(&log))
 }

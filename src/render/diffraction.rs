@@ -161,14 +161,7 @@ impl MapImage {
 
     /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
     pub fn to_rgba8(&self, exposure_ev: f64) -> Vec<u8> {
-        self.rgba
-            .chunks(4)
-            .flat_map(|p| {
-                let [r, g, b] =
-                    spectrum::display_encode(DVec3::new(p[0].into(), p[1].into(), p[2].into()), exposure_ev);
-                [r, g, b, 255]
-            })
-            .collect()
+        crate::output::linear_to_rgba8(&self.rgba, exposure_ev)
     }
 }
 

@@ -1,4 +1,7 @@
 //! The surface pass: meshes shaded by diffraction, offscreen (and, later, in a window).
+//!
+//! A [`SceneRenderer`] holds one pipeline and one set of patch resources per material (uploaded once, shared
+//! by every object that uses it) and a vertex/index/uniform set per object.
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -24,10 +27,22 @@ pub struct SurfaceUniforms {
     pub normal_matrix: [[f32; 4]; 4],
     pub camera_pos: [f32; 4],
     pub light_dir: [f32; 4],
+    /// cos and sin of the patch's rotation about the normal, 0, 0.
+    pub orientation: [f32; 4],
+    /// Linear RGB albedo of the pigment under the grating, and the ambient (sky) radiance.
+    pub pigment: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 224);
+const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 256);
 
-/// One object under a directional light, seen by a camera.
+/// The vertex layout of [`Vertex`].
+pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
+    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
+    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
+    VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
+    VertexAttribute { location: 3, format: vk::Format::R32G32_SFLOAT, offset: 40 },
+];
+
+/// One object under a directional light, seen by a camera (the single-object case of a scene).
 #[derive(Clone, Debug)]
 pub struct SurfaceScene {
     pub mesh: Mesh,
@@ -38,50 +53,75 @@ pub struct SurfaceScene {
     pub background: [f32; 4],
 }
 
-/// The vertex layout of [`Vertex`].
-pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
-    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
-    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
-    VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
-    VertexAttribute { location: 3, format: vk::Format::R32G32_SFLOAT, offset: 40 },
-];
-
-/// GPU state of the surface pass for one material and mesh.
-pub struct SurfacePass {
-    pipeline: Pipeline,
-    patch: PatchResources,
-    mesh: MeshBuffers,
-    uniforms: Buffer,
+/// What the renderer draws: a material (prepared patch) with its orientation on the surface and the pigment
+/// under it.
+pub struct MaterialInput<'a> {
+    pub material: &'a Material,
+    pub orientation_deg: f32,
+    /// Linear RGB albedo (0: no pigment, only diffraction).
+    pub pigment: [f32; 3],
 }
 
-impl SurfacePass {
+struct MaterialGpu {
+    pipeline: Pipeline,
+    patch: PatchResources,
+    orientation: [f32; 2],
+    pigment: [f32; 3],
+}
+
+struct ObjectGpu {
+    mesh: MeshBuffers,
+    uniforms: Buffer,
+    material: usize,
+}
+
+/// GPU state for drawing a set of objects with their materials.
+pub struct SceneRenderer {
+    materials: Vec<MaterialGpu>,
+    objects: Vec<ObjectGpu>,
+}
+
+impl SceneRenderer {
     pub const NAME: &'static str = "surface";
 
-    /// `display_output`: write exposure-scaled sRGB for an UNORM target instead of linear RGB.
+    /// `objects`: (mesh, index into `materials`). `display_output`: exposure-scaled sRGB for an UNORM target
+    /// instead of linear RGB.
     pub fn new(
         ctx: &Context,
-        material: &Material,
-        mesh: &Mesh,
+        materials: &[MaterialInput<'_>],
+        objects: &[(&Mesh, usize)],
         color_format: vk::Format,
         display_output: bool,
     ) -> Result<Self> {
+        let mut made = Self { materials: Vec::new(), objects: Vec::new() };
+        match made.fill(ctx, materials, objects, color_format, display_output) {
+            Ok(()) => Ok(made),
+            Err(e) => {
+                // SAFETY: nothing was submitted with these.
+                unsafe { made.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+
+    fn fill(
+        &mut self,
+        ctx: &Context,
+        materials: &[MaterialInput<'_>],
+        objects: &[(&Mesh, usize)],
+        color_format: vk::Format,
+        display_output: bool,
+    ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let [p, t, s] = patch_bindings(stages);
         let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }, p, t, s];
-        let mesh = MeshBuffers::new(ctx, mesh, Self::NAME)?;
-        let mut uniforms = None;
-        let mut patch = None;
-        let made = (|| {
-            let size = std::mem::size_of::<SurfaceUniforms>() as u64;
-            uniforms = Some(
-                ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "surface uniforms")?,
-            );
-            patch = Some(PatchResources::new(ctx, material)?);
-            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+        for input in materials {
+            let patch = PatchResources::new(ctx, input.material)?;
+            let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
                 vertex: shaders::SURFACE_VERT,
                 fragment: shaders::SURFACE_FRAG,
-                specialization: material.spec_constants(display_output),
+                specialization: input.material.spec_constants(display_output),
                 bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
@@ -89,61 +129,95 @@ impl SurfacePass {
                 color_format,
                 depth_format: Some(DEPTH_FORMAT),
                 cull_back_faces: false,
-            })
-        })();
-        match made {
-            // The uniforms and the patch are made before the pipeline.
-            Ok(pipeline) => Ok(Self {
-                pipeline,
-                patch: patch.expect("made before the pipeline"),
-                mesh,
-                uniforms: uniforms.expect("made before the pipeline"),
-            }),
-            Err(e) => {
-                // SAFETY: nothing was submitted with these.
-                unsafe {
-                    mesh.destroy(ctx);
-                    if let Some(u) = uniforms {
-                        u.destroy(ctx);
-                    }
-                    if let Some(p) = patch {
-                        p.destroy(ctx);
-                    }
+            });
+            let pipeline = match pipeline {
+                Ok(p) => p,
+                Err(e) => {
+                    // SAFETY: unused.
+                    unsafe { patch.destroy(ctx) };
+                    return Err(e);
                 }
-                Err(e)
+            };
+            let (sin, cos) = input.orientation_deg.to_radians().sin_cos();
+            self.materials.push(MaterialGpu { pipeline, patch, orientation: [cos, sin], pigment: input.pigment });
+        }
+        for (i, &(mesh, material)) in objects.iter().enumerate() {
+            if material >= self.materials.len() {
+                return Err(crate::Error::Invalid(format!(
+                    "object {i} names material {material}, which does not exist"
+                )));
+            }
+            let mesh = MeshBuffers::new(ctx, mesh, &format!("object {i}"))?;
+            let size = std::mem::size_of::<SurfaceUniforms>() as u64;
+            match ctx.create_buffer(
+                BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER),
+                &format!("object {i} uniforms"),
+            ) {
+                Ok(uniforms) => self.objects.push(ObjectGpu { mesh, uniforms, material }),
+                Err(e) => {
+                    // SAFETY: unused.
+                    unsafe { mesh.destroy(ctx) };
+                    return Err(e);
+                }
             }
         }
+        Ok(())
     }
 
-    /// Writes the frame's uniforms; no submitted work may still read them.
-    pub fn update(&mut self, scene: &SurfaceScene, aspect: f32) -> Result<()> {
-        let normal = Mat4::from_mat3(glam::Mat3::from_mat4(scene.model).inverse().transpose());
-        let u = SurfaceUniforms {
-            view_proj: scene.camera.view_projection(aspect).to_cols_array_2d(),
-            model: scene.model.to_cols_array_2d(),
-            normal_matrix: normal.to_cols_array_2d(),
-            camera_pos: scene.camera.position.extend(1.0).to_array(),
-            light_dir: scene.light_dir.normalize().extend(0.0).to_array(),
-        };
-        self.uniforms.write(bytemuck::bytes_of(&u))
+    /// Writes every object's uniforms for `camera`, `light_dir` (world, towards the light), the sky's `ambient`
+    /// radiance (relative to the sun seen in a mirror) and the objects' `models`; no submitted work may still
+    /// read them.
+    pub fn update(
+        &mut self,
+        camera: &Camera,
+        light_dir: Vec3,
+        ambient: f32,
+        models: &[Mat4],
+        aspect: f32,
+    ) -> Result<()> {
+        let view_proj = camera.view_projection(aspect).to_cols_array_2d();
+        for (object, model) in self.objects.iter_mut().zip(models) {
+            let normal = Mat4::from_mat3(glam::Mat3::from_mat4(*model).inverse().transpose());
+            let material = &self.materials[object.material];
+            let [cos, sin] = material.orientation;
+            let [r, g, b] = material.pigment;
+            let u = SurfaceUniforms {
+                view_proj,
+                model: model.to_cols_array_2d(),
+                normal_matrix: normal.to_cols_array_2d(),
+                camera_pos: camera.position.extend(1.0).to_array(),
+                light_dir: light_dir.normalize().extend(0.0).to_array(),
+                orientation: [cos, sin, 0.0, 0.0],
+                pigment: [r, g, b, ambient],
+            };
+            object.uniforms.write(bytemuck::bytes_of(&u))?;
+        }
+        Ok(())
     }
 
-    /// Records the pass into `target` (in attachment layouts).
+    /// Records every object into `target` (in attachment layouts).
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
         begin_rendering(ctx, cmd, target, background, None);
-        let [p, t, s] = self.patch.writes();
-        ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(0, &self.uniforms), p, t, s], &[]);
-        self.mesh.draw(ctx, cmd);
+        for object in &self.objects {
+            let material = &self.materials[object.material];
+            let [p, t, s] = material.patch.writes();
+            ctx.bind(cmd, &material.pipeline, &[DescriptorWrite::UniformBuffer(0, &object.uniforms), p, t, s], &[]);
+            object.mesh.draw(ctx, cmd);
+        }
         end_rendering(ctx, cmd);
     }
 
     /// # Safety
-    /// The GPU must be done with the pass.
+    /// The GPU must be done with everything.
     pub unsafe fn destroy(self, ctx: &Context) {
-        self.pipeline.destroy(ctx);
-        self.patch.destroy(ctx);
-        self.mesh.destroy(ctx);
-        self.uniforms.destroy(ctx);
+        for m in self.materials {
+            m.pipeline.destroy(ctx);
+            m.patch.destroy(ctx);
+        }
+        for o in self.objects {
+            o.mesh.destroy(ctx);
+            o.uniforms.destroy(ctx);
+        }
     }
 }
 
@@ -156,8 +230,49 @@ pub struct SurfaceFrame {
     pub gpu_ms: Option<f64>,
 }
 
-/// Renders `scene` with `material` headless: linear float RGB, or (with `display_output`) 8-bit sRGB from the
-/// shader's own exposure and transfer function.
+/// An offscreen target for a [`SceneRenderer`]: renders frames and reads them back.
+pub struct OffscreenFrames {
+    target: OffscreenTarget,
+    display_output: bool,
+}
+
+impl OffscreenFrames {
+    pub fn new(ctx: &Context, width: u32, height: u32, display_output: bool) -> Result<Self> {
+        let format = Self::format(display_output);
+        Ok(Self { target: OffscreenTarget::with_format(ctx, width, height, format, true)?, display_output })
+    }
+
+    /// The colour format a [`SceneRenderer`] drawing into these frames must use.
+    pub fn format(display_output: bool) -> vk::Format {
+        if display_output {
+            vk::Format::R8G8B8A8_UNORM
+        } else {
+            LINEAR_FORMAT
+        }
+    }
+
+    /// Draws one frame (uniforms already updated) and reads it back.
+    pub fn render(&self, ctx: &Context, renderer: &SceneRenderer, background: [f32; 4]) -> Result<SurfaceFrame> {
+        let gpu_ms = ctx.one_shot_timed(SceneRenderer::NAME, |cmd| {
+            self.target.begin(ctx, cmd);
+            renderer.record(ctx, cmd, &self.target.view(), background);
+        })?;
+        let bytes = self.target.read(ctx)?;
+        let extent = self.target.color.extent();
+        let (linear, rgba8) =
+            if self.display_output { (None, Some(bytes)) } else { (Some(bytemuck::pod_collect_to_vec(&bytes)), None) };
+        Ok(SurfaceFrame { width: extent.width, height: extent.height, linear, rgba8, gpu_ms })
+    }
+
+    /// # Safety
+    /// The GPU must be done with the target.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.target.destroy(ctx);
+    }
+}
+
+/// Renders one object with `material` headless: linear float RGB, or (with `display_output`) 8-bit sRGB from
+/// the shader's own exposure and transfer function.
 pub fn render_surface(
     ctx: &Context,
     material: &Material,
@@ -166,26 +281,19 @@ pub fn render_surface(
     height: u32,
     display_output: bool,
 ) -> Result<SurfaceFrame> {
-    let format = if display_output { vk::Format::R8G8B8A8_UNORM } else { LINEAR_FORMAT };
-    let mut pass = SurfacePass::new(ctx, material, &scene.mesh, format, display_output)?;
+    let format = OffscreenFrames::format(display_output);
+    let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
+    let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output)?;
     let result = (|| {
-        let target = OffscreenTarget::with_format(ctx, width, height, format, true)?;
-        let frame = (|| {
-            pass.update(scene, width as f32 / height as f32)?;
-            let gpu_ms = ctx.one_shot_timed(SurfacePass::NAME, |cmd| {
-                target.begin(ctx, cmd);
-                pass.record(ctx, cmd, &target.view(), scene.background);
-            })?;
-            let bytes = target.read(ctx)?;
-            let (linear, rgba8) =
-                if display_output { (None, Some(bytes)) } else { (Some(bytemuck::pod_collect_to_vec(&bytes)), None) };
-            Ok(SurfaceFrame { width, height, linear, rgba8, gpu_ms })
-        })();
-        // SAFETY: all work has completed.
-        unsafe { target.destroy(ctx) };
+        let frames = OffscreenFrames::new(ctx, width, height, display_output)?;
+        let frame = renderer
+            .update(&scene.camera, scene.light_dir, 0.0, &[scene.model], width as f32 / height as f32)
+            .and_then(|()| frames.render(ctx, &renderer, scene.background));
+        // SAFETY: render waited for its work.
+        unsafe { frames.destroy(ctx) };
         frame
     })();
     // SAFETY: all work has completed.
-    unsafe { pass.destroy(ctx) };
+    unsafe { renderer.destroy(ctx) };
     result
 }

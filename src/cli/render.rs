@@ -1,0 +1,238 @@
+//! `diffract render`: scenes captured offscreen to PNG (display-referred) and EXR (linear), single frames or
+//! sequences (turntables and light sweeps).
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context as _;
+use clap::Args;
+use glam::{Mat4, Quat, Vec3};
+
+use super::GpuArgs;
+use crate::mesh::Mesh;
+use crate::render::preview::{render_offscreen, PreviewScene};
+use crate::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+use crate::scene::Scene;
+use crate::shading::{Approach, Material};
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Scene file (TOML); default: the built-in Elaphe snake
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// Output PNG (8-bit sRGB after the exposure); sequences number it: NAME_0001.png
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+    /// Also write linear scene-referred RGB as 32-bit float OpenEXR
+    #[arg(long, value_name = "FILE.exr")]
+    pub exr: Option<PathBuf>,
+    /// Width in pixels (default: the scene's, else 512)
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::render::MAX_EDGE as i64))]
+    pub width: Option<u32>,
+    /// Height in pixels (default: the scene's, else 512)
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::render::MAX_EDGE as i64))]
+    pub height: Option<u32>,
+    /// Shading approach for every material (default: each material's own)
+    #[arg(long, value_enum)]
+    pub approach: Option<Approach>,
+    /// Exposure in stops (default: the scene's)
+    #[arg(long, value_name = "EV")]
+    pub exposure: Option<f64>,
+    /// Taylor order N for every material (default: from each material's tolerance)
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Wavelength step in nm for every material
+    #[arg(long, value_name = "NM")]
+    pub lambda_step: Option<f64>,
+    /// Window radius for every material
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+    /// Render even where f32 cannot reach the tolerance
+    #[arg(long)]
+    pub accept_f32_error: bool,
+    /// Number of frames: a sequence with --orbit or --light-sweep
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Turn the camera once around the target (about the world's up axis) over the frames
+    #[arg(long, conflicts_with = "light_sweep")]
+    pub orbit: bool,
+    /// Turn the light once around the up axis over the frames
+    #[arg(long)]
+    pub light_sweep: bool,
+    /// Draw the scene lit without diffraction (fast: for framing the camera)
+    #[arg(long)]
+    pub preview: bool,
+}
+
+/// `NAME.png` → `NAME_0007.png` for frame 7 of a sequence.
+fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
+    if frames == 1 {
+        return path.to_path_buf();
+    }
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("png");
+    path.with_file_name(format!("{stem}_{:04}.{ext}", frame + 1))
+}
+
+/// Camera and light of frame `f` of `n`.
+fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::camera::Camera, Vec3) {
+    let angle = std::f32::consts::TAU * f as f32 / args.frames as f32;
+    let turn = Quat::from_axis_angle(scene.camera.up.normalize(), angle);
+    let mut camera = scene.camera;
+    let mut light = scene.light_dir;
+    if args.orbit {
+        camera.position = scene.camera.target + turn * (scene.camera.position - scene.camera.target);
+    }
+    if args.light_sweep {
+        light = turn * light;
+    }
+    (camera, light)
+}
+
+pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::ExitCode> {
+    crate::output::check_png_path(&args.out)?;
+    if let Some(exr) = &args.exr {
+        crate::output::check_exr_path(exr)?;
+    }
+    if args.frames > 1 && !(args.orbit || args.light_sweep) {
+        anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
+    }
+    let scene = match &args.scene {
+        Some(path) => Scene::load(path)?,
+        None => Scene::default_scene()?,
+    };
+    let width = args.width.unwrap_or(scene.render.width);
+    let height = args.height.unwrap_or(scene.render.height);
+    let exposure = args.exposure.unwrap_or(scene.render.exposure_ev);
+    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    if args.preview {
+        return preview(&ctx, &scene, args, width, height);
+    }
+    let start = Instant::now();
+    let mut materials = Vec::new();
+    for m in &scene.materials {
+        let mut settings = m.settings;
+        settings.approach = args.approach.unwrap_or(settings.approach);
+        settings.order = args.terms.or(settings.order);
+        settings.lambda_step_nm = args.lambda_step.unwrap_or(settings.lambda_step_nm);
+        settings.window_radius = args.window_radius.or(settings.window_radius);
+        settings.accept_f32_error |= args.accept_f32_error;
+        // Light and views over the whole hemisphere: |w| ≤ 2.
+        let material =
+            Material::prepare(&m.heightfield, settings, 2.0).with_context(|| format!("material {:?}", m.name))?;
+        materials.push(material);
+    }
+    let prep_ms = start.elapsed().as_secs_f64() * 1e3;
+    let inputs: Vec<MaterialInput<'_>> = materials
+        .iter()
+        .zip(&scene.materials)
+        .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
+        .collect();
+    let objects: Vec<(&Mesh, usize)> = scene.objects.iter().map(|o| (&o.mesh, o.material)).collect();
+    let models: Vec<Mat4> = scene.objects.iter().map(|o| o.model).collect();
+    let mut renderer = SceneRenderer::new(&ctx, &inputs, &objects, OffscreenFrames::format(false), false)?;
+    let result = match OffscreenFrames::new(&ctx, width, height, false) {
+        Ok(frames) => {
+            let out = render_frames(&ctx, &scene, args, &mut renderer, &frames, (width, height), &models, exposure);
+            // SAFETY: every frame was waited for.
+            unsafe { frames.destroy(&ctx) };
+            out
+        }
+        Err(e) => Err(e.into()),
+    };
+    // SAFETY: all work has completed.
+    unsafe { renderer.destroy(&ctx) };
+    let gpu_ms = result?;
+    let mut sorted = gpu_ms.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median =
+        sorted.get(sorted.len() / 2).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
+    let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
+    println!(
+        "wrote {what} ({width}×{height}, {} object(s), {} material(s); precompute {prep_ms:.0} ms{median} on {})",
+        scene.objects.len(),
+        scene.materials.len(),
+        ctx.info.name
+    );
+    let log = ctx.validation();
+    drop(ctx);
+    Ok(super::validation_status(&log))
+}
+
+#[allow(clippy::too_many_arguments)] // one call site; the pieces are what a frame loop needs
+fn render_frames(
+    ctx: &crate::vk::Context,
+    scene: &Scene,
+    args: &RenderArgs,
+    renderer: &mut SceneRenderer,
+    frames: &OffscreenFrames,
+    (width, height): (u32, u32),
+    models: &[Mat4],
+    exposure: f64,
+) -> anyhow::Result<Vec<f64>> {
+    let progress = std::io::stderr().is_terminal() && args.frames > 1;
+    let background = scene.render.background;
+    let mut times = Vec::new();
+    for f in 0..args.frames {
+        let (camera, light) = frame_setup(scene, args, f);
+        renderer.update(&camera, light, scene.ambient, models, width as f32 / height as f32)?;
+        let frame = frames.render(ctx, renderer, [background[0], background[1], background[2], 1.0])?;
+        let linear = frame.linear.expect("a linear target");
+        if linear.iter().any(|c| !c.is_finite()) {
+            anyhow::bail!("frame {} has pixels that are not finite numbers (a bug in diffract; not written)", f + 1);
+        }
+        let png = numbered(&args.out, f, args.frames);
+        crate::output::write_png_rgba8(&png, width, height, &crate::output::linear_to_rgba8(&linear, exposure))?;
+        if let Some(exr) = &args.exr {
+            crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, &linear)?;
+        }
+        times.extend(frame.gpu_ms);
+        if progress {
+            let done = (f + 1) as usize * 30 / args.frames as usize;
+            eprint!("\rframe {:>5}/{} [{}{}]", f + 1, args.frames, "#".repeat(done), " ".repeat(30 - done));
+        }
+    }
+    if progress {
+        eprintln!();
+    }
+    Ok(times)
+}
+
+/// The scene lit without diffraction: every object merged into one preview mesh.
+fn preview(
+    ctx: &crate::vk::Context,
+    scene: &Scene,
+    args: &RenderArgs,
+    width: u32,
+    height: u32,
+) -> anyhow::Result<std::process::ExitCode> {
+    let mut mesh = Mesh::default();
+    for o in &scene.objects {
+        let mut part = o.mesh.clone();
+        let normal = glam::Mat3::from_mat4(o.model).inverse().transpose();
+        for v in &mut part.vertices {
+            v.position = o.model.transform_point3(Vec3::from(v.position)).to_array();
+            v.normal = (normal * Vec3::from(v.normal)).normalize_or_zero().to_array();
+            let t = glam::Mat3::from_mat4(o.model) * Vec3::from_slice(&v.tangent[..3]);
+            v.tangent = [t.x, t.y, t.z, v.tangent[3]];
+        }
+        mesh.append(&part);
+    }
+    for f in 0..args.frames {
+        let (camera, light) = frame_setup(scene, args, f);
+        let bg = scene.render.background;
+        let preview = PreviewScene {
+            mesh: mesh.clone(),
+            model: Mat4::IDENTITY,
+            camera,
+            light_dir: light,
+            base_color: Vec3::new(0.18, 0.32, 0.25),
+            background: [bg[0], bg[1], bg[2], 1.0],
+        };
+        let frame = render_offscreen(ctx, &preview, width, height)?;
+        crate::output::write_png_rgba8(&numbered(&args.out, f, args.frames), width, height, &frame.rgba8)?;
+    }
+    println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
+    Ok(super::validation_status(&ctx.validation()))
+}

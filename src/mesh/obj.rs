@@ -1,0 +1,138 @@
+//! Wavefront OBJ through `tobj`: every model of the file merged into one mesh, triangulated; normals computed
+//! when the file has none, tangents from the UVs (else the long-axis fallback of [`Mesh::compute_tangents`]).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::{Mesh, Vertex};
+use crate::error::{Error, Result};
+
+/// The most vertices a mesh may have (a guard against hostile files; a detailed snake scan has ~10⁵).
+pub const MAX_VERTICES: usize = 20_000_000;
+
+/// Loads an OBJ file.
+pub fn load(path: &Path) -> Result<Mesh> {
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    let (models, _materials) =
+        tobj::load_obj(path, &options).map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
+    let mut mesh = Mesh::default();
+    let (mut has_normals, mut has_uvs) = (true, true);
+    for model in &models {
+        let m = &model.mesh;
+        let count = m.positions.len() / 3;
+        if mesh.vertices.len() + count > MAX_VERTICES {
+            return Err(Error::input(path, format!("more than {MAX_VERTICES} vertices")));
+        }
+        has_normals &= m.normals.len() == m.positions.len();
+        has_uvs &= m.texcoords.len() / 2 == count;
+        let mut part = Mesh::default();
+        for i in 0..count {
+            let p = [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]];
+            if p.iter().any(|c| !c.is_finite()) {
+                return Err(Error::input(path, format!("vertex {} of {:?} is not finite", i + 1, model.name)));
+            }
+            let normal = if m.normals.len() == m.positions.len() {
+                [m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]]
+            } else {
+                [0.0, 0.0, 1.0]
+            };
+            let uv =
+                if m.texcoords.len() / 2 == count { [m.texcoords[2 * i], m.texcoords[2 * i + 1]] } else { [0.0; 2] };
+            part.vertices.push(Vertex { position: p, normal, tangent: [1.0, 0.0, 0.0, 1.0], uv });
+        }
+        part.indices = m.indices.clone();
+        if part.indices.iter().any(|&i| i as usize >= count) {
+            return Err(Error::input(path, format!("a face of {:?} refers to a missing vertex", model.name)));
+        }
+        mesh.append(&part);
+    }
+    if mesh.indices.is_empty() {
+        return Err(Error::input(path, "the OBJ has no faces"));
+    }
+    if !has_normals {
+        mesh.compute_normals();
+    } else {
+        for v in &mut mesh.vertices {
+            let n = glam::Vec3::from(v.normal);
+            v.normal = n.try_normalize().unwrap_or(glam::Vec3::Z).to_array();
+        }
+    }
+    mesh.compute_tangents(has_uvs);
+    Ok(mesh)
+}
+
+/// Writes `mesh` as OBJ with positions, UVs and normals (OBJ has no tangents: a reader derives them from the
+/// UVs, which for diffract's shapes run along the tangent).
+pub fn save(path: &Path, mesh: &Mesh, comment: &str) -> Result<()> {
+    let mut text = String::with_capacity(mesh.vertices.len() * 96);
+    writeln!(text, "# {}", comment.replace('\n', " ")).unwrap();
+    for v in &mesh.vertices {
+        writeln!(text, "v {} {} {}", v.position[0], v.position[1], v.position[2]).unwrap();
+    }
+    for v in &mesh.vertices {
+        writeln!(text, "vt {} {}", v.uv[0], v.uv[1]).unwrap();
+    }
+    for v in &mesh.vertices {
+        writeln!(text, "vn {} {} {}", v.normal[0], v.normal[1], v.normal[2]).unwrap();
+    }
+    for tri in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0] + 1, tri[1] + 1, tri[2] + 1];
+        writeln!(text, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}").unwrap();
+    }
+    std::fs::write(path, text).map_err(|e| Error::output(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes::{snake, SnakeSpec};
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("diffract-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn snake_round_trips_with_tangents_from_uvs() {
+        let spec = SnakeSpec { segments: 60, sides: 12, ..SnakeSpec::default() };
+        let m = snake(&spec);
+        let p = scratch("snake.obj");
+        save(&p, &m, "test").unwrap();
+        let back = load(&p).unwrap();
+        assert_eq!(back.indices.len(), m.indices.len());
+        let mut aligned = 0;
+        for (a, b) in m.vertices.iter().zip(&back.vertices) {
+            let (ta, tb) = (glam::Vec3::from_slice(&a.tangent[..3]), glam::Vec3::from_slice(&b.tangent[..3]));
+            if ta.dot(tb) > 0.9 {
+                aligned += 1;
+            }
+        }
+        assert!(
+            aligned as f32 > 0.9 * m.vertices.len() as f32,
+            "{aligned} of {} tangents survive the round trip",
+            m.vertices.len()
+        );
+    }
+
+    #[test]
+    fn missing_normals_and_uvs_are_derived() {
+        let p = scratch("tri.obj");
+        std::fs::write(&p, "v 0 0 0\nv 4 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let m = load(&p).unwrap();
+        for v in &m.vertices {
+            assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+            assert_eq!(&v.tangent[..3], &[1.0, 0.0, 0.0], "fallback: the long axis (x) in the tangent plane");
+        }
+    }
+
+    #[test]
+    fn hostile_objs_are_refused() {
+        let p = scratch("bad.obj");
+        std::fs::write(&p, "v 0 0 0\nf 1 2 3\n").unwrap();
+        assert!(load(&p).is_err());
+        std::fs::write(&p, "v 0 0 0\n").unwrap();
+        assert!(load(&p).unwrap_err().to_string().contains("no faces"));
+        assert!(load(Path::new("/no/such.obj")).is_err());
+    }
+}

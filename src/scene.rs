@@ -1,0 +1,459 @@
+//! Scene files (TOML): a camera, a directional light, objects (OBJ meshes or built-in shapes) and materials
+//! (a height field, measured or generated, with the settings that trade speed for accuracy). Paths are relative
+//! to the scene file. Every mistake is refused with the file, the line and what was expected.
+//!
+//! ```toml
+//! [camera]
+//! position = [0.0, 0.5, 3.0]
+//! target = [0.0, 0.0, 0.0]
+//! fov_y_deg = 30.0
+//!
+//! [light]                       # a directional light
+//! direction = [0.3, 1.0, 0.5]   # towards the light
+//!
+//! [[object]]
+//! mesh = "meshes/snake.obj"     # or: shape = "plane" | "disk" | "sphere" | "cylinder" | "cube" | "snake"
+//! material = "elaphe"
+//!
+//! [material.elaphe]
+//! heightfield = "patches/elaphe.gsf"   # or a PNG with pixel_size_um and height_um, or generate = "elaphe"
+//! approach = "flss"
+//! ```
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::generate::{generate, PatchKind, PatchSpec};
+use crate::mesh::shapes::Shape;
+use crate::mesh::{obj, Mesh};
+use crate::physics::{HeightField, PngScale};
+use crate::shading::{Approach, Settings};
+
+/// The scene `diffract render` draws when given none: the Elaphe snake (generated, so it needs no files).
+pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/elaphe-snake.toml");
+/// The name the default scene reports in messages.
+pub const DEFAULT_SCENE_NAME: &str = "assets/scenes/elaphe-snake.toml (built in)";
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    camera: CameraDef,
+    light: LightDef,
+    #[serde(default, rename = "object")]
+    objects: Vec<Spanned<ObjectDef>>,
+    #[serde(default)]
+    material: BTreeMap<String, Spanned<MaterialDef>>,
+    #[serde(default)]
+    render: RenderDef,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraDef {
+    position: Spanned<[f32; 3]>,
+    target: [f32; 3],
+    fov_y_deg: Spanned<f32>,
+    #[serde(default = "default_up")]
+    up: [f32; 3],
+    #[serde(default = "default_near")]
+    near: f32,
+    #[serde(default = "default_far")]
+    far: f32,
+}
+
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_near() -> f32 {
+    0.01
+}
+fn default_far() -> f32 {
+    1000.0
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightDef {
+    direction: Spanned<[f32; 3]>,
+    illuminant: Option<Spanned<String>>,
+    /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
+    #[serde(default)]
+    ambient: f32,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectDef {
+    mesh: Option<Spanned<String>>,
+    shape: Option<Shape>,
+    material: Spanned<String>,
+    #[serde(default)]
+    translate: [f32; 3],
+    #[serde(default)]
+    rotate_deg: [f32; 3],
+    scale: Option<Spanned<f32>>,
+}
+
+/// `tile = 10` or `tile = [10, 4]`.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+enum TileDef {
+    Both(u32),
+    Each([u32; 2]),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MaterialDef {
+    heightfield: Option<Spanned<String>>,
+    generate: Option<PatchKind>,
+    pixel_size_um: Option<f64>,
+    height_um: Option<f64>,
+    /// Generated patches: edge length, period and seed.
+    size_um: Option<f64>,
+    period_um: Option<f64>,
+    seed: Option<u64>,
+    tile: Option<TileDef>,
+    approach: Option<Approach>,
+    terms: Option<usize>,
+    tolerance: Option<f64>,
+    lambda_step_nm: Option<f64>,
+    window_radius: Option<u32>,
+    coherence_um: Option<f64>,
+    /// Rotation of the patch about the normal, from the mesh tangent towards the bitangent.
+    #[serde(default)]
+    orientation_deg: f32,
+    /// Linear RGB albedo of the skin's pigment under the grating.
+    #[serde(default)]
+    pigment: [f32; 3],
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RenderDef {
+    width: Option<u32>,
+    height: Option<u32>,
+    exposure_ev: Option<f64>,
+    /// Linear RGB behind the objects.
+    background: Option<[f32; 3]>,
+}
+
+/// A material of a loaded scene.
+#[derive(Clone, Debug)]
+pub struct SceneMaterial {
+    pub name: String,
+    pub heightfield: HeightField,
+    pub settings: Settings,
+    pub orientation_deg: f32,
+    pub pigment: [f32; 3],
+}
+
+/// An object of a loaded scene.
+#[derive(Clone, Debug)]
+pub struct SceneObject {
+    pub mesh: Mesh,
+    pub model: Mat4,
+    pub material: usize,
+}
+
+/// Image settings a scene may carry (the command line overrides them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub exposure_ev: f64,
+    pub background: [f32; 3],
+}
+
+/// A loaded, checked scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub camera: Camera,
+    /// World-space unit vector towards the light.
+    pub light_dir: Vec3,
+    /// The sky's radiance relative to the sun seen in a mirror.
+    pub ambient: f32,
+    pub objects: Vec<SceneObject>,
+    pub materials: Vec<SceneMaterial>,
+    pub render: RenderSettings,
+}
+
+/// Errors located in a scene file: `file:line: message`.
+struct Locator<'a> {
+    name: &'a str,
+    text: &'a str,
+}
+
+impl Locator<'_> {
+    fn line(&self, offset: usize) -> usize {
+        self.text[..offset.min(self.text.len())].matches('\n').count() + 1
+    }
+
+    fn at(&self, span: std::ops::Range<usize>, message: impl std::fmt::Display) -> Error {
+        Error::Invalid(format!("{}:{}: {message}", self.name, self.line(span.start)))
+    }
+
+    fn whole(&self, message: impl std::fmt::Display) -> Error {
+        Error::Invalid(format!("{}: {message}", self.name))
+    }
+}
+
+impl Scene {
+    /// Loads a scene file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::input(path, format!("cannot read: {e}")))?;
+        let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        Self::parse(&text, &path.display().to_string(), base)
+    }
+
+    /// The built-in default scene.
+    pub fn default_scene() -> Result<Self> {
+        Self::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME, Path::new("."))
+    }
+
+    /// Parses scene text; `name` appears in messages and `base` resolves relative paths.
+    pub fn parse(text: &str, name: &str, base: &Path) -> Result<Self> {
+        let loc = Locator { name, text };
+        let file: SceneFile = toml::from_str(text).map_err(|e| {
+            let message = e.message().replace('\n', " ");
+            match e.span() {
+                Some(span) => loc.at(span, message.trim()),
+                None => loc.whole(message.trim()),
+            }
+        })?;
+        let c = &file.camera;
+        if c.position.get3() == c.target {
+            return Err(loc.at(c.position.span(), "the camera position equals its target"));
+        }
+        let fov = *c.fov_y_deg.get_ref();
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(loc.at(
+                c.fov_y_deg.span(),
+                format!("fov_y_deg = {fov}: expected a field of view between 0 and 180 degrees"),
+            ));
+        }
+        if !(c.near > 0.0 && c.far > c.near) {
+            return Err(loc.whole("the camera needs 0 < near < far"));
+        }
+        let camera = Camera {
+            position: Vec3::from(*c.position.get_ref()),
+            target: Vec3::from(c.target),
+            up: Vec3::from(c.up),
+            fov_y_deg: fov,
+            near: c.near,
+            far: c.far,
+        };
+        let light_dir = Vec3::from(*file.light.direction.get_ref())
+            .try_normalize()
+            .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
+        if let Some(ill) = &file.light.illuminant {
+            if !ill.get_ref().eq_ignore_ascii_case("D65") {
+                return Err(loc.at(ill.span(), format!("illuminant {:?}: only \"D65\" is supported", ill.get_ref())));
+            }
+        }
+        let mut materials = Vec::new();
+        let mut index = BTreeMap::new();
+        for (mat_name, def) in &file.material {
+            index.insert(mat_name.clone(), materials.len());
+            materials.push(material(&loc, base, mat_name, def)?);
+        }
+        if file.objects.is_empty() {
+            return Err(loc.whole("the scene has no [[object]]"));
+        }
+        let mut objects = Vec::new();
+        for def in &file.objects {
+            objects.push(object(&loc, base, def, &index)?);
+        }
+        let r = &file.render;
+        let render = RenderSettings {
+            width: r.width.unwrap_or(512),
+            height: r.height.unwrap_or(512),
+            exposure_ev: r.exposure_ev.unwrap_or(0.0),
+            background: r.background.unwrap_or([0.0; 3]),
+        };
+        if render.width == 0 || render.height == 0 || render.width > 16384 || render.height > 16384 {
+            return Err(loc.whole("[render] width and height must lie in 1..=16384"));
+        }
+        let ambient = file.light.ambient;
+        if !(ambient.is_finite() && ambient >= 0.0) {
+            return Err(loc.whole("[light] ambient must be a non-negative number"));
+        }
+        Ok(Self { name: name.to_string(), camera, light_dir, ambient, objects, materials, render })
+    }
+}
+
+trait Get3 {
+    fn get3(&self) -> [f32; 3];
+}
+
+impl Get3 for Spanned<[f32; 3]> {
+    fn get3(&self) -> [f32; 3] {
+        *self.get_ref()
+    }
+}
+
+fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDef>) -> Result<SceneMaterial> {
+    let span = def.span();
+    let d = def.get_ref();
+    let at = |msg: String| loc.at(span.clone(), format!("[material.{name}] {msg}"));
+    let hf = match (&d.heightfield, d.generate) {
+        (Some(path), None) => {
+            let file = base.join(path.get_ref());
+            if !file.exists() {
+                return Err(
+                    loc.at(path.span(), format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()))
+                );
+            }
+            let png = match (d.pixel_size_um, d.height_um) {
+                (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+                (None, None) => None,
+                _ => return Err(at("pixel_size_um and height_um go together".into())),
+            };
+            HeightField::load(&file, png).map_err(|e| loc.at(path.span(), e))?
+        }
+        (None, Some(kind)) => {
+            let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
+            spec.period_um = d.period_um.unwrap_or(spec.period_um);
+            spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
+            spec.seed = d.seed.unwrap_or(1);
+            generate(&spec).map_err(|e| at(e.to_string()))?
+        }
+        (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
+        (None, None) => return Err(at("needs heightfield = \"FILE\" (.gsf or .png) or generate = \"KIND\"".into())),
+    };
+    let hf = match d.tile {
+        None => hf,
+        Some(TileDef::Both(n)) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
+        Some(TileDef::Each([x, y])) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
+    };
+    let defaults = Settings::default();
+    let settings = Settings {
+        approach: d.approach.unwrap_or(defaults.approach),
+        order: d.terms,
+        tolerance: d.tolerance.unwrap_or(defaults.tolerance),
+        lambda_step_nm: d.lambda_step_nm.unwrap_or(defaults.lambda_step_nm),
+        window_radius: d.window_radius,
+        coherence_um: d.coherence_um.unwrap_or(defaults.coherence_um),
+        exposure_ev: 0.0,
+        accept_f32_error: false,
+    };
+    if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+        return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));
+    }
+    Ok(SceneMaterial {
+        name: name.to_string(),
+        heightfield: hf,
+        settings,
+        orientation_deg: d.orientation_deg,
+        pigment: d.pigment,
+    })
+}
+
+fn object(
+    loc: &Locator<'_>,
+    base: &Path,
+    def: &Spanned<ObjectDef>,
+    materials: &BTreeMap<String, usize>,
+) -> Result<SceneObject> {
+    let span = def.span();
+    let d = def.get_ref();
+    let mesh = match (&d.mesh, d.shape) {
+        (Some(path), None) => {
+            let file: PathBuf = base.join(path.get_ref());
+            obj::load(&file).map_err(|e| loc.at(path.span(), e))?
+        }
+        (None, Some(shape)) => shape.build(),
+        (Some(_), Some(_)) => return Err(loc.at(span, "an [[object]] has either mesh or shape, not both")),
+        (None, None) => return Err(loc.at(span, "an [[object]] needs mesh = \"FILE.obj\" or shape = \"...\"")),
+    };
+    let material = *materials.get(d.material.get_ref()).ok_or_else(|| {
+        let known: Vec<&str> = materials.keys().map(String::as_str).collect();
+        loc.at(
+            d.material.span(),
+            format!("no [material.{}] in the scene (it has: {})", d.material.get_ref(), known.join(", ")),
+        )
+    })?;
+    let scale = d.scale.as_ref().map(|s| *s.get_ref()).unwrap_or(1.0);
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(loc.at(d.scale.as_ref().map(|s| s.span()).unwrap_or(span), "scale must be positive"));
+    }
+    let [rx, ry, rz] = d.rotate_deg.map(f32::to_radians);
+    let model = Mat4::from_scale_rotation_translation(
+        Vec3::splat(scale),
+        Quat::from_euler(EulerRot::XYZ, rx, ry, rz),
+        Vec3::from(d.translate),
+    );
+    Ok(SceneObject { mesh, model, material })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[camera]
+position = [0.0, 0.5, 3.0]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 30.0
+
+[light]
+direction = [0.3, 1.0, 0.5]
+illuminant = "D65"
+
+[[object]]
+shape = "sphere"
+material = "blaze"
+scale = 0.5
+
+[material.blaze]
+generate = "blazed"
+size_um = 6.5
+approach = "nmm"
+tile = [2, 3]
+"#;
+
+    fn error_of(text: &str) -> String {
+        Scene::parse(text, "s.toml", Path::new(".")).err().expect("refused").to_string()
+    }
+
+    #[test]
+    fn a_good_scene_loads() {
+        let s = Scene::parse(GOOD, "s.toml", Path::new(".")).unwrap();
+        assert_eq!(s.objects.len(), 1);
+        assert_eq!(s.materials[0].settings.approach, Approach::Nmm);
+        assert_eq!(s.materials[0].heightfield.nx, 2 * 100);
+        assert_eq!(s.materials[0].heightfield.ny, 3 * 100);
+        assert!((s.light_dir.length() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn mistakes_name_their_line() {
+        assert!(error_of(&GOOD.replace("scale = 0.5", "scael = 0.5")).starts_with("s.toml:14: unknown field `scael`"));
+        assert!(error_of(&GOOD.replace("fov_y_deg = 30.0", "fov_y_deg = \"wide\"")).starts_with("s.toml:5:"));
+        assert!(error_of(&GOOD.replace("material = \"blaze\"", "material = \"gold\""))
+            .starts_with("s.toml:13: no [material.gold]"));
+        assert!(error_of(&GOOD.replace("shape = \"sphere\"", "mesh = \"nope.obj\"")).starts_with("s.toml:12:"));
+        assert!(error_of(&GOOD.replace("generate = \"blazed\"", "heightfield = \"nope.gsf\""))
+            .starts_with("s.toml:17: heightfield"));
+        assert!(error_of(&GOOD.replace("shape = \"sphere\"", "shape = \"torus\""))
+            .starts_with("s.toml:12: unknown variant `torus`"));
+        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"A\"")).contains("only \"D65\""));
+        assert!(error_of(&GOOD.replace("[camera]", "[camera\n")).starts_with("s.toml:2:"));
+        for e in [error_of("x = 1"), error_of(&GOOD.replace("scale = 0.5", "scale = -1.0"))] {
+            assert_eq!(e.lines().count(), 1, "{e}");
+        }
+    }
+
+    #[test]
+    fn the_default_scene_loads() {
+        let s = Scene::default_scene().unwrap();
+        assert!(!s.objects.is_empty() && !s.materials.is_empty());
+    }
+}
