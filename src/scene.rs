@@ -420,7 +420,7 @@ tile = [2, 3]
 "#;
 
     fn error_of(text: &str) -> String {
-        Scene::parse(text, "s.toml", Path::new(".")).err().expect("refused").to_string()
+        Scene::parse(text, "s.toml", Path::new(".")).expect_err("refused").to_string()
     }
 
     #[test]

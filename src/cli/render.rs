@@ -11,10 +11,10 @@ use glam::{Mat4, Quat, Vec3};
 
 use super::GpuArgs;
 use crate::mesh::Mesh;
+use crate::render::capture::{prepare_materials, Overrides, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
-use crate::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
 use crate::scene::Scene;
-use crate::shading::{Approach, Material};
+use crate::shading::Approach;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -110,39 +110,19 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         return preview(&ctx, &scene, args, width, height);
     }
     let start = Instant::now();
-    let mut materials = Vec::new();
-    for m in &scene.materials {
-        let mut settings = m.settings;
-        settings.approach = args.approach.unwrap_or(settings.approach);
-        settings.order = args.terms.or(settings.order);
-        settings.lambda_step_nm = args.lambda_step.unwrap_or(settings.lambda_step_nm);
-        settings.window_radius = args.window_radius.or(settings.window_radius);
-        settings.accept_f32_error |= args.accept_f32_error;
-        // Light and views over the whole hemisphere: |w| ≤ 2.
-        let material =
-            Material::prepare(&m.heightfield, settings, 2.0).with_context(|| format!("material {:?}", m.name))?;
-        materials.push(material);
-    }
-    let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let inputs: Vec<MaterialInput<'_>> = materials
-        .iter()
-        .zip(&scene.materials)
-        .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
-        .collect();
-    let objects: Vec<(&Mesh, usize)> = scene.objects.iter().map(|o| (&o.mesh, o.material)).collect();
-    let models: Vec<Mat4> = scene.objects.iter().map(|o| o.model).collect();
-    let mut renderer = SceneRenderer::new(&ctx, &inputs, &objects, OffscreenFrames::format(false), false)?;
-    let result = match OffscreenFrames::new(&ctx, width, height, false) {
-        Ok(frames) => {
-            let out = render_frames(&ctx, &scene, args, &mut renderer, &frames, (width, height), &models, exposure);
-            // SAFETY: every frame was waited for.
-            unsafe { frames.destroy(&ctx) };
-            out
-        }
-        Err(e) => Err(e.into()),
+    let overrides = Overrides {
+        approach: args.approach,
+        order: args.terms,
+        lambda_step_nm: args.lambda_step,
+        window_radius: args.window_radius,
+        accept_f32_error: args.accept_f32_error,
     };
-    // SAFETY: all work has completed.
-    unsafe { renderer.destroy(&ctx) };
+    let materials = prepare_materials(&scene, &overrides)?;
+    let prep_ms = start.elapsed().as_secs_f64() * 1e3;
+    let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height)?;
+    let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
+    // SAFETY: every frame was waited for.
+    unsafe { capture.destroy(&ctx) };
     let gpu_ms = result?;
     let mut sorted = gpu_ms.clone();
     sorted.sort_by(f64::total_cmp);
@@ -160,28 +140,22 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     Ok(super::validation_status(&log))
 }
 
-#[allow(clippy::too_many_arguments)] // one call site; the pieces are what a frame loop needs
 fn render_frames(
     ctx: &crate::vk::Context,
     scene: &Scene,
     args: &RenderArgs,
-    renderer: &mut SceneRenderer,
-    frames: &OffscreenFrames,
+    capture: &mut SceneCapture,
     (width, height): (u32, u32),
-    models: &[Mat4],
     exposure: f64,
 ) -> anyhow::Result<Vec<f64>> {
     let progress = std::io::stderr().is_terminal() && args.frames > 1;
-    let background = scene.render.background;
     let mut times = Vec::new();
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
-        renderer.update(&camera, light, scene.ambient, models, width as f32 / height as f32)?;
-        let frame = frames.render(ctx, renderer, [background[0], background[1], background[2], 1.0])?;
+        let frame = capture
+            .render(ctx, &camera, light, scene.ambient, scene.render.background)
+            .with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear.expect("a linear target");
-        if linear.iter().any(|c| !c.is_finite()) {
-            anyhow::bail!("frame {} has pixels that are not finite numbers (a bug in diffract; not written)", f + 1);
-        }
         let png = numbered(&args.out, f, args.frames);
         crate::output::write_png_rgba8(&png, width, height, &crate::output::linear_to_rgba8(&linear, exposure))?;
         if let Some(exr) = &args.exr {

@@ -3,6 +3,7 @@
 //! Offscreen capture and the window share everything but the final target: a pass records into a
 //! [`TargetView`], which either an [`OffscreenTarget`] or a swapchain image provides.
 
+pub mod capture;
 pub mod diffraction;
 pub mod preview;
 pub mod surface;

@@ -3,6 +3,7 @@
 mod diffraction;
 mod golden;
 mod harness;
+mod scenes;
 mod surface;
 
 use ash::vk as raw;

@@ -1,0 +1,97 @@
+//! Capturing a scene offscreen: its materials prepared (with the command line's overrides), one renderer and one
+//! linear float target reused for every frame of a sequence.
+
+use glam::{Mat4, Vec3};
+
+use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceFrame};
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::scene::Scene;
+use crate::shading::{Approach, Material};
+use crate::vk::Context;
+
+/// Settings that replace every material's own (the command line's `--approach`, `--terms`, …).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overrides {
+    pub approach: Option<Approach>,
+    pub order: Option<usize>,
+    pub lambda_step_nm: Option<f64>,
+    pub window_radius: Option<u32>,
+    pub accept_f32_error: bool,
+}
+
+/// Prepares every material of `scene` (Taylor terms, plan, window) for views over the whole hemisphere.
+pub fn prepare_materials(scene: &Scene, overrides: &Overrides) -> Result<Vec<Material>> {
+    scene
+        .materials
+        .iter()
+        .map(|m| {
+            let mut s = m.settings;
+            s.approach = overrides.approach.unwrap_or(s.approach);
+            s.order = overrides.order.or(s.order);
+            s.lambda_step_nm = overrides.lambda_step_nm.unwrap_or(s.lambda_step_nm);
+            s.window_radius = overrides.window_radius.or(s.window_radius);
+            s.accept_f32_error |= overrides.accept_f32_error;
+            // Light and views anywhere over the hemisphere: |w| ≤ 2.
+            Material::prepare(&m.heightfield, s, 2.0).map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
+        })
+        .collect()
+}
+
+/// A scene's GPU state and offscreen target.
+pub struct SceneCapture {
+    renderer: SceneRenderer,
+    frames: OffscreenFrames,
+    models: Vec<Mat4>,
+    width: u32,
+    height: u32,
+}
+
+impl SceneCapture {
+    /// Uploads `materials` (from [`prepare_materials`]) and `scene`'s meshes, with a `width`×`height` target.
+    pub fn new(ctx: &Context, scene: &Scene, materials: &[Material], width: u32, height: u32) -> Result<Self> {
+        let inputs: Vec<MaterialInput<'_>> = materials
+            .iter()
+            .zip(&scene.materials)
+            .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
+            .collect();
+        let objects: Vec<(&Mesh, usize)> = scene.objects.iter().map(|o| (&o.mesh, o.material)).collect();
+        let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false)?;
+        match OffscreenFrames::new(ctx, width, height, false) {
+            Ok(frames) => {
+                Ok(Self { renderer, frames, models: scene.objects.iter().map(|o| o.model).collect(), width, height })
+            }
+            Err(e) => {
+                // SAFETY: nothing was submitted.
+                unsafe { renderer.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+
+    /// Renders one frame: linear scene-referred RGBA float, checked to be finite.
+    pub fn render(
+        &mut self,
+        ctx: &Context,
+        camera: &Camera,
+        light_dir: Vec3,
+        ambient: f32,
+        background: [f32; 3],
+    ) -> Result<SurfaceFrame> {
+        self.renderer.update(camera, light_dir, ambient, &self.models, self.width as f32 / self.height as f32)?;
+        let frame = self.frames.render(ctx, &self.renderer, [background[0], background[1], background[2], 1.0])?;
+        let bad = frame.linear.as_ref().map_or(0, |l| l.chunks(4).filter(|p| p.iter().any(|c| !c.is_finite())).count());
+        if bad > 0 {
+            return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
+        }
+        Ok(frame)
+    }
+
+    /// # Safety
+    /// The GPU must be done with every frame.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.frames.destroy(ctx);
+        self.renderer.destroy(ctx);
+    }
+}

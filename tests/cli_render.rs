@@ -1,0 +1,190 @@
+//! `diffract render` with scenes: sequences, a user's own OBJ and GSF, and mistakes in scene files.
+
+mod common;
+
+use std::path::PathBuf;
+
+use common::{assert_one_line_error, diffract};
+
+fn scratch(name: &str) -> PathBuf {
+    common::scratch("cli_render", name)
+}
+
+fn s(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A scene of the user's own: an OBJ without normals or UVs and a generated GSF, paths relative to the scene.
+fn own_scene(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("quad.obj"), "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n").unwrap();
+    let o = diffract(&[
+        "gen",
+        "patch",
+        "sinusoidal",
+        "--size-um",
+        "8",
+        "--pixel-um",
+        "0.05",
+        "--period-um",
+        "1.6",
+        "--out",
+        s(&dir.join("sine.gsf")),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        r#"[camera]
+position = [0.0, 0.0, 3.0]
+target = [0.0, 0.0, 0.0]
+fov_y_deg = 40.0
+
+[light]
+direction = [0.0, 0.0, 1.0]
+
+[[object]]
+mesh = "quad.obj"
+material = "sine"
+
+[material.sine]
+heightfield = "sine.gsf"
+coherence_um = 8.0
+lambda_step_nm = 10.0
+"#,
+    )
+    .unwrap();
+    scene
+}
+
+#[test]
+fn a_users_obj_and_gsf_render_validation_clean() {
+    let scene = own_scene("own-render");
+    let out = scratch("own.png");
+    let exr = scratch("own.exr");
+    let o = diffract(&[
+        "render",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--exr",
+        s(&exr),
+        "--width",
+        "48",
+        "--height",
+        "48",
+        "--exposure",
+        "2",
+        "--validation",
+        "--device",
+        "llvmpipe",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !err.contains("validation"), "{err}");
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert!(img.pixels().filter(|p| p.0 != [0, 0, 0]).count() > 10, "the quad is lit");
+    assert!(image::open(&exr).is_ok());
+}
+
+#[test]
+fn sequences_write_numbered_frames() {
+    let scene = own_scene("own-sequence");
+    let out = scratch("turn.png");
+    let o = diffract(&[
+        "render",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--frames",
+        "3",
+        "--orbit",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in 1..=3 {
+        assert!(scratch(&format!("turn_{f:04}.png")).exists(), "frame {f}");
+    }
+    let sweep = scratch("sweep.png");
+    let o = diffract(&[
+        "render",
+        s(&scene),
+        "--out",
+        s(&sweep),
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--frames",
+        "2",
+        "--light-sweep",
+    ]);
+    assert!(o.status.success());
+    assert!(scratch("sweep_0002.png").exists());
+    assert_one_line_error(&diffract(&["render", s(&scene), "--out", s(&out), "--frames", "3"]), "--orbit");
+}
+
+#[test]
+fn a_broken_scene_names_its_line() {
+    let scene = own_scene("own-broken");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let bad = scratch("own-broken/bad.toml");
+    for (from, to, line) in [
+        ("fov_y_deg = 40.0", "fov_y_deg = 40.0\nzoom = 2", "bad.toml:5: unknown field `zoom`"),
+        ("mesh = \"quad.obj\"", "mesh = \"missing.obj\"", "bad.toml:10:"),
+        (
+            "heightfield = \"sine.gsf\"",
+            "heightfield = \"missing.gsf\"",
+            "bad.toml:14: heightfield \"missing.gsf\": no such file",
+        ),
+        ("material = \"sine\"", "material = \"gold\"", "bad.toml:11: no [material.gold]"),
+        ("direction = [0.0, 0.0, 1.0]", "direction = [0.0, 0.0]", "bad.toml:7:"),
+    ] {
+        std::fs::write(&bad, text.replace(from, to)).unwrap();
+        assert_one_line_error(&diffract(&["render", s(&bad), "--out", s(&scratch("never.png"))]), line);
+    }
+    assert_one_line_error(
+        &diffract(&["render", "/no/such/scene.toml", "--out", s(&scratch("never.png"))]),
+        "cannot read",
+    );
+}
+
+#[test]
+fn gen_snake_writes_an_obj_a_scene_can_use() {
+    let dir = scratch("snake");
+    std::fs::create_dir_all(&dir).unwrap();
+    let o =
+        diffract(&["gen", "snake", "--out", s(&dir.join("snake.obj")), "--scale-rows", "20", "--scales-around", "8"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [0.0, 1.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 40.0\n[light]\ndirection = [0.0, 1.0, 0.0]\nambient = 0.1\n\
+         [[object]]\nmesh = \"snake.obj\"\nmaterial = \"m\"\n[material.m]\ngenerate = \"flat\"\nsize_um = 2.0\npigment = [0.5, 0.5, 0.5]\n",
+    )
+    .unwrap();
+    let out = dir.join("snake.png");
+    let o = diffract(&[
+        "render",
+        s(&scene),
+        "--out",
+        s(&out),
+        "--width",
+        "64",
+        "--height",
+        "32",
+        "--validation",
+        "--device",
+        "llvmpipe",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    assert!(img.pixels().filter(|p| p.0[0] > 20).count() > 20, "the snake's pigment shows");
+    let preview = dir.join("preview.png");
+    assert!(diffract(&["render", s(&scene), "--out", s(&preview), "--width", "32", "--height", "32", "--preview"])
+        .status
+        .success());
+}

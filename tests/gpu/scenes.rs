@@ -1,0 +1,30 @@
+//! Every scene shipped in assets/scenes renders validation-clean, with colour.
+
+use diffract::render::capture::{prepare_materials, Overrides, SceneCapture};
+use diffract::scene::Scene;
+
+use crate::harness::gpu_test;
+
+#[test]
+fn every_asset_scene_renders_in_colour() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut scenes: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    scenes.sort();
+    assert!(scenes.len() >= 3, "{scenes:?}");
+    for path in scenes.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
+        let scene = Scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let materials = prepare_materials(&scene, &Overrides::default()).unwrap();
+        let (w, h) = (96, 96);
+        let linear = gpu_test(|ctx| {
+            let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h).unwrap();
+            let frame = capture.render(ctx, &scene.camera, scene.light_dir, scene.ambient, scene.render.background);
+            // SAFETY: render waited.
+            unsafe { capture.destroy(ctx) };
+            frame.unwrap().linear.unwrap()
+        });
+        let rgba8 = diffract::output::linear_to_rgba8(&linear, scene.render.exposure_ev);
+        let coloured =
+            rgba8.chunks(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 40).count();
+        assert!(coloured > 5, "{}: only {coloured} coloured pixels", path.display());
+    }
+}
