@@ -105,7 +105,10 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
 fn material_orientation_turns_the_patch_like_the_tangent() {
     use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale)).unwrap().tiled(2, 2).unwrap();
+    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+        .unwrap()
+        .tiled(2, 2)
+        .unwrap();
     let settings = Settings { lambda_step_nm: 20.0, coherence_um: 8.0, ..Settings::default() };
     let material = Material::prepare(&hf, settings, 2.0).unwrap();
     let (w, h) = (48u32, 40u32);
@@ -113,7 +116,8 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
         let sc = scene(tangent_deg, 1.0);
         gpu_test(|ctx| {
             let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3] }];
-            let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], OffscreenFrames::format(false), false).unwrap();
+            let mut renderer =
+                SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], OffscreenFrames::format(false), false).unwrap();
             let frames = OffscreenFrames::new(ctx, w, h, false).unwrap();
             renderer.update(&sc.camera, sc.light_dir, 0.0, &[sc.model], w as f32 / h as f32).unwrap();
             let frame = frames.render(ctx, &renderer, sc.background).unwrap();
@@ -131,6 +135,9 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
     let diff = |a: &[f32], b: &[f32]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
     let peak = by_tangent.iter().fold(0.0f32, |m, v| m.max(*v));
     assert!(peak > 1e-3, "something is lit");
-    assert!(diff(&by_tangent, &by_orientation) < 1e-4 * peak.max(1.0), "orientation 30° equals a tangent turned by 30°");
+    assert!(
+        diff(&by_tangent, &by_orientation) < 1e-4 * peak.max(1.0),
+        "orientation 30° equals a tangent turned by 30°"
+    );
     assert!(diff(&by_tangent, &unrotated) > 1e-3 * peak, "and differs from the unturned patch");
 }
