@@ -8,11 +8,12 @@
 #include "taylor.glsl"
 #include "approaches.glsl"
 
-layout(push_constant) uniform MapPush { vec2 size; } map;
+// The map's square (side `size`) starts at pixel `offset` of the target.
+layout(push_constant) uniform MapPush { vec2 size; vec2 offset; } map;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec2 xy = (gl_FragCoord.xy - 0.5 * map.size) / (0.5 * map.size);
+    vec2 xy = (gl_FragCoord.xy - map.offset - 0.5 * map.size) / (0.5 * map.size);
     xy.y = -xy.y;
     float r2 = dot(xy, xy);
     if (r2 >= 1.0) {

@@ -29,6 +29,7 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod shading;
+pub mod view;
 pub mod vk;
 
 pub use error::{Error, Result};

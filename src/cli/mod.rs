@@ -7,6 +7,7 @@ mod generate;
 mod map;
 mod parse;
 mod render;
+mod view;
 
 use std::process::ExitCode;
 
@@ -66,6 +67,9 @@ pub enum Command {
     /// Report a height field's units, the Taylor order a scene needs and what f32 can reach
     #[command(allow_negative_numbers = true)]
     Terms(brdf::TermsArgs),
+    /// Open a scene in a window: orbit camera, light and live speed/accuracy controls (H for help)
+    #[command(after_help = VIEW_HELP, allow_negative_numbers = true)]
+    View(view::ViewArgs),
     /// Generate nanostructure patches
     #[command(subcommand)]
     Gen(generate::GenCommand),
@@ -80,6 +84,17 @@ Examples:
   diffract render assets/scenes/xenopeltis-snake.toml --out x.png --exr x.exr --approach nmm
   diffract render assets/scenes/blazed-disk.toml --out turn.png --frames 36 --orbit
   diffract render my-scene.toml --out quick.png --preview      lit without diffraction, to frame the camera";
+
+const VIEW_HELP: &str = "\
+Examples:
+  diffract view                                     the Elaphe snake in a 640x480 window
+  diffract view assets/scenes/blazed-disk.toml --vsync off
+  diffract view --frames 30 --screenshot shot.png   render 30 frames, save the last, exit
+
+Controls (also printed at start and by H):
+  mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
+  1 2 3 4 approach · T/shift+T terms · L/shift+L wavelength step · R/shift+R window radius · +/- exposure
+  arrows light · M BRDF map <-> geometry · P screenshot · H help · Esc quit";
 
 const MAP_HELP: &str = "\
 The map's inscribed disk is the hemisphere of view directions: the pixel at (x, y) from the centre (x right, y up,
@@ -118,6 +133,7 @@ fn run(cli: &Cli) -> anyhow::Result<ExitCode> {
         Command::Render(args) => render::render(&cli.gpu, args),
         Command::Brdf(args) => brdf::brdf(&cli.gpu, args),
         Command::Map(args) => map::map(&cli.gpu, args),
+        Command::View(args) => view::view(&cli.gpu, args),
         Command::Gen(command) => generate::run(command).map(|()| ExitCode::SUCCESS),
         Command::Terms(args) => brdf::terms(args).map(|()| ExitCode::SUCCESS),
     }

@@ -7,7 +7,7 @@ use std::io::IsTerminal;
 use ash::vk;
 use glam::DVec3;
 
-use super::{begin_rendering, end_rendering, OffscreenTarget, LINEAR_FORMAT};
+use super::{begin_rendering, end_rendering, OffscreenTarget, TargetView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::physics::spectrum;
 use crate::physics::Query;
@@ -166,10 +166,64 @@ impl MapImage {
 }
 
 /// The material's uniforms with the light direction `light` (unit, patch frame).
-fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
+pub fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
     let mut params = material.params;
     params.light = [light.x as f32, light.y as f32, light.z as f32, 0.0];
     params
+}
+
+/// The BRDF-map pipeline for one material.
+pub struct MapPass {
+    pipeline: Pipeline,
+}
+
+impl MapPass {
+    pub const NAME: &'static str = "brdf map";
+
+    /// `display_output`: exposure and sRGB in the shader (for a window's UNORM images); else linear RGB.
+    pub fn new(ctx: &Context, material: &Material, color_format: vk::Format, display_output: bool) -> Result<Self> {
+        let bindings = patch_bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
+        let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+            name: Self::NAME,
+            vertex: shaders::FULLSCREEN_VERT,
+            fragment: shaders::MAP_FRAG,
+            specialization: material.spec_constants(display_output),
+            bindings: &bindings,
+            push_constant_size: 16,
+            vertex_stride: 0,
+            vertex_attributes: &[],
+            color_format,
+            depth_format: None,
+            cull_back_faces: false,
+        })?;
+        Ok(Self { pipeline })
+    }
+
+    /// Records the map as the largest centred square of `target` (clearing `area`, or all of it, to black).
+    pub fn record(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        patch: &PatchResources,
+        target: &TargetView,
+        area: Option<vk::Rect2D>,
+    ) {
+        let (w, h) = (target.extent.width as f32, target.extent.height as f32);
+        let side = w.min(h);
+        let push: Vec<u8> =
+            [side, side, 0.5 * (w - side), 0.5 * (h - side)].iter().flat_map(|v| v.to_ne_bytes()).collect();
+        begin_rendering(ctx, cmd, target, [0.0, 0.0, 0.0, 1.0], area);
+        ctx.bind(cmd, &self.pipeline, &patch.writes(), &push);
+        // SAFETY: recording inside the rendering scope with the pipeline bound.
+        unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
+        end_rendering(ctx, cmd);
+    }
+
+    /// # Safety
+    /// No pending work may use the pass.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.pipeline.destroy(ctx);
+    }
 }
 
 /// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels.
@@ -177,23 +231,10 @@ pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3) -
     let mut patch = PatchResources::new(ctx, material)?;
     let result = (|| {
         patch.update(&light_params(material, light))?;
-        let bindings = patch_bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
-        let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-            name: "brdf map",
-            vertex: shaders::FULLSCREEN_VERT,
-            fragment: shaders::MAP_FRAG,
-            specialization: material.spec_constants(false),
-            bindings: &bindings,
-            push_constant_size: 8,
-            vertex_stride: 0,
-            vertex_attributes: &[],
-            color_format: LINEAR_FORMAT,
-            depth_format: None,
-            cull_back_faces: false,
-        })?;
-        let out = draw_map_bands(ctx, &pipeline, &patch, size);
+        let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false)?;
+        let out = draw_map_bands(ctx, &pass, &patch, size);
         // SAFETY: draw_map_bands waited for its work.
-        unsafe { pipeline.destroy(ctx) };
+        unsafe { pass.destroy(ctx) };
         out
     })();
     // SAFETY: all work has completed.
@@ -201,10 +242,9 @@ pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3) -
     result
 }
 
-fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, size: u32) -> Result<MapImage> {
+fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u32) -> Result<MapImage> {
     let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
     let result = (|| {
-        let push: Vec<u8> = [(size as f32).to_ne_bytes(), (size as f32).to_ne_bytes()].concat();
         let show_progress = std::io::stderr().is_terminal() && size >= 128;
         let mut gpu_ms = Some(0.0);
         let bands = size.div_ceil(MAP_BAND_ROWS);
@@ -214,17 +254,13 @@ fn draw_map_bands(ctx: &Context, pipeline: &Pipeline, patch: &PatchResources, si
                 offset: vk::Offset2D { x: 0, y: y0 as i32 },
                 extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
             };
-            let band_ms = ctx.one_shot_timed("brdf map", |cmd| {
+            let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| {
                 if band == 0 {
                     target.begin(ctx, cmd);
                 } else {
                     target.continue_rendering(ctx, cmd);
                 }
-                begin_rendering(ctx, cmd, &target.view(), [0.0, 0.0, 0.0, 1.0], Some(area));
-                ctx.bind(cmd, pipeline, &patch.writes(), &push);
-                // SAFETY: recording inside the rendering scope with the pipeline bound.
-                unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
-                end_rendering(ctx, cmd);
+                pass.record(ctx, cmd, patch, &target.view(), Some(area));
             })?;
             gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
             if show_progress {

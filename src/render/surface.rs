@@ -65,6 +65,7 @@ pub struct MaterialInput<'a> {
 struct MaterialGpu {
     pipeline: Pipeline,
     patch: PatchResources,
+    params: crate::shading::DiffractionParams,
     orientation: [f32; 2],
     pigment: [f32; 3],
 }
@@ -139,7 +140,13 @@ impl SceneRenderer {
                 }
             };
             let (sin, cos) = input.orientation_deg.to_radians().sin_cos();
-            self.materials.push(MaterialGpu { pipeline, patch, orientation: [cos, sin], pigment: input.pigment });
+            self.materials.push(MaterialGpu {
+                pipeline,
+                patch,
+                params: input.material.params,
+                orientation: [cos, sin],
+                pigment: input.pigment,
+            });
         }
         for (i, &(mesh, material)) in objects.iter().enumerate() {
             if material >= self.materials.len() {
@@ -191,6 +198,15 @@ impl SceneRenderer {
                 pigment: [r, g, b, ambient],
             };
             object.uniforms.write(bytemuck::bytes_of(&u))?;
+        }
+        Ok(())
+    }
+
+    /// Sets the exposure of the shaders' display output; no submitted work may still read the uniforms.
+    pub fn set_exposure(&mut self, exposure_ev: f64) -> Result<()> {
+        for m in &mut self.materials {
+            m.params.display[0] = exposure_ev.exp2() as f32;
+            m.patch.update(&m.params)?;
         }
         Ok(())
     }

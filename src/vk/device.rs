@@ -145,8 +145,9 @@ pub struct Device {
 }
 
 impl Device {
-    /// Creates the logical device with synchronization2, dynamic rendering and push descriptors.
-    pub fn new(instance: &ash::Instance, info: &DeviceInfo, debug_names: bool) -> Result<Self> {
+    /// Creates the logical device with synchronization2, dynamic rendering and push descriptors (and
+    /// `VK_KHR_swapchain` when `window`).
+    pub fn new(instance: &ash::Instance, info: &DeviceInfo, debug_names: bool, window: bool) -> Result<Self> {
         let unsuitable = |reason: String| Error::UnsuitableDevice { name: info.name.clone(), reason };
         if info.api_version < vk::API_VERSION_1_3 {
             return Err(unsuitable(format!("it supports Vulkan {}, diffract needs 1.3", info.api_version_string())));
@@ -159,7 +160,11 @@ impl Device {
                 instance.get_physical_device_features(info.raw),
             )
         };
-        for ext in REQUIRED_EXTENSIONS {
+        let mut wanted_extensions: Vec<&CStr> = REQUIRED_EXTENSIONS.to_vec();
+        if window {
+            wanted_extensions.push(ash::khr::swapchain::NAME);
+        }
+        for ext in &wanted_extensions {
             if !extensions.iter().any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == *ext)) {
                 return Err(unsuitable(format!("it lacks {}", ext.to_string_lossy())));
             }
@@ -174,7 +179,7 @@ impl Device {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family as u32)
             .queue_priorities(&priorities)];
-        let ext_names: Vec<_> = REQUIRED_EXTENSIONS.iter().map(|e| e.as_ptr()).collect();
+        let ext_names: Vec<_> = wanted_extensions.iter().map(|e| e.as_ptr()).collect();
         // maintenance4 is mandatory in 1.3; SPIR-V 1.6 compute shaders declare their work-group size with LocalSizeId.
         let mut f13 = vk::PhysicalDeviceVulkan13Features::default()
             .synchronization2(true)

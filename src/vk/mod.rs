@@ -19,6 +19,7 @@ mod image;
 mod instance;
 mod pipeline;
 mod query;
+pub mod swapchain;
 
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -45,13 +46,15 @@ pub struct ContextDesc {
     pub device: DeviceSelector,
     /// Enable `VK_LAYER_KHRONOS_validation`, print and count its messages, and name every object.
     pub validation: bool,
+    /// Enable presenting to windows (`VK_KHR_swapchain`).
+    pub window: bool,
 }
 
 impl ContextDesc {
     /// Validation is on when asked for or when `DIFFRACT_VALIDATION=1` is set.
     pub fn new(device: DeviceSelector, validation: bool) -> Self {
         let env = std::env::var("DIFFRACT_VALIDATION").is_ok_and(|v| v == "1" || v.eq_ignore_ascii_case("true"));
-        Self { device, validation: validation || env }
+        Self { device, validation: validation || env, window: false }
     }
 }
 
@@ -105,7 +108,7 @@ impl Context {
     ) -> Result<(DeviceInfo, device::Device, Allocator, vk::CommandPool)> {
         let devices = device::list(&instance.raw)?;
         let info = device::choose(&devices, &desc.device)?;
-        let device = device::Device::new(&instance.raw, &info, desc.validation)?;
+        let device = device::Device::new(&instance.raw, &info, desc.validation, desc.window)?;
         let allocator = Allocator::new(&AllocatorCreateDesc {
             instance: instance.raw.clone(),
             device: device.raw.clone(),

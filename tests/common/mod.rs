@@ -1,5 +1,8 @@
 //! Helpers shared by the command-line tests.
 
+// Each test binary uses a subset of them.
+#![allow(dead_code)]
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 

@@ -8,7 +8,7 @@ use diffract::vk::{Context, ContextDesc, DeviceSelector};
 pub const TEST_DEVICE: &str = "llvmpipe";
 
 pub fn open() -> Context {
-    let desc = ContextDesc { device: DeviceSelector::Name(TEST_DEVICE.into()), validation: true };
+    let desc = ContextDesc { device: DeviceSelector::Name(TEST_DEVICE.into()), validation: true, window: false };
     match Context::new(&desc) {
         Ok(ctx) => ctx,
         Err(e) => panic!("GPU tests need lavapipe and the validation layer (scripts/setup-debian.sh): {e}"),

@@ -1,0 +1,98 @@
+//! `diffract view`: a scene in a window.
+
+use std::path::PathBuf;
+
+use anyhow::bail;
+use clap::{Args, ValueEnum};
+
+use super::GpuArgs;
+use crate::render::capture::Overrides;
+use crate::scene::Scene;
+use crate::shading::Approach;
+use crate::view::{self, ViewOptions};
+
+#[derive(Copy, Clone, Debug, ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene file (TOML); default: the built-in Elaphe snake
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// Window width in pixels
+    #[arg(long, default_value_t = 640, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub width: u32,
+    /// Window height in pixels
+    #[arg(long, default_value_t = 480, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub height: u32,
+    /// Wait for the display's refresh (FIFO) or not (MAILBOX/IMMEDIATE where offered)
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub vsync: OnOff,
+    /// Render this many frames, then exit (with --screenshot: write the last one)
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// With --frames: the PNG to write the last frame to
+    #[arg(long, value_name = "FILE.png", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Shading approach for every material at start (keys 1–4 change it)
+    #[arg(long, value_enum)]
+    pub approach: Option<Approach>,
+    /// Exposure in stops at start (default: the scene's)
+    #[arg(long, value_name = "EV")]
+    pub exposure: Option<f64>,
+    /// Taylor order N at start
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Wavelength step in nm at start
+    #[arg(long, value_name = "NM")]
+    pub lambda_step: Option<f64>,
+    /// Window radius at start
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+    /// Ask the window to shrink to 3/4 after N frames (tests that a resize is survived)
+    #[arg(long, hide = true, value_name = "N")]
+    pub resize_after: Option<u32>,
+}
+
+pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
+    if let Some(p) = &args.screenshot {
+        crate::output::check_png_path(p)?;
+    }
+    let no_display = std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
+        && std::env::var_os("WAYLAND_DISPLAY").is_none_or(|d| d.is_empty());
+    if no_display {
+        bail!("no display (neither DISPLAY nor WAYLAND_DISPLAY is set): `diffract view` opens a window; use `diffract render` for headless images");
+    }
+    let scene = match &args.scene {
+        Some(path) => Scene::load(path)?,
+        None => Scene::default_scene()?,
+    };
+    let exposure_ev = args.exposure.unwrap_or(scene.render.exposure_ev);
+    let options = ViewOptions {
+        scene,
+        width: args.width,
+        height: args.height,
+        vsync: matches!(args.vsync, OnOff::On),
+        context: gpu.context_desc(),
+        overrides: Overrides {
+            approach: args.approach,
+            order: args.terms,
+            lambda_step_nm: args.lambda_step,
+            window_radius: args.window_radius,
+            accept_f32_error: false,
+        },
+        exposure_ev,
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+        resize_after: args.resize_after,
+    };
+    let messages = view::run(options)?;
+    if messages > 0 {
+        eprintln!("error: the validation layer reported {messages} message(s)");
+        return Ok(std::process::ExitCode::FAILURE);
+    }
+    Ok(std::process::ExitCode::SUCCESS)
+}
