@@ -8,33 +8,45 @@ use std::time::{Duration, Instant};
 
 use common::assert_one_line_error;
 
-/// An Xvfb server on a free display, stopped when dropped.
+/// An Xvfb server on a free display, stopped when dropped. The window tests hold `X_SERVERS` while they run:
+/// two Xvfb started at once can pick the same display.
 struct Xvfb {
     child: Child,
     display: String,
+    _serial: std::sync::MutexGuard<'static, ()>,
 }
 
+static X_SERVERS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 impl Xvfb {
+    /// Starts Xvfb on a display it picks itself (`-displayfd`), so parallel tests never share one.
     fn start() -> Self {
-        let n = (90..130)
-            .find(|n| {
-                !std::path::Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-                    && !std::path::Path::new(&format!("/tmp/.X{n}-lock")).exists()
-            })
-            .expect("a free X display number");
-        let child = Command::new("Xvfb")
-            .args([format!(":{n}").as_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
-            .stdout(Stdio::null())
+        use std::io::BufRead;
+        let serial = X_SERVERS.lock().unwrap_or_else(|e| e.into_inner());
+        let mut child = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1024x768x24", "-nolisten", "tcp"])
+            .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
             .expect("Xvfb must be installed for the window tests (scripts/setup-debian.sh installs it)");
-        let socket = format!("/tmp/.X11-unix/X{n}");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut line)
+            .expect("Xvfb reports its display");
+        let n: u32 = line.trim().parse().unwrap_or_else(|_| panic!("Xvfb did not report a display: {line:?}"));
+        // The number may come a moment before the server accepts connections: wait until a client connects.
+        let display = format!(":{n}");
         let start = Instant::now();
-        while !std::path::Path::new(&socket).exists() {
-            assert!(start.elapsed() < Duration::from_secs(10), "Xvfb did not start");
+        while !Command::new("xdotool")
+            .arg("getmouselocation")
+            .env("DISPLAY", &display)
+            .output()
+            .is_ok_and(|o| o.status.success())
+        {
+            assert!(start.elapsed() < Duration::from_secs(10), "Xvfb {display} accepts no connection");
             std::thread::sleep(Duration::from_millis(50));
         }
-        Self { child, display: format!(":{n}") }
+        Self { child, display, _serial: serial }
     }
 }
 
@@ -45,8 +57,9 @@ impl Drop for Xvfb {
     }
 }
 
-fn scene() -> PathBuf {
-    let path = common::scratch("cli_view", "sphere.toml");
+/// A small scene, written under `name` (each test its own file: tests run in parallel).
+fn scene(name: &str) -> PathBuf {
+    let path = common::scratch("cli_view", name);
     std::fs::write(
         &path,
         r#"[camera]
@@ -79,8 +92,8 @@ fn view_renders_frames_survives_a_resize_and_writes_a_screenshot() {
     let shot = common::scratch("cli_view", "shot.png");
     let _ = std::fs::remove_file(&shot);
     let o = Command::new(env!("CARGO_BIN_EXE_diffract"))
-        .args(["view", scene().to_str().unwrap(), "--width", "96", "--height", "72", "--frames", "8"])
-        .args(["--screenshot", shot.to_str().unwrap(), "--resize-after", "3", "--validation", "--device", "llvmpipe"])
+        .args(["view", scene("frames.toml").to_str().unwrap(), "--width", "96", "--height", "72", "--frames", "30"])
+        .args(["--screenshot", shot.to_str().unwrap(), "--resize-after", "10", "--validation", "--device", "llvmpipe"])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
         .output()
