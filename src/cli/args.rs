@@ -106,3 +106,38 @@ pub struct LightArgs {
     #[arg(long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
 }
+
+/// Settings that replace every material's own in a scene (`render`, `view`).
+#[derive(Args, Debug, Clone)]
+pub struct SceneOverrideArgs {
+    /// Shading approach for every material (default: each material's own)
+    #[arg(long, value_enum)]
+    pub approach: Option<Approach>,
+    /// Exposure in stops (default: the scene's)
+    #[arg(long, value_name = "EV")]
+    pub exposure: Option<f64>,
+    /// Taylor order N for every material (default: from each material's tolerance)
+    #[arg(long, value_name = "N")]
+    pub terms: Option<usize>,
+    /// Wavelength step in nm for every material
+    #[arg(long, value_name = "NM")]
+    pub lambda_step: Option<f64>,
+    /// Window radius for every material
+    #[arg(long, value_name = "R")]
+    pub window_radius: Option<u32>,
+    /// Render even where f32 cannot reach the tolerance
+    #[arg(long)]
+    pub accept_f32_error: bool,
+}
+
+impl SceneOverrideArgs {
+    pub fn overrides(&self) -> crate::render::capture::Overrides {
+        crate::render::capture::Overrides {
+            approach: self.approach,
+            order: self.terms,
+            lambda_step_nm: self.lambda_step,
+            window_radius: self.window_radius,
+            accept_f32_error: self.accept_f32_error,
+        }
+    }
+}

@@ -9,12 +9,12 @@ use anyhow::Context as _;
 use clap::Args;
 use glam::{Mat4, Quat, Vec3};
 
+use super::args::SceneOverrideArgs;
 use super::GpuArgs;
 use crate::mesh::Mesh;
-use crate::render::capture::{prepare_materials, Overrides, SceneCapture};
+use crate::render::capture::{prepare_materials, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
 use crate::scene::Scene;
-use crate::shading::Approach;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
@@ -33,24 +33,8 @@ pub struct RenderArgs {
     /// Height in pixels (default: the scene's, else 512)
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=crate::render::MAX_EDGE as i64))]
     pub height: Option<u32>,
-    /// Shading approach for every material (default: each material's own)
-    #[arg(long, value_enum)]
-    pub approach: Option<Approach>,
-    /// Exposure in stops (default: the scene's)
-    #[arg(long, value_name = "EV")]
-    pub exposure: Option<f64>,
-    /// Taylor order N for every material (default: from each material's tolerance)
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
-    /// Wavelength step in nm for every material
-    #[arg(long, value_name = "NM")]
-    pub lambda_step: Option<f64>,
-    /// Window radius for every material
-    #[arg(long, value_name = "R")]
-    pub window_radius: Option<u32>,
-    /// Render even where f32 cannot reach the tolerance
-    #[arg(long)]
-    pub accept_f32_error: bool,
+    #[command(flatten)]
+    pub settings: SceneOverrideArgs,
     /// Number of frames: a sequence with --orbit or --light-sweep
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub frames: u32,
@@ -104,20 +88,13 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     };
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
-    let exposure = args.exposure.unwrap_or(scene.render.exposure_ev);
+    let exposure = args.settings.exposure.unwrap_or(scene.render.exposure_ev);
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     if args.preview {
         return preview(&ctx, &scene, args, width, height);
     }
     let start = Instant::now();
-    let overrides = Overrides {
-        approach: args.approach,
-        order: args.terms,
-        lambda_step_nm: args.lambda_step,
-        window_radius: args.window_radius,
-        accept_f32_error: args.accept_f32_error,
-    };
-    let materials = prepare_materials(&scene, &overrides)?;
+    let materials = prepare_materials(&scene, &args.settings.overrides())?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height)?;
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);

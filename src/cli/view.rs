@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, ValueEnum};
 
+use super::args::SceneOverrideArgs;
 use super::GpuArgs;
-use crate::render::capture::Overrides;
 use crate::scene::Scene;
-use crate::shading::Approach;
 use crate::view::{self, ViewOptions};
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
@@ -37,21 +36,9 @@ pub struct ViewArgs {
     /// With --frames: the PNG to write the last frame to
     #[arg(long, value_name = "FILE.png", requires = "frames")]
     pub screenshot: Option<PathBuf>,
-    /// Shading approach for every material at start (keys 1–4 change it)
-    #[arg(long, value_enum)]
-    pub approach: Option<Approach>,
-    /// Exposure in stops at start (default: the scene's)
-    #[arg(long, value_name = "EV")]
-    pub exposure: Option<f64>,
-    /// Taylor order N at start
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
-    /// Wavelength step in nm at start
-    #[arg(long, value_name = "NM")]
-    pub lambda_step: Option<f64>,
-    /// Window radius at start
-    #[arg(long, value_name = "R")]
-    pub window_radius: Option<u32>,
+    /// The settings at start (the keys change them while the window is open)
+    #[command(flatten)]
+    pub settings: SceneOverrideArgs,
     /// Ask the window to shrink to 3/4 after N frames (tests that a resize is survived)
     #[arg(long, hide = true, value_name = "N")]
     pub resize_after: Option<u32>,
@@ -70,20 +57,14 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         Some(path) => Scene::load(path)?,
         None => Scene::default_scene()?,
     };
-    let exposure_ev = args.exposure.unwrap_or(scene.render.exposure_ev);
+    let exposure_ev = args.settings.exposure.unwrap_or(scene.render.exposure_ev);
     let options = ViewOptions {
         scene,
         width: args.width,
         height: args.height,
         vsync: matches!(args.vsync, OnOff::On),
         context: gpu.context_desc(),
-        overrides: Overrides {
-            approach: args.approach,
-            order: args.terms,
-            lambda_step_nm: args.lambda_step,
-            window_radius: args.window_radius,
-            accept_f32_error: false,
-        },
+        overrides: args.settings.overrides(),
         exposure_ev,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
