@@ -10,6 +10,7 @@
 //! - `reflectance` = C(ω_i, ω_r)·power, the thesis's relative reflectance ρ_λ (model.md §1.5).
 
 pub mod cie_tables;
+pub mod colour;
 pub mod gsf;
 pub mod heightfield;
 pub mod optics;
