@@ -17,9 +17,9 @@ use winit::window::{Window, WindowId};
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::render::capture::{prepare_materials, Overrides};
+use crate::render::capture::{material_inputs, prepare_materials, scene_objects, Overrides};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
-use crate::render::surface::{MaterialInput, SceneRenderer};
+use crate::render::surface::SceneRenderer;
 use crate::render::TargetView;
 use crate::scene::Scene;
 use crate::shading::{Approach, Material};
@@ -135,9 +135,13 @@ impl Live {
         }
     }
 
+    /// Unit vector from the target towards the camera.
+    fn eye_direction(&self) -> Vec3 {
+        Vec3::new(self.pitch.cos() * self.yaw.sin(), self.pitch.sin(), self.pitch.cos() * self.yaw.cos())
+    }
+
     fn camera(&self, base: &Camera) -> Camera {
-        let dir = Vec3::new(self.pitch.cos() * self.yaw.sin(), self.pitch.sin(), self.pitch.cos() * self.yaw.cos());
-        Camera { position: self.target + dir * self.distance, target: self.target, ..*base }
+        Camera { position: self.target + self.eye_direction() * self.distance, target: self.target, ..*base }
     }
 
     fn light(&self) -> Vec3 {
@@ -294,12 +298,7 @@ impl State {
         for m in &mut materials {
             m.params.display[0] = self.live.exposure_ev.exp2() as f32;
         }
-        let inputs: Vec<MaterialInput<'_>> = materials
-            .iter()
-            .zip(&scene.materials)
-            .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
-            .collect();
-        let objects: Vec<_> = scene.objects.iter().map(|o| (&o.mesh, o.material)).collect();
+        let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
         let renderer = SceneRenderer::new(&self.ctx, &inputs, &objects, format, true)?;
         let first = &materials[scene.objects[0].material];
         let map = match MapPass::new(&self.ctx, first, format, true) {
@@ -414,15 +413,7 @@ impl State {
             Some(MouseButton::Right) | Some(MouseButton::Left)
                 if self.dragging == Some(MouseButton::Right) || self.modifiers.shift_key() =>
             {
-                let cam = live.camera(&Camera {
-                    position: Vec3::Z,
-                    target: Vec3::ZERO,
-                    up: Vec3::Y,
-                    fov_y_deg: 30.0,
-                    near: 0.1,
-                    far: 10.0,
-                });
-                let forward = (cam.target - cam.position).normalize();
+                let forward = -live.eye_direction();
                 let right = forward.cross(Vec3::Y).normalize_or_zero();
                 let up = right.cross(forward);
                 live.target += (-right * dx + up * dy) * live.distance * 0.002;

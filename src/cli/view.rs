@@ -70,10 +70,5 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         screenshot: args.screenshot.clone(),
         resize_after: args.resize_after,
     };
-    let messages = view::run(options)?;
-    if messages > 0 {
-        eprintln!("error: the validation layer reported {messages} message(s)");
-        return Ok(std::process::ExitCode::FAILURE);
-    }
-    Ok(std::process::ExitCode::SUCCESS)
+    Ok(super::validation_count_status(view::run(options)?))
 }

@@ -39,6 +39,20 @@ pub fn prepare_materials(scene: &Scene, overrides: &Overrides) -> Result<Vec<Mat
         .collect()
 }
 
+/// The renderer's view of `scene`'s materials (from [`prepare_materials`], in the same order).
+pub fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> Vec<MaterialInput<'a>> {
+    materials
+        .iter()
+        .zip(&scene.materials)
+        .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
+        .collect()
+}
+
+/// `scene`'s objects as (mesh, material index) for [`SceneRenderer::new`].
+pub fn scene_objects(scene: &Scene) -> Vec<(&Mesh, usize)> {
+    scene.objects.iter().map(|o| (&o.mesh, o.material)).collect()
+}
+
 /// A scene's GPU state and offscreen target.
 pub struct SceneCapture {
     renderer: SceneRenderer,
@@ -51,12 +65,7 @@ pub struct SceneCapture {
 impl SceneCapture {
     /// Uploads `materials` (from [`prepare_materials`]) and `scene`'s meshes, with a `width`×`height` target.
     pub fn new(ctx: &Context, scene: &Scene, materials: &[Material], width: u32, height: u32) -> Result<Self> {
-        let inputs: Vec<MaterialInput<'_>> = materials
-            .iter()
-            .zip(&scene.materials)
-            .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
-            .collect();
-        let objects: Vec<(&Mesh, usize)> = scene.objects.iter().map(|o| (&o.mesh, o.material)).collect();
+        let (inputs, objects) = (material_inputs(scene, materials), scene_objects(scene));
         let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false)?;
         match OffscreenFrames::new(ctx, width, height, false) {
             Ok(frames) => {
