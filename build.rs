@@ -8,6 +8,15 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Second builds of a shader with a macro defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macro).
+/// `COUNT_FETCHES` makes the diffraction shaders count their Taylor-term texel fetches per pixel, `GBUFFER` makes
+/// the surface pass write the directions the exact reference needs (both for the profiler).
+const VARIANTS: &[(&str, &str, &str)] = &[
+    ("map.frag", "map_count.frag", "COUNT_FETCHES"),
+    ("surface.frag", "surface_count.frag", "COUNT_FETCHES"),
+    ("surface.frag", "surface_gbuffer.frag", "GBUFFER"),
+];
+
 /// Shader stages recognised from the second-to-last component of a file name.
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[
     ("vert", shaderc::ShaderKind::Vertex),
@@ -42,7 +51,7 @@ fn main() {
         println!("cargo:rerun-if-changed={}", src.display());
         let file = src.file_name().unwrap().to_string_lossy().to_string();
         let stem = file.trim_end_matches(".glsl");
-        let Some((name, stage)) = stem.rsplit_once('.') else {
+        let Some((_, stage)) = stem.rsplit_once('.') else {
             eprintln!("{file}: shader files are named <name>.<stage>.glsl");
             failed = true;
             continue;
@@ -54,17 +63,20 @@ fn main() {
         };
         let text = std::fs::read_to_string(src).expect("read shader");
         let display = format!("glsl/{file}");
-        match compile(&compiler, &text, kind, &display, &include_dir, debug) {
-            Ok(spirv) => {
-                let spv = out.join(format!("{stem}.spv"));
-                std::fs::write(&spv, spirv).expect("write .spv");
-                let konst = format!("{}_{}", name.replace(['-', '.'], "_"), stage).to_uppercase();
-                writeln!(module, "pub const {konst}: &[u8] = include_bytes!({:?});", spv.display().to_string())
-                    .unwrap();
-            }
-            Err(msg) => {
-                eprintln!("{msg}");
-                failed = true;
+        let variants = VARIANTS.iter().filter(|v| v.0 == stem).map(|&(_, variant, define)| (variant, Some(define)));
+        for (variant, define) in std::iter::once((stem, None)).chain(variants) {
+            match compile(&compiler, &text, kind, &display, &include_dir, debug, define) {
+                Ok(spirv) => {
+                    let spv = out.join(format!("{variant}.spv"));
+                    std::fs::write(&spv, spirv).expect("write .spv");
+                    let konst = variant.replace(['-', '.'], "_").to_uppercase();
+                    writeln!(module, "pub const {konst}: &[u8] = include_bytes!({:?});", spv.display().to_string())
+                        .unwrap();
+                }
+                Err(msg) => {
+                    eprintln!("{msg}");
+                    failed = true;
+                }
             }
         }
     }
@@ -82,8 +94,12 @@ fn compile(
     display: &str,
     include_dir: &Path,
     debug: bool,
+    define: Option<&str>,
 ) -> Result<Vec<u8>, String> {
     let mut options = shaderc::CompileOptions::new().map_err(|e| e.to_string())?;
+    if let Some(define) = define {
+        options.add_macro_definition(define, None);
+    }
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
     options.set_target_spirv(shaderc::SpirvVersion::V1_6);
     if debug {

@@ -22,4 +22,5 @@ void main() {
     }
     vec3 omega_r = vec3(xy, sqrt(1.0 - r2));
     out_color = vec4(shade(params.light.xyz, omega_r), 1.0);
+    record_fetches();
 }

@@ -16,9 +16,19 @@ layout(location = 0) out vec4 out_color;
 // The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
 const float SUN_SOLID_ANGLE = 6.8e-5;
 
+#ifdef GBUFFER
+// The profiler's G-buffer variant: the per-pixel inputs of the exact CPU reference instead of a colour.
+layout(constant_id = 6) const uint MATERIAL_ID = 0;
+layout(constant_id = 7) const uint GBUFFER_PART = 0;  // 0: (ω_i, material + 1); 1: (ω_r, 1)
+#endif
+
 void main() {
     vec3 omega_i = normalize(patch_light);
     vec3 omega_r = normalize(patch_view);
+#ifdef GBUFFER
+    out_color = GBUFFER_PART == 0u ? vec4(omega_i, float(MATERIAL_ID + 1u)) : vec4(omega_r, 1.0);
+    return;
+#endif
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
     if (omega_r.z > 0.0) {
         float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
@@ -27,4 +37,5 @@ void main() {
         rgb += transmitted * frame.pigment.rgb * irradiance;
     }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
+    record_fetches();
 }

@@ -25,6 +25,7 @@ pub mod generate;
 pub mod mesh;
 pub mod output;
 pub mod physics;
+pub mod profile;
 pub mod render;
 pub mod scene;
 pub mod shaders;

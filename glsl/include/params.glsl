@@ -7,6 +7,12 @@ layout(constant_id = 2) const uint LAMBDA_COUNT = 81;  // uniform wavelength sam
 layout(constant_id = 3) const uint APPROACH = 0;       // see APPROACH_*
 layout(constant_id = 4) const uint DISPLAY_OUTPUT = 0; // 0: linear scene-referred RGB; 1: exposure + sRGB OETF
 
+#ifdef COUNT_FETCHES
+// The counting variant adds each fragment's fetches to fetch_counts[y · COUNT_STRIDE + x] (a row of the target).
+layout(constant_id = 5) const uint COUNT_STRIDE = 1;
+layout(std430, set = 0, binding = 4) buffer FetchCounts { uint fetch_counts[]; };
+#endif
+
 const uint APPROACH_FLSS = 0u;
 const uint APPROACH_NMM = 1u;
 const uint APPROACH_PQ = 2u;

@@ -7,6 +7,22 @@ use crate::error::{Error, Result};
 
 /// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds").
 pub const SKIN_INDEX: f64 = 1.5;
+/// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror
+/// (`SUN_SOLID_ANGLE` in glsl/surface.frag.glsl).
+pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
+
+/// The light the skin's pigment returns under the grating, linear RGB (the surface pass's non-diffracted term,
+/// `main` of glsl/surface.frag.glsl): the pigment lit through the transmitted share 1 − R (Schlick) by the sun
+/// and a uniform sky of radiance `ambient`.
+pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, pigment: DVec3, ambient: f64) -> DVec3 {
+    if omega_r.z <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
+    let transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
+    let irradiance = ambient + SUN_SOLID_ANGLE / std::f64::consts::PI * omega_i.z.max(0.0);
+    pigment * (transmitted * irradiance)
+}
 
 /// A unit vector from the surface towards the light or the viewer: (sin θ cos φ, sin θ sin φ, cos θ).
 pub fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {

@@ -31,6 +31,16 @@ pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
     ]
 }
 
+/// The binding of the counting variants' per-pixel fetch counters (glsl/include/params.glsl, COUNT_FETCHES).
+pub const COUNT_BINDING: u32 = 4;
+/// The specialization constant of the counters' row stride.
+pub const COUNT_STRIDE_ID: u32 = 5;
+
+/// The fetch counters' binding for a fragment shader.
+pub fn count_binding() -> Binding {
+    Binding { binding: COUNT_BINDING, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::FRAGMENT }
+}
+
 /// A material's GPU resources, uploaded once.
 pub struct PatchResources {
     pub terms: Image,
@@ -175,6 +185,7 @@ pub fn light_params(material: &Material, light: DVec3) -> crate::shading::Diffra
 /// The BRDF-map pipeline for one material.
 pub struct MapPass {
     pipeline: Pipeline,
+    counting: bool,
 }
 
 impl MapPass {
@@ -182,12 +193,36 @@ impl MapPass {
 
     /// `display_output`: exposure and sRGB in the shader (for a window's UNORM images); else linear RGB.
     pub fn new(ctx: &Context, material: &Material, color_format: vk::Format, display_output: bool) -> Result<Self> {
-        let bindings = patch_bindings(vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT);
+        Self::build(ctx, material, color_format, display_output, None)
+    }
+
+    /// The profiler's variant: linear output, and each fragment adds its Taylor-term texel fetches to a
+    /// per-pixel counter (`u32` at y·`stride` + x of the buffer passed to [`Self::record`]).
+    pub fn counting(ctx: &Context, material: &Material, stride: u32) -> Result<Self> {
+        Self::build(ctx, material, LINEAR_FORMAT, false, Some(stride))
+    }
+
+    fn build(
+        ctx: &Context,
+        material: &Material,
+        color_format: vk::Format,
+        display_output: bool,
+        count_stride: Option<u32>,
+    ) -> Result<Self> {
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let mut bindings = patch_bindings(stages).to_vec();
+        let mut specialization = material.spec_constants(display_output);
+        let mut fragment = shaders::MAP_FRAG;
+        if let Some(stride) = count_stride {
+            bindings.push(count_binding());
+            specialization = specialization.u32(COUNT_STRIDE_ID, stride);
+            fragment = shaders::MAP_COUNT_FRAG;
+        }
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
             vertex: shaders::FULLSCREEN_VERT,
-            fragment: shaders::MAP_FRAG,
-            specialization: material.spec_constants(display_output),
+            fragment,
+            specialization,
             bindings: &bindings,
             push_constant_size: 16,
             vertex_stride: 0,
@@ -196,10 +231,11 @@ impl MapPass {
             depth_format: None,
             cull_back_faces: false,
         })?;
-        Ok(Self { pipeline })
+        Ok(Self { pipeline, counting: count_stride.is_some() })
     }
 
     /// Records the map as the largest centred square of `target` (clearing `area`, or all of it, to black).
+    /// A counting pass needs its counter buffer in `counts`.
     pub fn record(
         &self,
         ctx: &Context,
@@ -208,12 +244,30 @@ impl MapPass {
         target: &TargetView,
         area: Option<vk::Rect2D>,
     ) {
+        self.record_counted(ctx, cmd, patch, target, area, None);
+    }
+
+    /// [`Self::record`] with the fetch counters of a counting pass.
+    pub fn record_counted(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        patch: &PatchResources,
+        target: &TargetView,
+        area: Option<vk::Rect2D>,
+        counts: Option<&Buffer>,
+    ) {
         let (w, h) = (target.extent.width as f32, target.extent.height as f32);
         let side = w.min(h);
         let push: Vec<u8> =
             [side, side, 0.5 * (w - side), 0.5 * (h - side)].iter().flat_map(|v| v.to_ne_bytes()).collect();
+        debug_assert_eq!(self.counting, counts.is_some(), "a counting pass takes counters, and only it");
+        let mut writes: Vec<DescriptorWrite<'_>> = patch.writes().into();
+        if let Some(counts) = counts.filter(|_| self.counting) {
+            writes.push(DescriptorWrite::StorageBuffer(COUNT_BINDING, counts));
+        }
         begin_rendering(ctx, cmd, target, [0.0, 0.0, 0.0, 1.0], area);
-        ctx.bind(cmd, &self.pipeline, &patch.writes(), &push);
+        ctx.bind(cmd, &self.pipeline, &writes, &push);
         // SAFETY: recording inside the rendering scope with the pipeline bound.
         unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
         end_rendering(ctx, cmd);

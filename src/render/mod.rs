@@ -6,6 +6,7 @@
 pub mod capture;
 pub mod diffraction;
 pub mod preview;
+pub mod profile;
 pub mod surface;
 
 use ash::vk;

@@ -76,10 +76,22 @@ struct ObjectGpu {
     material: usize,
 }
 
+/// Which build of the surface shader a renderer uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceVariant {
+    /// The colour (linear, or display-encoded).
+    Shade { display_output: bool },
+    /// Linear colour, and each fragment's Taylor-term fetches added to a per-pixel counter (row stride given).
+    CountFetches { stride: u32 },
+    /// The reference's inputs: part 0 writes (ω_i, material + 1), part 1 (ω_r, 1), patch frame, linear float.
+    GBuffer { part: u32 },
+}
+
 /// GPU state for drawing a set of objects with their materials.
 pub struct SceneRenderer {
     materials: Vec<MaterialGpu>,
     objects: Vec<ObjectGpu>,
+    counting: bool,
 }
 
 impl SceneRenderer {
@@ -94,8 +106,19 @@ impl SceneRenderer {
         color_format: vk::Format,
         display_output: bool,
     ) -> Result<Self> {
-        let mut made = Self { materials: Vec::new(), objects: Vec::new() };
-        match made.fill(ctx, materials, objects, color_format, display_output) {
+        Self::with_variant(ctx, materials, objects, color_format, SurfaceVariant::Shade { display_output })
+    }
+
+    /// A renderer with the profiler's variants of the shader (linear float targets).
+    pub fn with_variant(
+        ctx: &Context,
+        materials: &[MaterialInput<'_>],
+        objects: &[(&Mesh, usize)],
+        color_format: vk::Format,
+        variant: SurfaceVariant,
+    ) -> Result<Self> {
+        let mut made = Self { materials: Vec::new(), objects: Vec::new(), counting: false };
+        match made.fill(ctx, materials, objects, color_format, variant) {
             Ok(()) => Ok(made),
             Err(e) => {
                 // SAFETY: nothing was submitted with these.
@@ -111,18 +134,35 @@ impl SceneRenderer {
         materials: &[MaterialInput<'_>],
         objects: &[(&Mesh, usize)],
         color_format: vk::Format,
-        display_output: bool,
+        variant: SurfaceVariant,
     ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let [p, t, s] = patch_bindings(stages);
-        let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }, p, t, s];
-        for input in materials {
+        let mut bindings = vec![Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }, p, t, s];
+        self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
+        if self.counting {
+            bindings.push(super::diffraction::count_binding());
+        }
+        for (index, input) in materials.iter().enumerate() {
             let patch = PatchResources::new(ctx, input.material)?;
+            let (fragment, specialization) = match variant {
+                SurfaceVariant::Shade { display_output } => {
+                    (shaders::SURFACE_FRAG, input.material.spec_constants(display_output))
+                }
+                SurfaceVariant::CountFetches { stride } => (
+                    shaders::SURFACE_COUNT_FRAG,
+                    input.material.spec_constants(false).u32(super::diffraction::COUNT_STRIDE_ID, stride),
+                ),
+                SurfaceVariant::GBuffer { part } => (
+                    shaders::SURFACE_GBUFFER_FRAG,
+                    input.material.spec_constants(false).u32(6, index as u32).u32(7, part),
+                ),
+            };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
                 vertex: shaders::SURFACE_VERT,
-                fragment: shaders::SURFACE_FRAG,
-                specialization: input.material.spec_constants(display_output),
+                fragment,
+                specialization,
                 bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
@@ -213,11 +253,28 @@ impl SceneRenderer {
 
     /// Records every object into `target` (in attachment layouts).
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
+        self.record_counted(ctx, cmd, target, background, None);
+    }
+
+    /// [`Self::record`] with the per-pixel fetch counters of a counting renderer.
+    pub fn record_counted(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        target: &TargetView,
+        background: [f32; 4],
+        counts: Option<&Buffer>,
+    ) {
+        debug_assert_eq!(self.counting, counts.is_some(), "a counting renderer takes counters, and only it");
         begin_rendering(ctx, cmd, target, background, None);
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
-            ctx.bind(cmd, &material.pipeline, &[DescriptorWrite::UniformBuffer(0, &object.uniforms), p, t, s], &[]);
+            let mut writes = vec![DescriptorWrite::UniformBuffer(0, &object.uniforms), p, t, s];
+            if let Some(counts) = counts.filter(|_| self.counting) {
+                writes.push(DescriptorWrite::StorageBuffer(super::diffraction::COUNT_BINDING, counts));
+            }
+            ctx.bind(cmd, &material.pipeline, &writes, &[]);
             object.mesh.draw(ctx, cmd);
         }
         end_rendering(ctx, cmd);

@@ -88,6 +88,13 @@ impl MemoryState {
     pub const HOST_READ: Self = Self { stage: vk::PipelineStageFlags2::HOST, access: vk::AccessFlags2::HOST_READ };
     pub const COMPUTE_WRITE: Self =
         Self { stage: vk::PipelineStageFlags2::COMPUTE_SHADER, access: vk::AccessFlags2::SHADER_STORAGE_WRITE };
+    /// Fragment shaders' storage-buffer reads and writes (atomic counters).
+    pub const FRAGMENT_STORAGE: Self = Self {
+        stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    };
     pub const ALL_WRITES: Self =
         Self { stage: vk::PipelineStageFlags2::ALL_COMMANDS, access: vk::AccessFlags2::MEMORY_WRITE };
     pub const ALL_READS: Self =

@@ -36,7 +36,7 @@ pub use instance::ValidationLog;
 pub use pipeline::{
     Binding, ComputePipelineDesc, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants, VertexAttribute,
 };
-pub use query::{ScopeTiming, TimestampRing};
+pub use query::{PassProfile, ScopeTiming, TimestampRing};
 
 use crate::error::{Error, Result, VkResultExt};
 

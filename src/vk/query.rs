@@ -97,7 +97,57 @@ impl TimestampRing {
     }
 }
 
+/// What one profiled submission measured: GPU time (timestamps) and fragment-shader invocations (pipeline
+/// statistics), each where the device has them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PassProfile {
+    pub gpu_ms: Option<f64>,
+    pub fragment_invocations: Option<u64>,
+}
+
 impl Context {
+    /// [`Context::one_shot_timed`] that also counts fragment-shader invocations with a pipeline-statistics
+    /// query where the device has the feature.
+    pub fn one_shot_profiled(&self, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<PassProfile> {
+        if !self.has_pipeline_statistics() {
+            return Ok(PassProfile { gpu_ms: self.one_shot_timed(name, record)?, fragment_invocations: None });
+        }
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::PIPELINE_STATISTICS)
+            .pipeline_statistics(vk::QueryPipelineStatisticFlags::FRAGMENT_SHADER_INVOCATIONS)
+            .query_count(1);
+        // SAFETY: a plain create on a live device that enabled pipelineStatisticsQuery.
+        let pool = unsafe { self.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        self.set_name(pool, name);
+        let timed = self.one_shot_timed(name, |cmd| {
+            // SAFETY: cmd is recording, outside any rendering scope; the query is reset before it begins.
+            unsafe {
+                self.device().cmd_reset_query_pool(cmd, pool, 0, 1);
+                self.device().cmd_begin_query(cmd, pool, 0, vk::QueryControlFlags::empty());
+            }
+            record(cmd);
+            // SAFETY: paired with the begin above, outside any rendering scope.
+            unsafe { self.device().cmd_end_query(cmd, pool, 0) };
+        });
+        let result = timed.and_then(|gpu_ms| {
+            let mut count = [0u64; 1];
+            // SAFETY: the work that wrote the query has completed (one_shot waits).
+            unsafe {
+                self.device().get_query_pool_results(
+                    pool,
+                    0,
+                    &mut count,
+                    vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                )
+            }
+            .vk("vkGetQueryPoolResults")?;
+            Ok(PassProfile { gpu_ms, fragment_invocations: Some(count[0]) })
+        });
+        // SAFETY: no pending work uses the pool.
+        unsafe { self.device().destroy_query_pool(pool, None) };
+        result
+    }
+
     /// [`Context::one_shot`] with the recorded work inside one timed scope named `name` (its debug label too);
     /// returns its GPU time in ms where the queue has timestamps.
     pub fn one_shot_timed(&self, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<Option<f64>> {

@@ -1,0 +1,409 @@
+//! `diffract profile`: the speed/accuracy trade of the shading settings, measured.
+//!
+//! A profile runs a list of [`Config`]s (the cross product of each `--sweep`'s items; several sweeps add their
+//! lists) over one workload (a BRDF map or a scene) and reports for each: GPU time per frame from timestamps
+//! (median, 10th and 90th percentiles), CPU wall time per frame, Taylor-term texel fetches per pixel (counted by
+//! the shaders' counting variants), their rate against the device's measured peak (`--roofline`), and the
+//! image's error against an exact reference ([`reference`]).
+
+pub mod plot;
+pub mod reference;
+
+use std::fmt::Write as _;
+
+use crate::error::{Error, Result};
+use crate::shading::{Approach, MAX_WINDOW_RADIUS};
+
+/// One configuration of the settings that trade speed for accuracy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    pub approach: Approach,
+    /// Taylor order N; None: from the tolerance.
+    pub terms: Option<usize>,
+    pub lambda_step_nm: f64,
+    /// Window taps either side; None: down to a weight of 10⁻³.
+    pub window_radius: Option<u32>,
+    /// Image width (maps: the side) in pixels.
+    pub size: u32,
+}
+
+/// The keys a sweep may vary.
+pub const SWEEP_KEYS: [&str; 5] = ["approach", "terms", "lambda_step_nm", "window_radius", "size"];
+/// Largest image side a profile renders (the reference is a CPU computation).
+pub const MAX_SIZE: u32 = 4096;
+
+impl Config {
+    /// Sets `key` to `value` (as written on the command line).
+    pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
+        let bad = |what: &str| Error::Invalid(format!("--sweep {key}={value}: {what}"));
+        match key {
+            "approach" => {
+                self.approach = Approach::ALL
+                    .into_iter()
+                    .find(|a| a.name() == value)
+                    .ok_or_else(|| bad("the approaches are flss, nmm, pq and gem"))?;
+            }
+            "terms" => {
+                self.terms = match value {
+                    "auto" => None,
+                    v => Some(v.parse().map_err(|_| bad("terms is an order N (0, 1, …) or auto"))?),
+                }
+            }
+            "lambda_step_nm" => {
+                let v: f64 = value.parse().map_err(|_| bad("the wavelength step is a number of nm"))?;
+                if !(v.is_finite() && v > 0.0 && v <= 400.0) {
+                    return Err(bad("the wavelength step must lie in (0, 400] nm"));
+                }
+                self.lambda_step_nm = v;
+            }
+            "window_radius" => {
+                self.window_radius = match value {
+                    "auto" => None,
+                    v => {
+                        let r: u32 = v.parse().map_err(|_| bad("the window radius is a tap count or auto"))?;
+                        if r > MAX_WINDOW_RADIUS {
+                            return Err(bad(&format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
+                        }
+                        Some(r)
+                    }
+                }
+            }
+            "size" => {
+                let v: u32 = value.parse().map_err(|_| bad("the size is a pixel count"))?;
+                if !(1..=MAX_SIZE).contains(&v) {
+                    return Err(bad(&format!("the size must lie in 1..={MAX_SIZE} pixels")));
+                }
+                self.size = v;
+            }
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "--sweep: unknown key `{key}` (the keys are {})",
+                    SWEEP_KEYS.join(", ")
+                )))
+            }
+        }
+        Ok(())
+    }
+
+    /// A short label, e.g. `flss N=12 Δλ=5 r=2 256`.
+    pub fn label(&self) -> String {
+        let terms = self.terms.map_or("auto".to_string(), |n| n.to_string());
+        let radius = self.window_radius.map_or("auto".to_string(), |r| r.to_string());
+        format!("{} N={terms} Δλ={} r={radius} {}px", self.approach.name(), self.lambda_step_nm, self.size)
+    }
+}
+
+/// One `--sweep`: items `KEY=V1,V2,...` whose cross product it stands for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sweep {
+    pub items: Vec<(String, Vec<String>)>,
+}
+
+impl Sweep {
+    /// Parses the items of one `--sweep` (each `KEY=V1,V2,...`), checking every value.
+    pub fn parse(items: &[String]) -> Result<Self> {
+        let mut parsed: Vec<(String, Vec<String>)> = Vec::new();
+        for item in items {
+            let (key, values) = item
+                .split_once('=')
+                .ok_or_else(|| Error::Invalid(format!("--sweep {item}: expected KEY=V1,V2,... (e.g. terms=4,8,16)")))?;
+            let key = key.trim().replace('-', "_");
+            let key = if key == "lambda_step" { "lambda_step_nm".to_string() } else { key };
+            if parsed.iter().any(|(k, _)| *k == key) {
+                return Err(Error::Invalid(format!("--sweep: `{key}` appears twice in one sweep")));
+            }
+            let values: Vec<String> =
+                values.split(',').map(|v| v.trim().to_string()).filter(|v| !v.is_empty()).collect();
+            if values.is_empty() {
+                return Err(Error::Invalid(format!("--sweep {item}: no values")));
+            }
+            let mut probe =
+                Config { approach: Approach::Flss, terms: None, lambda_step_nm: 5.0, window_radius: None, size: 64 };
+            for v in &values {
+                probe.set(&key, v)?;
+            }
+            parsed.push((key, values));
+        }
+        Ok(Self { items: parsed })
+    }
+
+    /// The configurations: `base` with every combination of the items' values (the first item varies slowest).
+    pub fn configs(&self, base: Config) -> Result<Vec<Config>> {
+        let mut out = vec![base];
+        for (key, values) in &self.items {
+            let mut next = Vec::with_capacity(out.len() * values.len());
+            for c in &out {
+                for v in values {
+                    let mut c = *c;
+                    c.set(key, v)?;
+                    next.push(c);
+                }
+            }
+            out = next;
+        }
+        Ok(out)
+    }
+}
+
+/// Every configuration of `sweeps` in order (each sweep's cross product, then the next sweep's), duplicates
+/// dropped; no sweep: `base` alone.
+pub fn configurations(base: Config, sweeps: &[Sweep]) -> Result<Vec<Config>> {
+    if sweeps.is_empty() {
+        return Ok(vec![base]);
+    }
+    let mut out: Vec<Config> = Vec::new();
+    for sweep in sweeps {
+        for c in sweep.configs(base)? {
+            if !out.contains(&c) {
+                out.push(c);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The `q`-quantile (0..=1) of `values` by linear interpolation between order statistics (sorts `values`).
+pub fn percentile(values: &mut [f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return f64::NAN;
+    }
+    values.sort_by(f64::total_cmp);
+    let at = q.clamp(0.0, 1.0) * (values.len() - 1) as f64;
+    let (lo, hi) = (at.floor() as usize, at.ceil() as usize);
+    values[lo] + (values[hi] - values[lo]) * (at - lo as f64)
+}
+
+/// Median, 10th and 90th percentiles of a set of frame times.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    pub median: f64,
+    pub p10: f64,
+    pub p90: f64,
+}
+
+impl Spread {
+    pub fn of(values: &[f64]) -> Option<Self> {
+        if values.is_empty() {
+            return None;
+        }
+        let mut v = values.to_vec();
+        Some(Self { median: percentile(&mut v, 0.5), p10: percentile(&mut v, 0.1), p90: percentile(&mut v, 0.9) })
+    }
+}
+
+/// What one configuration measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub config: Config,
+    pub width: u32,
+    pub height: u32,
+    /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
+    pub order: Option<usize>,
+    pub lambda_count: usize,
+    pub taps: u32,
+    pub frames: usize,
+    pub precompute_ms: f64,
+    pub gpu_ms: Option<Spread>,
+    pub cpu_ms: Spread,
+    pub fragment_invocations: Option<u64>,
+    /// Counted Taylor-term fetches per image pixel.
+    pub fetches_per_pixel: f64,
+    /// Counted fetches / median GPU time.
+    pub fetches_per_s: Option<f64>,
+    /// `fetches_per_s` over the probe's peak (with `--roofline`).
+    pub roofline_fraction: Option<f64>,
+    pub error: reference::ImageError,
+}
+
+/// The CSV's column header (the schema a test checks).
+pub const CSV_COLUMNS: [&str; 23] = [
+    "approach",
+    "terms",
+    "order",
+    "lambda_step_nm",
+    "lambda_count",
+    "window_radius",
+    "taps",
+    "width",
+    "height",
+    "frames",
+    "precompute_ms",
+    "gpu_ms_median",
+    "gpu_ms_p10",
+    "gpu_ms_p90",
+    "cpu_ms_median",
+    "fragment_invocations",
+    "fetches_per_pixel",
+    "fetches_per_s",
+    "roofline_fraction",
+    "mean_de2000",
+    "p99_de2000",
+    "rel_xyz_rmse",
+    "label",
+];
+
+fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
+    v.map_or(String::new(), |v| v.to_string())
+}
+
+impl Row {
+    /// The row's CSV fields, in [`CSV_COLUMNS`] order (empty where the device cannot measure).
+    pub fn csv_fields(&self) -> Vec<String> {
+        let c = &self.config;
+        vec![
+            c.approach.name().to_string(),
+            c.terms.map_or("auto".into(), |n| n.to_string()),
+            opt(self.order),
+            format!("{}", c.lambda_step_nm),
+            self.lambda_count.to_string(),
+            c.window_radius.map_or("auto".into(), |r| r.to_string()),
+            self.taps.to_string(),
+            self.width.to_string(),
+            self.height.to_string(),
+            self.frames.to_string(),
+            format!("{:.3}", self.precompute_ms),
+            opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
+            opt(self.gpu_ms.map(|s| format!("{:.4}", s.p10))),
+            opt(self.gpu_ms.map(|s| format!("{:.4}", s.p90))),
+            format!("{:.4}", self.cpu_ms.median),
+            opt(self.fragment_invocations),
+            format!("{:.1}", self.fetches_per_pixel),
+            opt(self.fetches_per_s.map(|v| format!("{v:.4e}"))),
+            opt(self.roofline_fraction.map(|v| format!("{v:.4}"))),
+            format!("{:.5}", self.error.mean_de),
+            format!("{:.5}", self.error.p99_de),
+            format!("{:.5e}", self.error.rel_rmse),
+            c.label(),
+        ]
+    }
+}
+
+/// The CSV: `#` comment lines (`comments`, one per entry), the header, one row per configuration.
+pub fn csv(comments: &[String], rows: &[Row]) -> String {
+    let mut out = String::new();
+    for c in comments {
+        for line in c.lines() {
+            let _ = writeln!(out, "# {line}");
+        }
+    }
+    let _ = writeln!(out, "{}", CSV_COLUMNS.join(","));
+    for row in rows {
+        let fields: Vec<String> = row.csv_fields().into_iter().map(|f| csv_escape(&f)).collect();
+        let _ = writeln!(out, "{}", fields.join(","));
+    }
+    out
+}
+
+fn csv_escape(field: &str) -> String {
+    if field.contains([',', '"', '\n']) {
+        format!("\"{}\"", field.replace('"', "\"\""))
+    } else {
+        field.to_string()
+    }
+}
+
+/// The markdown table printed at the end of a profile.
+pub fn markdown(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "| approach | N | Δλ nm | taps | size | GPU ms median [p10, p90] | CPU ms | fetches/px | of peak | \
+         ΔE00 mean | ΔE00 p99 | rel. XYZ RMSE |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
+    );
+    for r in rows {
+        let c = &r.config;
+        let gpu = r.gpu_ms.map_or("n/a".to_string(), |s| format!("{} [{}, {}]", ms(s.median), ms(s.p10), ms(s.p90)));
+        let lambda = match c.approach {
+            Approach::Nmm => "per bin".to_string(),
+            _ => format!("{} ({})", c.lambda_step_nm, r.lambda_count),
+        };
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {}² | {}×{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2e} |",
+            c.approach.name(),
+            r.order.map_or("–".to_string(), |n| n.to_string()),
+            lambda,
+            r.taps,
+            r.width,
+            r.height,
+            gpu,
+            ms(r.cpu_ms.median),
+            si(r.fetches_per_pixel),
+            r.roofline_fraction.map_or("–".to_string(), |f| format!("{:.0} %", 100.0 * f)),
+            r.error.mean_de,
+            r.error.p99_de,
+            r.error.rel_rmse
+        );
+    }
+    out
+}
+
+/// Milliseconds with three significant digits.
+pub fn ms(v: f64) -> String {
+    if v >= 100.0 {
+        format!("{v:.0}")
+    } else if v >= 10.0 {
+        format!("{v:.1}")
+    } else if v >= 1.0 {
+        format!("{v:.2}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// A count with an SI suffix (k, M, G).
+pub fn si(v: f64) -> String {
+    match v {
+        v if v >= 1e9 => format!("{:.2}G", v / 1e9),
+        v if v >= 1e6 => format!("{:.2}M", v / 1e6),
+        v if v >= 1e3 => format!("{:.1}k", v / 1e3),
+        v => format!("{v:.0}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn base() -> Config {
+        Config { approach: Approach::Flss, terms: None, lambda_step_nm: 5.0, window_radius: None, size: 64 }
+    }
+
+    #[test]
+    fn a_sweep_is_the_cross_product_of_its_items_and_sweeps_add_up() {
+        let a = Sweep::parse(&["approach=flss,pq".into(), "terms=4,8,auto".into()]).unwrap();
+        let b = Sweep::parse(&["lambda-step=10,5".into()]).unwrap();
+        let configs = configurations(base(), &[a, b]).unwrap();
+        // 2 × 3 from the first sweep; the second adds Δλ = 10 (Δλ = 5 is the base, already listed).
+        assert_eq!(configs.len(), 7);
+        assert_eq!(configs[0].terms, Some(4));
+        assert_eq!(configs[2].terms, None);
+        assert_eq!(configs[3].approach, Approach::Pq);
+        assert_eq!(configs[6].lambda_step_nm, 10.0);
+    }
+
+    #[test]
+    fn bad_sweeps_are_refused_with_the_item() {
+        for (item, needle) in [
+            ("speed=1", "unknown key"),
+            ("terms", "KEY=V1"),
+            ("terms=", "no values"),
+            ("terms=x", "terms=x"),
+            ("approach=fast", "flss, nmm"),
+            ("lambda_step_nm=0", "(0, 400]"),
+            ("window_radius=99", "at most"),
+            ("size=0", "1..="),
+        ] {
+            let e = Sweep::parse(&[item.to_string()]).unwrap_err().to_string();
+            assert!(e.contains(needle), "{item}: {e}");
+        }
+    }
+
+    #[test]
+    fn percentiles_interpolate() {
+        let mut v = vec![4.0, 1.0, 3.0, 2.0, 5.0];
+        assert_eq!(percentile(&mut v, 0.5), 3.0);
+        assert_eq!(percentile(&mut v, 0.0), 1.0);
+        assert!((percentile(&mut v, 0.1) - 1.4).abs() < 1e-12);
+        let s = Spread::of(&[2.0, 1.0, 3.0]).unwrap();
+        assert_eq!((s.median, s.p10, s.p90), (2.0, 1.2, 2.8));
+    }
+}

@@ -1,0 +1,478 @@
+//! The exact reference image that defines "error" for every other setting, and the error metrics.
+//!
+//! The reference evaluates the same BRDF as the shaders' FLSS (`Reference::flss_xyz`) on the CPU in f64, with
+//! every accuracy setting pushed to a stated bound: the Taylor order N for which the truncation bound on
+//! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`], the full Gaussian window (every tap weighing
+//! more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature error of the 1 nm steps is estimated
+//! in the same run by comparing with 0.5 nm steps on a grid of pixels ([`ReferenceImage::quadrature`]).
+//!
+//! Errors are measured on the image as displayed: CIE XYZ (relative to a D65 mirror, Y = 1) scaled by 2^EV,
+//! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
+//! surface count (the hemisphere disk of a map, covered pixels of a scene).
+
+use std::io::{IsTerminal, Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use glam::{DMat3, DVec3};
+
+use crate::error::{Error, Result};
+use crate::physics::colour::{ciede2000, xyz_to_lab, D65_WHITE};
+use crate::physics::reference::{window_gain, Method, Reference};
+use crate::physics::spectrum::{Sampling, XYZ_TO_LINEAR_SRGB};
+use crate::physics::taylor::{HeightStats, TaylorPlan};
+use crate::physics::window::Window;
+use crate::physics::HeightField;
+
+/// The reference's bound on the Taylor amplitude error |P − P_N| (a flat mirror has |P| = 1 at specular).
+pub const REFERENCE_TOLERANCE: f64 = 1e-10;
+/// The reference's wavelength step, nm.
+pub const REFERENCE_STEP_NM: f64 = 1.0;
+/// The finer step its quadrature error is estimated against, nm.
+pub const CHECK_STEP_NM: f64 = 0.5;
+/// Pixels per axis of the grid on which the quadrature error is estimated.
+const CHECK_GRID: u32 = 8;
+/// Bumped whenever the reference's definition changes: cached images of other versions are recomputed.
+const CACHE_VERSION: u32 = 1;
+
+/// One pixel to evaluate: patch-frame unit directions to the light and to the viewer, the material seen, and
+/// light that does not diffract (a scene's pigment term, XYZ) added as it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PixelQuery {
+    pub omega_i: DVec3,
+    pub omega_r: DVec3,
+    pub material: usize,
+    pub extra_xyz: DVec3,
+}
+
+/// A material as the reference sees it: its height field and coherence length.
+#[derive(Clone, Copy, Debug)]
+pub struct ReferenceMaterial<'a> {
+    pub heightfield: &'a HeightField,
+    pub coherence_um: f64,
+}
+
+/// A reference image: XYZ per pixel (relative to a D65 mirror) and which pixels count.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceImage {
+    pub width: u32,
+    pub height: u32,
+    pub xyz: Vec<DVec3>,
+    pub mask: Vec<bool>,
+    /// What the reference used, in one line.
+    pub description: String,
+    /// The 1 nm vs 0.5 nm check: (pixels compared, largest ΔE₀₀ at exposure 0, largest relative XYZ difference).
+    pub quadrature: (usize, f64, f64),
+}
+
+/// What a reference is computed for (also its cache key).
+pub struct ReferenceJob<'a> {
+    pub materials: Vec<ReferenceMaterial<'a>>,
+    pub width: u32,
+    pub height: u32,
+    /// Per pixel (rows top first): the directions, or None where no surface is seen.
+    pub pixels: Vec<Option<PixelQuery>>,
+}
+
+impl ReferenceJob<'_> {
+    /// The BRDF map's pixels for a light from `light` (unit, patch frame): the disk of `glsl/map.frag.glsl`.
+    pub fn map_pixels(size: u32, light: DVec3) -> Vec<Option<PixelQuery>> {
+        let half = 0.5 * f64::from(size);
+        (0..size * size)
+            .map(|i| {
+                let (px, py) = (f64::from(i % size) + 0.5, f64::from(i / size) + 0.5);
+                let (x, y) = ((px - half) / half, -(py - half) / half);
+                let r2 = x * x + y * y;
+                (r2 < 1.0).then(|| PixelQuery {
+                    omega_i: light,
+                    omega_r: DVec3::new(x, y, (1.0 - r2).sqrt()),
+                    material: 0,
+                    extra_xyz: DVec3::ZERO,
+                })
+            })
+            .collect()
+    }
+
+    /// FNV-1a of everything the image depends on.
+    fn key(&self) -> u64 {
+        let mut h = Fnv::default();
+        h.u64(u64::from(CACHE_VERSION));
+        for m in &self.materials {
+            let hf = m.heightfield;
+            h.u64(hf.nx as u64);
+            h.u64(hf.ny as u64);
+            h.f64(hf.dx_um);
+            h.f64(hf.dy_um);
+            for &z in &hf.heights_um {
+                h.f64(z);
+            }
+            h.f64(m.coherence_um);
+        }
+        h.u64(u64::from(self.width));
+        h.u64(u64::from(self.height));
+        for p in &self.pixels {
+            match p {
+                Some(q) => {
+                    h.u64(q.material as u64);
+                    for v in [q.omega_i, q.omega_r, q.extra_xyz] {
+                        h.f64(v.x);
+                        h.f64(v.y);
+                        h.f64(v.z);
+                    }
+                }
+                None => h.u64(u64::MAX),
+            }
+        }
+        h.0
+    }
+
+    /// Computes the image (on every core, with progress on a terminal), or reads it from `cache` where an
+    /// earlier run left it; a new image is written there.
+    pub fn compute(&self, cache: Option<&Path>) -> Result<ReferenceImage> {
+        if self.pixels.len() != (self.width * self.height) as usize {
+            return Err(Error::Invalid("reference pixels do not match the image size".into()));
+        }
+        let file = cache.map(|dir| dir.join(format!("reference-{:016x}.bin", self.key())));
+        if let Some(image) = file.as_deref().and_then(|f| read_cached(f, self)) {
+            return Ok(image);
+        }
+        if let Some(q) = self.pixels.iter().flatten().find(|q| q.material >= self.materials.len()) {
+            return Err(Error::Invalid(format!(
+                "a reference pixel names material {}, which does not exist",
+                q.material
+            )));
+        }
+        let mut references = Vec::with_capacity(self.materials.len());
+        let mut descriptions = Vec::with_capacity(self.materials.len());
+        for (i, m) in self.materials.iter().enumerate() {
+            let hf = m.heightfield;
+            let (lx, ly) = hf.size_um();
+            let window = Window::new(lx, ly, m.coherence_um, None)?;
+            let w_max = self
+                .pixels
+                .iter()
+                .flatten()
+                .filter(|q| q.material == i)
+                .map(|q| (q.omega_i.z + q.omega_r.z).abs())
+                .fold(0.0, f64::max);
+            let plan = TaylorPlan::new(
+                crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
+                w_max.max(1e-3),
+                &HeightStats::of(hf),
+                window_gain(&window, hf),
+                REFERENCE_TOLERANCE,
+                None,
+            )?;
+            references.push(Reference::new(hf, window, Method::Taylor, Some(plan))?);
+            descriptions.push(format!(
+                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}), full window {}×{} taps (weights ≥ 1e-17)",
+                plan.order,
+                REFERENCE_TOLERANCE,
+                2 * window.radius_x + 1,
+                2 * window.radius_y + 1
+            ));
+        }
+        let sampling = Sampling::visible(REFERENCE_STEP_NM);
+        let pixel = |q: &PixelQuery, sampling: &Sampling| {
+            references[q.material].flss_xyz(q.omega_i, q.omega_r, sampling) + q.extra_xyz
+        };
+        let xyz = evaluate_rows(self, |q| pixel(q, &sampling))?;
+        let quadrature = quadrature_check(self, |q| pixel(q, &Sampling::visible(CHECK_STEP_NM)), &xyz);
+        let description = format!(
+            "{}; {} nm steps (vs {} nm on {} pixels: ΔE00 ≤ {:.2e} at EV 0, relative XYZ ≤ {:.1e})",
+            descriptions.join("; "),
+            REFERENCE_STEP_NM,
+            CHECK_STEP_NM,
+            quadrature.0,
+            quadrature.1,
+            quadrature.2
+        );
+        let mask = self.pixels.iter().map(Option::is_some).collect();
+        let image = ReferenceImage { width: self.width, height: self.height, xyz, mask, description, quadrature };
+        if let Some(f) = &file {
+            // A cache that cannot be written costs time, not correctness: say so and go on.
+            if let Err(e) = write_cached(f, &image) {
+                eprintln!("warning: could not cache the reference in {}: {e}", f.display());
+            }
+        }
+        Ok(image)
+    }
+}
+
+/// Evaluates `f` for every pixel with a query, rows shared out to every core, progress on stderr.
+fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Result<Vec<DVec3>> {
+    let (w, h) = (job.width as usize, job.height as usize);
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let show = std::io::stderr().is_terminal();
+    let start = Instant::now();
+    let mut xyz = vec![DVec3::ZERO; w * h];
+    let rows: Vec<(usize, Vec<DVec3>)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                let (next, done, f) = (&next, &done, &f);
+                s.spawn(move || {
+                    let mut out = Vec::new();
+                    loop {
+                        let y = next.fetch_add(1, Ordering::Relaxed);
+                        if y >= h {
+                            break;
+                        }
+                        let row: Vec<DVec3> =
+                            job.pixels[y * w..][..w].iter().map(|p| p.as_ref().map_or(DVec3::ZERO, f)).collect();
+                        out.push((y, row));
+                        let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+                        if show && t == 0 {
+                            let elapsed = start.elapsed().as_secs_f64();
+                            let eta = elapsed / finished as f64 * (h - finished) as f64;
+                            eprint!(
+                                "\rexact reference {}×{}: {:3.0} % (about {:.0} s left)  ",
+                                w,
+                                h,
+                                100.0 * finished as f64 / h as f64,
+                                eta
+                            );
+                        }
+                    }
+                    out
+                })
+            })
+            .collect();
+        workers.into_iter().flat_map(|w| w.join().expect("reference thread")).collect()
+    });
+    if show {
+        eprintln!("\rexact reference {}×{}: done in {:.1} s{:20}", w, h, start.elapsed().as_secs_f64(), "");
+    }
+    for (y, row) in rows {
+        xyz[y * w..][..w].copy_from_slice(&row);
+    }
+    Ok(xyz)
+}
+
+/// The reference at 1 nm against 0.5 nm steps on a grid of pixels: (pixels, largest ΔE₀₀, largest relative
+/// XYZ difference).
+fn quadrature_check(
+    job: &ReferenceJob<'_>,
+    fine: impl Fn(&PixelQuery) -> DVec3 + Sync,
+    xyz: &[DVec3],
+) -> (usize, f64, f64) {
+    let (w, h) = (job.width, job.height);
+    let picks: Vec<usize> = (0..CHECK_GRID * CHECK_GRID)
+        .map(|k| {
+            let (gx, gy) = (k % CHECK_GRID, k / CHECK_GRID);
+            let (x, y) = ((2 * gx + 1) * w / (2 * CHECK_GRID), (2 * gy + 1) * h / (2 * CHECK_GRID));
+            (y * w + x) as usize
+        })
+        .filter(|&i| job.pixels[i].is_some())
+        .collect();
+    let results: Vec<(f64, f64)> = std::thread::scope(|s| {
+        let handles: Vec<_> = picks
+            .chunks(picks.len().div_ceil(4).max(1))
+            .map(|chunk| {
+                let fine = &fine;
+                s.spawn(move || {
+                    chunk
+                        .iter()
+                        .map(|&i| {
+                            let q = job.pixels[i].expect("picked pixels have queries");
+                            let fine_xyz = fine(&q);
+                            let de = delta_e(fine_xyz, xyz[i], 0.0);
+                            let rel = (fine_xyz - xyz[i]).length() / fine_xyz.length().max(1e-300);
+                            (de, if fine_xyz.length() > 0.0 { rel } else { 0.0 })
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        handles.into_iter().flat_map(|h| h.join().expect("check thread")).collect()
+    });
+    let max_de = results.iter().map(|r| r.0).fold(0.0, f64::max);
+    let max_rel = results.iter().map(|r| r.1).fold(0.0, f64::max);
+    (picks.len(), max_de, max_rel)
+}
+
+/// CIEDE2000 between two XYZ colours (relative to a D65 mirror) as displayed at `exposure_ev`.
+pub fn delta_e(a: DVec3, b: DVec3, exposure_ev: f64) -> f64 {
+    let scale = exposure_ev.exp2();
+    ciede2000(xyz_to_lab(a * scale, D65_WHITE), xyz_to_lab(b * scale, D65_WHITE))
+}
+
+/// Linear sRGB → XYZ: the inverse of the shaders' matrix.
+pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
+    let m = XYZ_TO_LINEAR_SRGB;
+    // glam is column-major: the rows of `m` are the columns of its transpose.
+    let forward = DMat3::from_cols(DVec3::from(m[0]), DVec3::from(m[1]), DVec3::from(m[2])).transpose();
+    forward.inverse() * rgb
+}
+
+/// An image's error against the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageError {
+    /// Mean and 99th-percentile CIEDE2000 over the pixels that count.
+    pub mean_de: f64,
+    pub p99_de: f64,
+    /// √(Σ|XYZ − XYZ_ref|²) / √(Σ|XYZ_ref|²) over the same pixels.
+    pub rel_rmse: f64,
+}
+
+/// Compares a linear sRGB RGBA image (rows top first, the GPU's output) with the reference at `exposure_ev`.
+pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -> Result<ImageError> {
+    if rgba.len() != reference.xyz.len() * 4 {
+        return Err(Error::Invalid("the image and its reference differ in size".into()));
+    }
+    let mut des = Vec::new();
+    let (mut err2, mut ref2) = (0.0, 0.0);
+    for (i, (&r, _)) in reference.xyz.iter().zip(&reference.mask).enumerate().filter(|(_, (_, &m))| m) {
+        let p = &rgba[4 * i..][..3];
+        let xyz = linear_srgb_to_xyz(DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])));
+        des.push(delta_e(xyz, r, exposure_ev));
+        err2 += (xyz - r).length_squared();
+        ref2 += r.length_squared();
+    }
+    if des.is_empty() {
+        return Err(Error::Invalid("no pixel of the image shows the surface".into()));
+    }
+    let mean_de = des.iter().sum::<f64>() / des.len() as f64;
+    Ok(ImageError {
+        mean_de,
+        p99_de: super::percentile(&mut des, 0.99),
+        rel_rmse: if ref2 > 0.0 { (err2 / ref2).sqrt() } else { err2.sqrt() },
+    })
+}
+
+/// The default cache folder: `$XDG_CACHE_HOME/diffract`, else `~/.cache/diffract`.
+pub fn default_cache_dir() -> Option<PathBuf> {
+    std::env::var_os("XDG_CACHE_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .map(|d| d.join("diffract"))
+}
+
+const MAGIC: &[u8; 8] = b"DFRREF01";
+
+fn write_cached(file: &Path, image: &ReferenceImage) -> std::io::Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut bytes = Vec::with_capacity(64 + image.xyz.len() * 25);
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&image.width.to_le_bytes());
+    bytes.extend_from_slice(&image.height.to_le_bytes());
+    bytes.extend_from_slice(&(image.quadrature.0 as u64).to_le_bytes());
+    bytes.extend_from_slice(&image.quadrature.1.to_le_bytes());
+    bytes.extend_from_slice(&image.quadrature.2.to_le_bytes());
+    let text = image.description.as_bytes();
+    bytes.extend_from_slice(&(text.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(text);
+    for (v, &m) in image.xyz.iter().zip(&image.mask) {
+        for c in [v.x, v.y, v.z] {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+        bytes.push(u8::from(m));
+    }
+    // Write then rename, so that an interrupted run leaves no half file behind.
+    let tmp = file.with_extension("tmp");
+    std::fs::File::create(&tmp)?.write_all(&bytes)?;
+    std::fs::rename(tmp, file)
+}
+
+/// A cached image for `job`, or None (missing, unreadable or not matching: it is then recomputed).
+fn read_cached(file: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
+    let mut bytes = Vec::new();
+    std::fs::File::open(file).ok()?.read_to_end(&mut bytes).ok()?;
+    let mut at = 0usize;
+    let mut take = |n: usize| -> Option<&[u8]> {
+        let s = bytes.get(at..at + n)?;
+        at += n;
+        Some(s)
+    };
+    if take(8)? != MAGIC {
+        return None;
+    }
+    let u32_at = |s: &[u8]| u32::from_le_bytes(s.try_into().expect("4 bytes"));
+    let u64_at = |s: &[u8]| u64::from_le_bytes(s.try_into().expect("8 bytes"));
+    let f64_at = |s: &[u8]| f64::from_le_bytes(s.try_into().expect("8 bytes"));
+    let (width, height) = (u32_at(take(4)?), u32_at(take(4)?));
+    if (width, height) != (job.width, job.height) {
+        return None;
+    }
+    let quadrature = (u64_at(take(8)?) as usize, f64_at(take(8)?), f64_at(take(8)?));
+    let len = u64_at(take(8)?) as usize;
+    let description = String::from_utf8(take(len)?.to_vec()).ok()?;
+    let n = (width * height) as usize;
+    let mut xyz = Vec::with_capacity(n);
+    let mut mask = Vec::with_capacity(n);
+    for _ in 0..n {
+        let p = take(25)?;
+        xyz.push(DVec3::new(f64_at(&p[0..8]), f64_at(&p[8..16]), f64_at(&p[16..24])));
+        mask.push(p[24] != 0);
+    }
+    Some(ReferenceImage { width, height, xyz, mask, description, quadrature })
+}
+
+/// 64-bit FNV-1a (stable across builds, unlike std's hasher).
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    fn u64(&mut self, v: u64) {
+        self.bytes(&v.to_le_bytes());
+    }
+
+    fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trip() {
+        let xyz = DVec3::new(0.3, 0.5, 0.2);
+        let m = XYZ_TO_LINEAR_SRGB;
+        let rgb = DVec3::new(
+            m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
+            m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
+            m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
+        );
+        assert!((linear_srgb_to_xyz(rgb) - xyz).length() < 1e-12);
+    }
+
+    #[test]
+    fn identical_images_have_no_error_and_a_darker_one_has_some() {
+        let white = D65_WHITE;
+        let reference = ReferenceImage {
+            width: 2,
+            height: 1,
+            xyz: vec![white, white * 0.5],
+            mask: vec![true, true],
+            description: String::new(),
+            quadrature: (0, 0.0, 0.0),
+        };
+        let m = XYZ_TO_LINEAR_SRGB;
+        let to_rgb = |v: DVec3| [0, 1, 2].map(|r| (m[r][0] * v.x + m[r][1] * v.y + m[r][2] * v.z) as f32);
+        let [a, b, c] = to_rgb(white);
+        let [d, e, f] = to_rgb(white * 0.5);
+        let same = image_error(&reference, &[a, b, c, 1.0, d, e, f, 1.0], 0.0).unwrap();
+        assert!(same.mean_de < 1e-3 && same.rel_rmse < 1e-6, "{same:?}");
+        let dark = image_error(&reference, &[a * 0.9, b * 0.9, c * 0.9, 1.0, d, e, f, 1.0], 0.0).unwrap();
+        assert!(dark.mean_de > 1.0 && (dark.rel_rmse - 0.1 / 1.25f64.sqrt()).abs() < 1e-6, "{dark:?}");
+    }
+}

@@ -1,0 +1,386 @@
+//! The GPU side of `diffract profile`: a workload (a BRDF map, or a scene) drawn as one timed submission per
+//! frame, its Taylor-term texel fetches counted per pixel by the shaders' counting variants, and the roofline
+//! probe that measures the device's RG32F texel-fetch throughput.
+
+use std::time::Instant;
+
+use ash::vk;
+use glam::DVec3;
+
+use super::diffraction::{light_params, MapPass, PatchResources};
+use super::surface::{MaterialInput, SceneRenderer, SurfaceVariant};
+use super::{OffscreenTarget, LINEAR_FORMAT};
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use crate::shaders;
+use crate::shading::Material;
+use crate::vk::{
+    Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, ImageDesc, ImageState, MemoryState,
+    PassProfile, Pipeline, Sampler,
+};
+
+/// One frame's cost: GPU time (timestamps), wall time of record + submit + wait on the CPU, and fragment
+/// invocations (pipeline statistics) where the device has them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameSample {
+    pub gpu_ms: Option<f64>,
+    pub cpu_ms: f64,
+    pub fragment_invocations: Option<u64>,
+}
+
+impl FrameSample {
+    fn measure(ctx: &Context, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<Self> {
+        let start = Instant::now();
+        let PassProfile { gpu_ms, fragment_invocations } = ctx.one_shot_profiled(name, record)?;
+        Ok(Self { gpu_ms, cpu_ms: start.elapsed().as_secs_f64() * 1e3, fragment_invocations })
+    }
+}
+
+/// What the profiler times: frames drawn into an offscreen linear target.
+pub trait Workload {
+    /// Draws one frame as one submission and waits for it.
+    fn frame(&mut self, ctx: &Context) -> Result<FrameSample>;
+    /// The last frame's linear scene-referred RGBA, rows top first.
+    fn image(&self, ctx: &Context) -> Result<Vec<f32>>;
+    /// Draws one frame with the counting shaders: the Taylor-term texel fetches of each pixel, rows top first.
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>>;
+    /// # Safety
+    /// The GPU must be done with the workload.
+    unsafe fn destroy(self: Box<Self>, ctx: &Context);
+}
+
+/// Zeroed per-pixel fetch counters, drawn into by `record`, read back.
+pub fn counted_frame(
+    ctx: &Context,
+    width: u32,
+    height: u32,
+    name: &str,
+    record: impl FnOnce(vk::CommandBuffer, &Buffer),
+) -> Result<Vec<u32>> {
+    let counts = ctx.create_buffer(BufferDesc::readback(4 * u64::from(width) * u64::from(height)), "fetch counts")?;
+    let result = ctx
+        .one_shot(name, |cmd| {
+            // SAFETY: cmd is recording; the buffer was made with TRANSFER_DST usage.
+            unsafe { ctx.device().cmd_fill_buffer(cmd, counts.raw, 0, vk::WHOLE_SIZE, 0) };
+            ctx.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::FRAGMENT_STORAGE);
+            record(cmd, &counts);
+            ctx.barrier_memory(cmd, MemoryState::FRAGMENT_STORAGE, MemoryState::HOST_READ);
+        })
+        .and_then(|()| ctx.read_buffer(&counts))
+        .map(|bytes| bytemuck::pod_collect_to_vec(&bytes));
+    // SAFETY: one_shot waited.
+    unsafe { counts.destroy(ctx) };
+    result
+}
+
+/// A BRDF map of one material for one light, `size`×`size`, drawn in one submission per frame.
+pub struct MapWorkload {
+    patch: PatchResources,
+    pass: MapPass,
+    counting: MapPass,
+    target: OffscreenTarget,
+    size: u32,
+}
+
+impl MapWorkload {
+    pub fn new(ctx: &Context, material: &Material, size: u32, light: DVec3) -> Result<Self> {
+        let mut patch = PatchResources::new(ctx, material)?;
+        let parts = (|| {
+            patch.update(&light_params(material, light))?;
+            let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false)?;
+            let counting = match MapPass::counting(ctx, material, size) {
+                Ok(c) => c,
+                Err(e) => {
+                    // SAFETY: unused.
+                    unsafe { pass.destroy(ctx) };
+                    return Err(e);
+                }
+            };
+            match OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false) {
+                Ok(target) => Ok((pass, counting, target)),
+                Err(e) => {
+                    // SAFETY: unused.
+                    unsafe {
+                        pass.destroy(ctx);
+                        counting.destroy(ctx);
+                    }
+                    Err(e)
+                }
+            }
+        })();
+        match parts {
+            Ok((pass, counting, target)) => Ok(Self { patch, pass, counting, target, size }),
+            Err(e) => {
+                // SAFETY: nothing was submitted with the patch.
+                unsafe { patch.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+}
+
+impl Workload for MapWorkload {
+    fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
+        FrameSample::measure(ctx, MapPass::NAME, |cmd| {
+            self.target.begin(ctx, cmd);
+            self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None);
+        })
+    }
+
+    fn image(&self, ctx: &Context) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
+    }
+
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>> {
+        let (target, pass, patch) = (&self.target, &self.counting, &self.patch);
+        counted_frame(ctx, self.size, self.size, "brdf map (counting fetches)", |cmd, counts| {
+            target.begin(ctx, cmd);
+            pass.record_counted(ctx, cmd, patch, &target.view(), None, Some(counts));
+        })
+    }
+
+    unsafe fn destroy(self: Box<Self>, ctx: &Context) {
+        self.pass.destroy(ctx);
+        self.counting.destroy(ctx);
+        self.target.destroy(ctx);
+        self.patch.destroy(ctx);
+    }
+}
+
+/// Texels across the probe's texture (and its layers): 16 layers of 512² RG32F, 32 MiB, larger than the caches
+/// of most GPUs' texture units, as the Taylor terms of a 1000² patch are.
+const PROBE_SIDE: u32 = 512;
+const PROBE_LAYERS: u32 = 16;
+/// Taps per axis per fragment: 8 × 8 neighbouring texels × 16 layers = 1024 fetches per pixel.
+const PROBE_TAPS: u32 = 8;
+/// The probe grows its target until one frame takes at least this long (timestamps resolve far better, but
+/// short frames measure launch overhead, not fetches).
+const PROBE_MIN_MS: f64 = 20.0;
+const PROBE_MAX_SIDE: u32 = 4096;
+
+/// The roofline probe's result.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProbeResult {
+    /// Median RG32F texel fetches per second over the frames.
+    pub fetches_per_s: f64,
+    /// Target side of the timed frames, pixels.
+    pub side: u32,
+    pub fetches_per_frame: u64,
+    pub median_gpu_ms: f64,
+}
+
+/// Measures the device's RG32F texel-fetch throughput with `glsl/fetch_probe.frag.glsl`: the median over
+/// `frames` frames (after one warm-up) of fetches / GPU time. `None` where the device has no timestamps.
+pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> {
+    if frames == 0 {
+        return Err(Error::Invalid("the probe needs at least one frame".into()));
+    }
+    let desc = ImageDesc::texture_array(PROBE_SIDE, PROBE_SIDE, PROBE_LAYERS, vk::Format::R32G32_SFLOAT);
+    let texture = ctx.create_image(desc, "fetch probe texture")?;
+    let mut sampler: Option<Sampler> = None;
+    let mut pipeline: Option<Pipeline> = None;
+    let result = (|| {
+        // Deterministic non-trivial texels (a cheap hash), so the sums are not constant.
+        let texels: Vec<f32> = (0..PROBE_SIDE * PROBE_SIDE * PROBE_LAYERS * 2)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32)
+            .collect();
+        ctx.upload_image(&texture, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
+        let sampler = sampler.insert(ctx.create_sampler("fetch probe (nearest)")?);
+        let stages = vk::ShaderStageFlags::FRAGMENT;
+        let bindings = [Binding { binding: 2, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
+        let pipeline = pipeline.insert(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+            name: PROBE_NAME,
+            vertex: shaders::FULLSCREEN_VERT,
+            fragment: shaders::FETCH_PROBE_FRAG,
+            specialization: crate::vk::SpecConstants::default().u32(0, PROBE_LAYERS).i32(1, PROBE_TAPS as i32),
+            bindings: &bindings,
+            push_constant_size: 0,
+            vertex_stride: 0,
+            vertex_attributes: &[],
+            color_format: LINEAR_FORMAT,
+            depth_format: None,
+            cull_back_faces: false,
+        })?);
+        let writes = [DescriptorWrite::SampledImage(2, &texture, sampler)];
+        let mut side = 256;
+        loop {
+            let target = OffscreenTarget::with_format(ctx, side, side, LINEAR_FORMAT, false)?;
+            let timed = probe_frames(ctx, &target, pipeline, &writes, frames);
+            // SAFETY: probe_frames waited for every frame.
+            unsafe { target.destroy(ctx) };
+            let Some(median_ms) = timed? else { return Ok(None) };
+            if median_ms >= PROBE_MIN_MS || side >= PROBE_MAX_SIDE {
+                let fetches_per_frame = u64::from(side) * u64::from(side) * u64::from(PROBE_TAPS.pow(2) * PROBE_LAYERS);
+                return Ok(Some(ProbeResult {
+                    fetches_per_s: fetches_per_frame as f64 / (median_ms * 1e-3),
+                    side,
+                    fetches_per_frame,
+                    median_gpu_ms: median_ms,
+                }));
+            }
+            side *= 2;
+        }
+    })();
+    // SAFETY: every submission was waited for.
+    unsafe {
+        if let Some(p) = pipeline {
+            p.destroy(ctx);
+        }
+        if let Some(s) = sampler {
+            s.destroy(ctx);
+        }
+        texture.destroy(ctx);
+    }
+    result
+}
+
+const PROBE_NAME: &str = "fetch probe";
+
+/// One warm-up frame, then the median GPU time of `frames` frames (None without timestamps).
+fn probe_frames(
+    ctx: &Context,
+    target: &OffscreenTarget,
+    pipeline: &Pipeline,
+    writes: &[DescriptorWrite<'_>],
+    frames: usize,
+) -> Result<Option<f64>> {
+    let mut times = Vec::with_capacity(frames);
+    for i in 0..=frames {
+        let ms = ctx.one_shot_timed(PROBE_NAME, |cmd| {
+            target.begin(ctx, cmd);
+            super::begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
+            ctx.bind(cmd, pipeline, writes, &[]);
+            // SAFETY: recording inside the rendering scope with the pipeline bound.
+            unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
+            super::end_rendering(ctx, cmd);
+        })?;
+        let Some(ms) = ms else { return Ok(None) };
+        if i > 0 {
+            times.push(ms);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(Some(times[times.len() / 2]))
+}
+
+/// The camera, light and objects' placement of a profiled scene.
+#[derive(Clone, Debug)]
+pub struct SceneView {
+    pub camera: crate::camera::Camera,
+    /// World-space unit vector towards the light.
+    pub light_dir: glam::Vec3,
+    pub ambient: f32,
+    pub models: Vec<glam::Mat4>,
+    pub background: [f32; 4],
+}
+
+/// A scene drawn by the surface pass into a linear float target with depth, one submission per frame.
+pub struct SceneWorkload<'a> {
+    inputs: Vec<MaterialInput<'a>>,
+    objects: Vec<(&'a Mesh, usize)>,
+    view: SceneView,
+    renderer: SceneRenderer,
+    target: OffscreenTarget,
+    width: u32,
+    height: u32,
+}
+
+impl<'a> SceneWorkload<'a> {
+    pub fn new(
+        ctx: &Context,
+        inputs: Vec<MaterialInput<'a>>,
+        objects: Vec<(&'a Mesh, usize)>,
+        view: SceneView,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        let renderer = Self::renderer(
+            ctx,
+            &inputs,
+            &objects,
+            &view,
+            SurfaceVariant::Shade { display_output: false },
+            width,
+            height,
+        )?;
+        match OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true) {
+            Ok(target) => Ok(Self { inputs, objects, view, renderer, target, width, height }),
+            Err(e) => {
+                // SAFETY: nothing was submitted.
+                unsafe { renderer.destroy(ctx) };
+                Err(e)
+            }
+        }
+    }
+
+    fn renderer(
+        ctx: &Context,
+        inputs: &[MaterialInput<'_>],
+        objects: &[(&Mesh, usize)],
+        view: &SceneView,
+        variant: SurfaceVariant,
+        width: u32,
+        height: u32,
+    ) -> Result<SceneRenderer> {
+        let mut renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant)?;
+        let aspect = width as f32 / height as f32;
+        if let Err(e) = renderer.update(&view.camera, view.light_dir, view.ambient, &view.models, aspect) {
+            // SAFETY: nothing was submitted.
+            unsafe { renderer.destroy(ctx) };
+            return Err(e);
+        }
+        Ok(renderer)
+    }
+
+    /// The reference's inputs per pixel: [(ω_i, material + 1), (ω_r, 1)] in the patch frame as RGBA float rows;
+    /// material 0 marks the background.
+    pub fn gbuffer(&self, ctx: &Context) -> Result<[Vec<f32>; 2]> {
+        let mut parts: [Vec<f32>; 2] = [Vec::new(), Vec::new()];
+        for (part, out) in parts.iter_mut().enumerate() {
+            let variant = SurfaceVariant::GBuffer { part: part as u32 };
+            let renderer =
+                Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, self.width, self.height)?;
+            let drawn = ctx
+                .one_shot("surface (reference inputs)", |cmd| {
+                    self.target.begin(ctx, cmd);
+                    renderer.record(ctx, cmd, &self.target.view(), [0.0; 4]);
+                })
+                .and_then(|()| self.target.read(ctx));
+            // SAFETY: one_shot waited.
+            unsafe { renderer.destroy(ctx) };
+            *out = bytemuck::pod_collect_to_vec(&drawn?);
+        }
+        Ok(parts)
+    }
+}
+
+impl Workload for SceneWorkload<'_> {
+    fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
+        FrameSample::measure(ctx, SceneRenderer::NAME, |cmd| {
+            self.target.begin(ctx, cmd);
+            self.renderer.record(ctx, cmd, &self.target.view(), self.view.background);
+        })
+    }
+
+    fn image(&self, ctx: &Context) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
+    }
+
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>> {
+        let variant = SurfaceVariant::CountFetches { stride: self.width };
+        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, self.width, self.height)?;
+        let (target, background) = (&self.target, self.view.background);
+        let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
+            target.begin(ctx, cmd);
+            renderer.record_counted(ctx, cmd, &target.view(), background, Some(counts));
+        });
+        // SAFETY: counted_frame waited.
+        unsafe { renderer.destroy(ctx) };
+        counts
+    }
+
+    unsafe fn destroy(self: Box<Self>, ctx: &Context) {
+        self.renderer.destroy(ctx);
+        self.target.destroy(ctx);
+    }
+}
