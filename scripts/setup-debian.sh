@@ -7,7 +7,7 @@ set -euo pipefail
 
 packages=(
   mesa-vulkan-drivers libvulkan1 libvulkan-dev vulkan-validationlayers vulkan-tools
-  libshaderc-dev glslc xvfb x11-apps imagemagick
+  libshaderc-dev glslc xvfb x11-apps imagemagick fonts-dejavu-core
   libx11-xcb1 libxkbcommon-x11-0 libxcursor1 libxrandr2 libxi6
 )
 

@@ -155,6 +155,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     }
     if let Some(p) = &args.plot {
         crate::output::check_png_path(p)?;
+        prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
     let base = Config {

@@ -4,7 +4,7 @@
 //! lists) over one workload (a BRDF map or a scene) and reports for each: GPU time per frame from timestamps
 //! (median, 10th and 90th percentiles), CPU wall time per frame, Taylor-term texel fetches per pixel (counted by
 //! the shaders' counting variants), their rate against the device's measured peak (`--roofline`), and the
-//! image's error against an exact reference ([`reference`]).
+//! image's error against an exact reference ([`mod@reference`]).
 
 pub mod plot;
 pub mod reference;

@@ -24,7 +24,9 @@ const FONT_CANDIDATES: [&str; 5] = [
 /// The font registered with plotters (once per process).
 static FONT: OnceLock<std::result::Result<PathBuf, String>> = OnceLock::new();
 
-fn register_font(explicit: Option<&Path>) -> Result<()> {
+/// Finds and registers the plot's font (`explicit`, else a system font); call it before long work so that a
+/// missing font is reported at once.
+pub fn register_font(explicit: Option<&Path>) -> Result<()> {
     let found = FONT.get_or_init(|| {
         let path = match explicit {
             Some(p) => p.to_path_buf(),
@@ -93,7 +95,7 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
             for r in &mine {
                 let (t, mean, p99) = (time(r), r.error.mean_de.max(ERROR_FLOOR), r.error.p99_de.max(ERROR_FLOOR));
                 chart.draw_series(LineSeries::new([(t, mean), (t, p99)], c.stroke_width(2)))?;
-                let label = point_label(r);
+                let label = point_label(r, rows);
                 chart.draw_series(std::iter::once(Text::new(label, (t, mean), ("sans-serif", 13).into_font())))?;
             }
             chart
@@ -118,20 +120,21 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
     crate::output::write_png_rgba8(out, w, h, &rgba)
 }
 
-/// The settings that tell points of one approach apart.
-fn point_label(r: &Row) -> String {
-    let mut parts = Vec::new();
-    if let Some(n) = r.order {
-        parts.push(format!(" N={n}"));
+/// The settings that tell the points apart (those that vary across `rows`).
+fn point_label(r: &Row, rows: &[Row]) -> String {
+    let varies = |f: &dyn Fn(&Row) -> String| rows.iter().any(|o| f(o) != f(r));
+    let mut parts = vec![String::new()];
+    if let Some(n) = r.order.filter(|_| varies(&|o| format!("{:?}", o.order))) {
+        parts.push(format!("N={n}"));
     }
-    if r.config.approach != Approach::Nmm && r.config.approach != Approach::Gem {
+    if !matches!(r.config.approach, Approach::Nmm | Approach::Gem) && varies(&|o| o.lambda_count.to_string()) {
         parts.push(format!("Δλ={}", r.config.lambda_step_nm));
     }
-    parts.push(format!("{}²", r.taps));
-    if r.width != r.height {
+    if varies(&|o| o.taps.to_string()) {
+        parts.push(format!("{}² taps", r.taps));
+    }
+    if varies(&|o| format!("{}x{}", o.width, o.height)) {
         parts.push(format!("{}×{}", r.width, r.height));
-    } else {
-        parts.push(format!("{}px", r.width));
     }
     parts.join(" ")
 }

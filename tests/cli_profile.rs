@@ -1,0 +1,199 @@
+//! `diffract profile` on lavapipe: the table, the CSV's schema, the reference cache, a scene, and mistakes.
+//! No test here asserts a timing (the machine is shared); the error columns are checked against physics: the
+//! default FLSS settings sit close to the exact reference and a one-term Taylor sum does not.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use common::{assert_one_line_error, diffract};
+use diffract::profile::CSV_COLUMNS;
+
+fn scratch(name: &str) -> PathBuf {
+    common::scratch("cli_profile", name)
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// An 8 µm sinusoidal grating (1.6 µm period): small enough for a quick exact reference.
+fn grating() -> PathBuf {
+    let path = scratch("sine.gsf");
+    let o = diffract(&[
+        "gen",
+        "patch",
+        "sinusoidal",
+        "--size-um",
+        "8",
+        "--pixel-um",
+        "0.05",
+        "--period-um",
+        "1.6",
+        "--out",
+        s(&path),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    path
+}
+
+/// A parsed profile CSV: the `#` comments, and each row as column → field.
+struct Csv {
+    comments: Vec<String>,
+    rows: Vec<HashMap<String, String>>,
+}
+
+fn read_csv(path: &Path) -> Csv {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let mut comments = Vec::new();
+    let header = loop {
+        let line = lines.next().expect("a header after the comments");
+        match line.strip_prefix("# ") {
+            Some(c) => comments.push(c.to_string()),
+            None => break line,
+        }
+    };
+    assert_eq!(header, CSV_COLUMNS.join(","), "the column header is the documented schema");
+    let rows = lines
+        .map(|line| {
+            let fields: Vec<&str> = line.split(',').collect();
+            assert_eq!(fields.len(), CSV_COLUMNS.len(), "{line}");
+            CSV_COLUMNS.iter().map(|c| c.to_string()).zip(fields.into_iter().map(String::from)).collect()
+        })
+        .collect();
+    Csv { comments, rows }
+}
+
+fn number(row: &HashMap<String, String>, column: &str) -> f64 {
+    let v = &row[column];
+    v.parse().unwrap_or_else(|_| panic!("{column} = {v:?} is not a number"))
+}
+
+#[test]
+fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
+    let patch = grating();
+    let (csv, plot, cache) = (scratch("map.csv"), scratch("map.png"), scratch("cache"));
+    let _ = std::fs::remove_dir_all(&cache);
+    let args = [
+        "profile",
+        "--heightfield",
+        s(&patch),
+        "--width",
+        "32",
+        "--coherence-um",
+        "4",
+        "--exposure",
+        "4",
+        "--frames",
+        "3",
+        "--sweep",
+        "approach=flss,gem",
+        "--sweep",
+        "terms=1",
+        "--roofline",
+        "--validation",
+        "--reference-cache",
+        s(&cache),
+        "--csv",
+        s(&csv),
+        "--plot",
+        s(&plot),
+    ];
+    let o = diffract(&args);
+    let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{err}");
+    assert!(out.contains("| approach | N | Δλ nm |"), "markdown table: {out}");
+    assert_eq!(out.lines().filter(|l| l.starts_with("| flss") || l.starts_with("| gem")).count(), 3, "{out}");
+
+    let table = read_csv(&csv);
+    for prefix in ["device: ", "driver: ", "resolution: 32x32", "reference 32x32: f64 Taylor", "roofline: "] {
+        assert!(table.comments.iter().any(|c| c.starts_with(prefix)), "no `# {prefix}` line in {:?}", table.comments);
+    }
+    assert_eq!(table.rows.len(), 3, "flss and gem at the base settings, then flss with N = 1");
+    for row in &table.rows {
+        assert_eq!(number(row, "frames"), 3.0);
+        assert_eq!((number(row, "width"), number(row, "height")), (32.0, 32.0));
+        // lavapipe has timestamps and pipeline statistics: the columns are filled (their values are not checked).
+        for column in ["gpu_ms_median", "gpu_ms_p10", "gpu_ms_p90", "cpu_ms_median", "fragment_invocations"] {
+            assert!(number(row, column) >= 0.0, "{column}");
+        }
+        assert!(number(row, "roofline_fraction") >= 0.0);
+        for column in ["mean_de2000", "p99_de2000", "rel_xyz_rmse"] {
+            assert!(number(row, column).is_finite(), "{column}");
+        }
+        assert!(number(row, "p99_de2000") >= number(row, "mean_de2000") * 0.999);
+    }
+    let (flss, gem, one_term) = (&table.rows[0], &table.rows[1], &table.rows[2]);
+    assert_eq!((flss["approach"].as_str(), gem["approach"].as_str()), ("flss", "gem"));
+    assert_eq!(one_term["order"], "1");
+    // Fetches are counted by the shaders: FLSS samples terms, gem none; one term fetches fewer than N + 1.
+    assert!(number(flss, "fetches_per_pixel") > number(one_term, "fetches_per_pixel"));
+    assert_eq!(number(gem, "fetches_per_pixel"), 0.0);
+    // The default FLSS is close to the exact reference; a one-term sum and Stam's analytic grating are not.
+    assert!(number(flss, "mean_de2000") < 0.05, "{:?}", flss);
+    assert!(number(one_term, "mean_de2000") > 20.0 * number(flss, "mean_de2000").max(0.01), "{:?}", one_term);
+    assert!(number(gem, "mean_de2000") > 20.0 * number(flss, "mean_de2000").max(0.01), "{:?}", gem);
+    let png = image::open(&plot).expect("the plot is a PNG");
+    assert!(png.width() >= 640 && png.height() >= 480);
+
+    // The reference was cached: a second run reads it and reproduces the same errors.
+    let cached: Vec<_> = std::fs::read_dir(&cache).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(cached.len(), 1, "{cached:?}");
+    let o = diffract(&args[..args.len() - 2]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let again = read_csv(&csv);
+    for (a, b) in table.rows.iter().zip(&again.rows) {
+        assert_eq!(a["mean_de2000"], b["mean_de2000"]);
+    }
+}
+
+#[test]
+fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
+    let csv = scratch("scene.csv");
+    let o = diffract(&[
+        "profile",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/blazed-disk.toml"),
+        "--width",
+        "36",
+        "--height",
+        "24",
+        "--frames",
+        "3",
+        "--warmup",
+        "0",
+        "--sweep",
+        "approach=flss,nmm",
+        "--validation",
+        "--no-reference-cache",
+        "--csv",
+        s(&csv),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = read_csv(&csv);
+    assert!(table.comments.iter().any(|c| c.starts_with("resolution: 36x24")), "{:?}", table.comments);
+    assert!(table.comments.iter().any(|c| c.contains("exposure 3 EV")), "the scene's exposure: {:?}", table.comments);
+    assert_eq!(table.rows.len(), 2);
+    // The disk's pigment-free grating under the scene's light: FLSS matches the exact reference pixel by pixel
+    // (a wrong direction, frame or pigment term in the reference's inputs would show here).
+    assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
+    assert!(number(&table.rows[0], "fetches_per_pixel") > 0.0);
+}
+
+#[test]
+fn mistakes_end_in_one_line() {
+    let patch = grating();
+    let base = ["profile", "--heightfield", s(&patch), "--width", "8", "--frames", "1", "--no-reference-cache"];
+    let with = |extra: &[&str]| {
+        let mut args: Vec<&str> = base.to_vec();
+        args.extend_from_slice(extra);
+        diffract(&args)
+    };
+    assert_one_line_error(&with(&["--sweep", "speed=1"]), "unknown key `speed`");
+    assert_one_line_error(&with(&["--sweep", "terms=x"]), "terms=x");
+    assert_one_line_error(&with(&["--sweep", "approach=fast"]), "flss, nmm");
+    assert_one_line_error(&with(&["--height", "4"]), "square");
+    assert_one_line_error(&with(&["--plot", s(&scratch("p.png")), "--plot-font", "/nonexistent.ttf"]), "font");
+    assert_one_line_error(&with(&["--light-theta", "95"]), "horizon");
+}
