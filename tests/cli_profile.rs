@@ -131,6 +131,23 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
     // Fetches are counted by the shaders: FLSS samples terms, gem none; one term fetches fewer than N + 1.
     assert!(number(flss, "fetches_per_pixel") > number(one_term, "fetches_per_pixel"));
     assert_eq!(number(gem, "fetches_per_pixel"), 0.0);
+    // The count is exact: every pixel of the map's disk fetches (N + 1) terms × taps² at each of 81 wavelengths
+    // (all in band for this patch), the pixels outside it nothing.
+    let disk = (0..32 * 32)
+        .filter(|i| {
+            let (x, y) = ((i % 32) as f64 + 0.5 - 16.0, (i / 32) as f64 + 0.5 - 16.0);
+            x * x + y * y < 256.0
+        })
+        .count() as f64;
+    for row in [flss, one_term] {
+        let per_disk_pixel = 81.0 * (number(row, "order") + 1.0) * number(row, "taps").powi(2);
+        let expected = disk * per_disk_pixel / 1024.0;
+        assert!(
+            (number(row, "fetches_per_pixel") - expected).abs() < 0.06,
+            "{} vs {expected}",
+            row["fetches_per_pixel"]
+        );
+    }
     // The default FLSS is close to the exact reference; a one-term sum and Stam's analytic grating are not.
     assert!(number(flss, "mean_de2000") < 0.05, "{:?}", flss);
     assert!(number(one_term, "mean_de2000") > 20.0 * number(flss, "mean_de2000").max(0.01), "{:?}", one_term);
