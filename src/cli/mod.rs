@@ -25,7 +25,9 @@ Examples:
   diffract brdf --heightfield grating.gsf --light-theta 0 --view-theta 0:60:0.5 --lambda 550
   diffract brdf --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \
                 --light-theta 30 --light-phi 180 --view 20,0 --view 25,0 --lambda 380:780:5 --method taylor
-  diffract terms --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10";
+  diffract terms --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10
+  diffract profile --width 96 --sweep approach=flss,nmm,pq,gem --csv p.csv --plot p.png
+                                                     speed against accuracy on the default scene";
 
 #[derive(Parser, Debug)]
 #[command(name = "diffract", version, about = "Render diffraction colours of measured nanostructures with Vulkan", after_help = EXAMPLES)]
