@@ -148,10 +148,8 @@ impl Subject {
 }
 
 pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process::ExitCode> {
-    for path in [&args.csv].into_iter().flatten() {
-        if path.is_dir() {
-            bail!("--csv {} is a folder", path.display());
-        }
+    if let Some(path) = args.csv.as_ref().filter(|p| p.is_dir()) {
+        bail!("--csv {} is a folder", path.display());
     }
     if let Some(p) = &args.plot {
         crate::output::check_png_path(p)?;
@@ -191,9 +189,18 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     let show = std::io::stderr().is_terminal();
     for (i, config) in configs.iter().enumerate() {
         let size = subject.image_size(config, args);
+        let progress = |what: &str| {
+            if show {
+                eprint!("\r[{}/{}] {}: {what}{:20}", i + 1, configs.len(), config.label(), "");
+            }
+        };
+        progress("precomputing");
+        let start = Instant::now();
+        let materials = prepare(&subject, config, args).with_context(|| format!("configuration {}", config.label()))?;
+        let precompute_ms = start.elapsed().as_secs_f64() * 1e3;
         if !references.iter().any(|(s, _)| *s == size) {
             let start = Instant::now();
-            let image = reference_for(&ctx, &subject, args, config, size, cache.as_deref())?;
+            let image = reference_for(&ctx, &subject, &materials, size, cache.as_deref())?;
             eprintln!(
                 "reference {}×{} ({:.1} s): {}",
                 size.0,
@@ -204,12 +211,8 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
             references.push((size, image));
         }
         let reference = &references.iter().find(|(s, _)| *s == size).expect("computed above").1;
-        let progress = |what: &str| {
-            if show {
-                eprint!("\r[{}/{}] {}: {what}{:20}", i + 1, configs.len(), config.label(), "");
-            }
-        };
-        let row = profile_one(&ctx, &subject, args, config, size, reference, probe.as_ref(), exposure, &progress)
+        let measured = Measured { materials: &materials, precompute_ms, reference, probe: probe.as_ref(), exposure };
+        let row = profile_one(&ctx, &subject, args, config, size, &measured, &progress)
             .with_context(|| format!("configuration {}", config.label()))?;
         if show {
             eprint!("\r{:100}\r", "");
@@ -290,11 +293,21 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
     }
 }
 
+/// The materials `config` asks for (the Taylor terms and everything else the GPU needs).
+fn prepare(subject: &Subject, config: &Config, args: &ProfileArgs) -> crate::Result<Vec<Material>> {
+    match subject {
+        Subject::Map { heightfield, light, .. } => {
+            Ok(vec![Material::prepare(heightfield, settings_of(config, args), 1.0 + light.z)?])
+        }
+        Subject::Scene { scene, .. } => prepare_materials(scene, &overrides_of(config, args)),
+    }
+}
+
+/// `materials`: prepared for the subject (a scene's reference draws its G-buffer with them).
 fn reference_for(
     ctx: &Context,
     subject: &Subject,
-    args: &ProfileArgs,
-    config: &Config,
+    materials: &[Material],
     size: (u32, u32),
     cache: Option<&std::path::Path>,
 ) -> anyhow::Result<ReferenceImage> {
@@ -311,8 +324,7 @@ fn reference_for(
         Subject::Scene { scene, .. } => {
             // The directions each pixel sees come from the GPU's rasteriser (the same triangles, the same
             // fragments); everything after them is evaluated on the CPU.
-            let materials = prepare_materials(scene, &overrides_of(config, args))?;
-            let workload = scene_workload(ctx, scene, &materials, size)?;
+            let workload = scene_workload(ctx, scene, materials, size)?;
             let parts = workload.gbuffer(ctx);
             // SAFETY: gbuffer waited for its work.
             unsafe { Box::new(workload).destroy(ctx) };
@@ -388,30 +400,28 @@ fn settings_of(config: &Config, args: &ProfileArgs) -> Settings {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
+/// What one configuration is measured with and against.
+struct Measured<'a> {
+    materials: &'a [Material],
+    precompute_ms: f64,
+    reference: &'a ReferenceImage,
+    probe: Option<&'a ProbeResult>,
+    exposure: f64,
+}
+
 fn profile_one(
     ctx: &Context,
     subject: &Subject,
     args: &ProfileArgs,
     config: &Config,
     size: (u32, u32),
-    reference: &ReferenceImage,
-    probe: Option<&ProbeResult>,
-    exposure: f64,
+    with: &Measured<'_>,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<Row> {
-    progress("precomputing");
-    let start = Instant::now();
-    let materials = match subject {
-        Subject::Map { heightfield, light, .. } => {
-            vec![Material::prepare(heightfield, settings_of(config, args), 1.0 + light.z)?]
-        }
-        Subject::Scene { scene, .. } => prepare_materials(scene, &overrides_of(config, args))?,
-    };
-    let precompute_ms = start.elapsed().as_secs_f64() * 1e3;
+    let Measured { materials, precompute_ms, reference, probe, exposure } = *with;
     let mut workload: Box<dyn Workload + '_> = match subject {
         Subject::Map { light, .. } => Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light)?),
-        Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, &materials, size)?),
+        Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, materials, size)?),
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);
     let result = measured.and_then(|(samples, image, fetches)| {
