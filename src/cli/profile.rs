@@ -11,7 +11,7 @@ use glam::DVec3;
 
 use super::args::{AccuracyArgs, HeightFieldArgs};
 use super::GpuArgs;
-use crate::physics::optics;
+use crate::physics::{optics, spectrum};
 use crate::profile::reference::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::profile::{self as prof, Config, Row, Spread, Sweep};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, Overrides};
@@ -342,7 +342,7 @@ fn reference_for(
                     let (omega_i, omega_r) = (dir(l), dir(v));
                     let pigment = DVec3::from(scene.materials.get(material)?.pigment.map(f64::from));
                     let extra_rgb = optics::pigment_rgb(omega_i, omega_r, pigment, f64::from(scene.ambient));
-                    Some(PixelQuery { omega_i, omega_r, material, extra_xyz: reference::linear_srgb_to_xyz(extra_rgb) })
+                    Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
                 })
                 .collect();
             let job = ReferenceJob {

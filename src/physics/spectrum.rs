@@ -83,6 +83,16 @@ pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
     )
 }
 
+/// Linear sRGB → XYZ: the inverse of [`xyz_to_linear_srgb`] (reading the GPU's output back as colour).
+pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
+    static INVERSE: std::sync::LazyLock<glam::DMat3> = std::sync::LazyLock::new(|| {
+        let m = XYZ_TO_LINEAR_SRGB;
+        // glam is column-major: the rows of `m` are the columns of its transpose.
+        glam::DMat3::from_cols(DVec3::from(m[0]), DVec3::from(m[1]), DVec3::from(m[2])).transpose().inverse()
+    });
+    *INVERSE * rgb
+}
+
 /// The sRGB transfer function (IEC 61966-2-1) of one channel, clamped to [0, 1].
 pub fn srgb_oetf(c: f64) -> f64 {
     let c = c.clamp(0.0, 1.0);

@@ -15,12 +15,12 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab, D65_WHITE};
 use crate::physics::reference::{window_gain, Method, Reference};
-use crate::physics::spectrum::{Sampling, XYZ_TO_LINEAR_SRGB};
+use crate::physics::spectrum::{linear_srgb_to_xyz, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 use crate::physics::window::Window;
 use crate::physics::HeightField;
@@ -299,14 +299,6 @@ pub fn delta_e(a: DVec3, b: DVec3, exposure_ev: f64) -> f64 {
     ciede2000(xyz_to_lab(a * scale, D65_WHITE), xyz_to_lab(b * scale, D65_WHITE))
 }
 
-/// Linear sRGB → XYZ: the inverse of the shaders' matrix.
-pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
-    let m = XYZ_TO_LINEAR_SRGB;
-    // glam is column-major: the rows of `m` are the columns of its transpose.
-    let forward = DMat3::from_cols(DVec3::from(m[0]), DVec3::from(m[1]), DVec3::from(m[2])).transpose();
-    forward.inverse() * rgb
-}
-
 /// An image's error against the reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageError {
@@ -443,16 +435,12 @@ impl Fnv {
 mod tests {
     use super::*;
 
+    use crate::physics::spectrum::xyz_to_linear_srgb;
+
     #[test]
     fn srgb_round_trip() {
         let xyz = DVec3::new(0.3, 0.5, 0.2);
-        let m = XYZ_TO_LINEAR_SRGB;
-        let rgb = DVec3::new(
-            m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
-            m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
-            m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
-        );
-        assert!((linear_srgb_to_xyz(rgb) - xyz).length() < 1e-12);
+        assert!((linear_srgb_to_xyz(xyz_to_linear_srgb(xyz)) - xyz).length() < 1e-12);
     }
 
     #[test]
@@ -466,8 +454,7 @@ mod tests {
             description: String::new(),
             quadrature: (0, 0.0, 0.0),
         };
-        let m = XYZ_TO_LINEAR_SRGB;
-        let to_rgb = |v: DVec3| [0, 1, 2].map(|r| (m[r][0] * v.x + m[r][1] * v.y + m[r][2] * v.z) as f32);
+        let to_rgb = |v: DVec3| xyz_to_linear_srgb(v).to_array().map(|c| c as f32);
         let [a, b, c] = to_rgb(white);
         let [d, e, f] = to_rgb(white * 0.5);
         let same = image_error(&reference, &[a, b, c, 1.0, d, e, f, 1.0], 0.0).unwrap();
