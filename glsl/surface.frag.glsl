@@ -13,11 +13,24 @@ layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
 layout(location = 0) out vec4 out_color;
 
-// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
+// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror
+// (`optics::SUN_SOLID_ANGLE`).
 const float SUN_SOLID_ANGLE = 6.8e-5;
+
+// The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
+// profiler's reference adds it on the CPU): the pigment lit through the transmitted share 1 − R (Schlick) by the
+// sun and a uniform sky of radiance `ambient`.
+vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, vec3 pigment, float ambient) {
+    if (omega_r.z <= 0.0) return vec3(0.0);
+    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
+    float transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
+    float irradiance = ambient + SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0);
+    return transmitted * pigment * irradiance;
+}
 
 #ifdef GBUFFER
 // The profiler's G-buffer variant: the per-pixel inputs of the exact CPU reference instead of a colour.
+// Constant ids mirrored by `render::surface::MATERIAL_ID_ID` and `GBUFFER_PART_ID`.
 layout(constant_id = 6) const uint MATERIAL_ID = 0;
 layout(constant_id = 7) const uint GBUFFER_PART = 0;  // 0: (ω_i, material + 1); 1: (ω_r, 1)
 #endif
@@ -30,12 +43,7 @@ void main() {
     return;
 #endif
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
-    if (omega_r.z > 0.0) {
-        float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-        float transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
-        float irradiance = frame.pigment.w + SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0);
-        rgb += transmitted * frame.pigment.rgb * irradiance;
-    }
+    rgb += pigment_rgb(omega_i, omega_r, frame.pigment.rgb, frame.pigment.w);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

@@ -12,7 +12,7 @@ pub const SKIN_INDEX: f64 = 1.5;
 pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
 
 /// The light the skin's pigment returns under the grating, linear RGB (the surface pass's non-diffracted term,
-/// `main` of glsl/surface.frag.glsl): the pigment lit through the transmitted share 1 − R (Schlick) by the sun
+/// `pigment_rgb` in glsl/surface.frag.glsl): the pigment lit through the transmitted share 1 − R (Schlick) by the sun
 /// and a uniform sky of radiance `ambient`.
 pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, pigment: DVec3, ambient: f64) -> DVec3 {
     if omega_r.z <= 0.0 {

@@ -76,6 +76,10 @@ struct ObjectGpu {
     material: usize,
 }
 
+/// Specialization constants of the G-buffer build (glsl/surface.frag.glsl): the material's index and which part.
+pub const MATERIAL_ID_ID: u32 = 6;
+pub const GBUFFER_PART_ID: u32 = 7;
+
 /// Which build of the surface shader a renderer uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SurfaceVariant {
@@ -155,7 +159,7 @@ impl SceneRenderer {
                 ),
                 SurfaceVariant::GBuffer { part } => (
                     shaders::SURFACE_GBUFFER_FRAG,
-                    input.material.spec_constants(false).u32(6, index as u32).u32(7, part),
+                    input.material.spec_constants(false).u32(MATERIAL_ID_ID, index as u32).u32(GBUFFER_PART_ID, part),
                 ),
             };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
