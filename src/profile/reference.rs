@@ -177,7 +177,7 @@ impl ReferenceJob<'_> {
         let pixel = |q: &PixelQuery, sampling: &Sampling| {
             references[q.material].flss_xyz(q.omega_i, q.omega_r, sampling) + q.extra_xyz
         };
-        let xyz = evaluate_rows(self, |q| pixel(q, &sampling))?;
+        let xyz = evaluate_rows(self, |q| pixel(q, &sampling));
         let quadrature = quadrature_check(self, |q| pixel(q, &Sampling::visible(CHECK_STEP_NM)), &xyz);
         let description = format!(
             "{}; {} nm steps (vs {} nm on {} pixels: ΔE00 ≤ {:.2e} at EV 0, relative XYZ ≤ {:.1e})",
@@ -201,7 +201,7 @@ impl ReferenceJob<'_> {
 }
 
 /// Evaluates `f` for every pixel with a query, rows shared out to every core, progress on stderr.
-fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Result<Vec<DVec3>> {
+fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Vec<DVec3> {
     let (w, h) = (job.width as usize, job.height as usize);
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
@@ -248,7 +248,7 @@ fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync
     for (y, row) in rows {
         xyz[y * w..][..w].copy_from_slice(&row);
     }
-    Ok(xyz)
+    xyz
 }
 
 /// The reference at 1 nm against 0.5 nm steps on a grid of pixels: (pixels, largest ΔE₀₀, largest relative
@@ -269,7 +269,7 @@ fn quadrature_check(
         .collect();
     let results: Vec<(f64, f64)> = std::thread::scope(|s| {
         let handles: Vec<_> = picks
-            .chunks(picks.len().div_ceil(4).max(1))
+            .chunks(picks.len().div_ceil(std::thread::available_parallelism().map_or(1, |n| n.get())).max(1))
             .map(|chunk| {
                 let fine = &fine;
                 s.spawn(move || {
