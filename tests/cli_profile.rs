@@ -21,20 +21,7 @@ fn s(p: &Path) -> &str {
 /// An 8 µm sinusoidal grating (1.6 µm period): small enough for a quick exact reference.
 fn grating() -> PathBuf {
     let path = scratch("sine.gsf");
-    let o = diffract(&[
-        "gen",
-        "patch",
-        "sinusoidal",
-        "--size-um",
-        "8",
-        "--pixel-um",
-        "0.05",
-        "--period-um",
-        "1.6",
-        "--out",
-        s(&path),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::sine_patch(&path);
     path
 }
 

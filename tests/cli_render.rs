@@ -19,20 +19,7 @@ fn own_scene(name: &str) -> PathBuf {
     let dir = scratch(name);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("quad.obj"), "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n").unwrap();
-    let o = diffract(&[
-        "gen",
-        "patch",
-        "sinusoidal",
-        "--size-um",
-        "8",
-        "--pixel-um",
-        "0.05",
-        "--period-um",
-        "1.6",
-        "--out",
-        s(&dir.join("sine.gsf")),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::sine_patch(&dir.join("sine.gsf"));
     let scene = dir.join("scene.toml");
     std::fs::write(
         &scene,

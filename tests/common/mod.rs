@@ -30,3 +30,21 @@ pub fn assert_one_line_error(o: &Output, needle: &str) {
     assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
     assert!(err.contains(needle), "expected {needle:?} in {err:?}");
 }
+
+/// Generates a small sinusoidal grating (8 µm square, 0.05 µm pixels, 1.6 µm period) at `path`.
+pub fn sine_patch(path: &std::path::Path) {
+    let o = diffract(&[
+        "gen",
+        "patch",
+        "sinusoidal",
+        "--size-um",
+        "8",
+        "--pixel-um",
+        "0.05",
+        "--period-um",
+        "1.6",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
