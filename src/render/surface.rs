@@ -34,12 +34,13 @@ pub struct SurfaceUniforms {
 }
 const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 256);
 
-/// The vertex layout of [`Vertex`].
-pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
+/// The attributes of [`Vertex`] the vertex shaders read: position, normal and tangent. The UVs stay on the CPU
+/// (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be stripped by
+/// the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
+pub const VERTEX_ATTRIBUTES: [VertexAttribute; 3] = [
     VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
     VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
     VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
-    VertexAttribute { location: 3, format: vk::Format::R32G32_SFLOAT, offset: 40 },
 ];
 
 /// One object under a directional light, seen by a camera (the single-object case of a scene).
