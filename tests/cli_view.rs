@@ -34,15 +34,12 @@ impl Xvfb {
             .read_line(&mut line)
             .expect("Xvfb reports its display");
         let n: u32 = line.trim().parse().unwrap_or_else(|_| panic!("Xvfb did not report a display: {line:?}"));
-        // The number may come a moment before the server accepts connections: wait until a client connects.
+        // The number may come a moment before the server accepts connections: wait until its local socket
+        // takes a connection (no X client program needed, so nothing beyond Xvfb has to be installed).
         let display = format!(":{n}");
+        let socket = format!("/tmp/.X11-unix/X{n}");
         let start = Instant::now();
-        while !Command::new("xdotool")
-            .arg("getmouselocation")
-            .env("DISPLAY", &display)
-            .output()
-            .is_ok_and(|o| o.status.success())
-        {
+        while std::os::unix::net::UnixStream::connect(&socket).is_err() {
             assert!(start.elapsed() < Duration::from_secs(10), "Xvfb {display} accepts no connection");
             std::thread::sleep(Duration::from_millis(50));
         }
