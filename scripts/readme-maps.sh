@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${1:-docs/images/maps}
 size=${2:-256}
-afm=../shared/data/afm
+afm=assets/afm
 mkdir -p "$out"
 cargo build --release -q
 d=target/release/diffract

@@ -2,7 +2,7 @@
 //! spectra for tests and demonstrations, a CD-like track grating, and finger structures after the snake scales
 //! the thesis measured (model.md §5.1: Elaphe ≈ 1.14 µm period, 0.375 µm high; Xenopeltis ≈ 1.55 µm, 0.44 µm).
 //!
-//! Orientation follows the AFM scans (`../shared/data/afm/README.md`): gratings vary along x (their orders lie
+//! Orientation follows the AFM scans (`assets/afm/README.md`): gratings vary along x (their orders lie
 //! along the BRDF map's x axis); Elaphe's ridges run along x and repeat along y; Xenopeltis's finger layers
 //! repeat along x (1.55 µm) with fingers 0.65 µm apart along y.
 

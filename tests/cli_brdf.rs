@@ -203,7 +203,7 @@ fn grazing_rows_are_finite() {
 
 #[test]
 fn terms_reports_the_plan_for_the_afm_patch() {
-    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/afm/elaphe-100px.png");
+    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm/elaphe-100px.png");
     let o =
         diffract(&["terms", "--heightfield", afm, "--pixel-size-um", "0.065", "--height-um", "0.375", "--tile", "3"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -4,7 +4,7 @@
 use diffract::physics::reference::window_gain;
 use diffract::physics::{HeightField, HeightStats, Lookup, Method, Query, Reference, TaylorPlan, Window};
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/afm");
+const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 
 /// Bessel J_m(x) = (1/2π)∫₀^{2π} cos(mτ − x sin τ) dτ; the trapezoid rule on a periodic integrand converges
 /// geometrically, so 512 points are exact to rounding for |x| < 30.

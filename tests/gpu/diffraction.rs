@@ -10,7 +10,7 @@ use glam::DVec3;
 use crate::golden;
 use crate::harness::gpu_test;
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/afm");
+const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 
 /// A blazed grating: h = H·frac(x/d), `rows` identical rows.
 pub fn blazed(period_px: usize, periods: usize, rows: usize, dx_um: f64, h_um: f64) -> HeightField {

@@ -10,7 +10,7 @@ use glam::{DVec3, Vec3, Vec4};
 
 use crate::harness::gpu_test;
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/afm");
+const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 const HALF: f32 = 1.0;
 
 fn scene(tangent_deg: f32, handedness: f32) -> SurfaceScene {
