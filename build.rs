@@ -8,12 +8,17 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-/// Second builds of a shader with a macro defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macro).
-/// `COUNT_FETCHES` makes the diffraction shaders count their Taylor-term texel fetches per pixel, `GBUFFER` makes
-/// the surface pass write the directions the exact reference needs (both for the profiler).
+/// Further builds of a shader with macros defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macros
+/// separated by spaces). `BAKED` makes the diffraction shaders read the baked colour table instead of the Taylor
+/// terms, `COUNT_FETCHES` makes them count their texel fetches per pixel, `GBUFFER` makes the surface pass write
+/// the directions and footprints the exact reference and the baked table's plan need.
 const VARIANTS: &[(&str, &str, &str)] = &[
     ("map.frag", "map_count.frag", "COUNT_FETCHES"),
+    ("map.frag", "map_baked.frag", "BAKED"),
+    ("map.frag", "map_baked_count.frag", "BAKED COUNT_FETCHES"),
     ("surface.frag", "surface_count.frag", "COUNT_FETCHES"),
+    ("surface.frag", "surface_baked.frag", "BAKED"),
+    ("surface.frag", "surface_baked_count.frag", "BAKED COUNT_FETCHES"),
     ("surface.frag", "surface_gbuffer.frag", "GBUFFER"),
 ];
 
@@ -97,7 +102,7 @@ fn compile(
     define: Option<&str>,
 ) -> Result<Vec<u8>, String> {
     let mut options = shaderc::CompileOptions::new().map_err(|e| e.to_string())?;
-    if let Some(define) = define {
+    for define in define.into_iter().flat_map(str::split_whitespace) {
         options.add_macro_definition(define, None);
     }
     options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);

@@ -5,8 +5,12 @@
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
+#ifdef BAKED
+#include "baked.glsl"
+#else
 #include "taylor.glsl"
 #include "approaches.glsl"
+#endif
 
 // The map's square (side `size`) starts at pixel `offset` of the target.
 layout(push_constant) uniform MapPush { vec2 size; vec2 offset; } map;
@@ -21,6 +25,13 @@ void main() {
         return;
     }
     vec3 omega_r = vec3(xy, sqrt(1.0 - r2));
+#ifdef BAKED
+    // A map pixel spans 2/size in ω_r.xy, and so in (u, v).
+    float lod = FOOTPRINT == 1u ? table_lod(2.0 / map.size.x) : 0.0;
+    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(params.light.xyz, omega_r, lod));
+    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
+#else
     out_color = vec4(shade(params.light.xyz, omega_r), 1.0);
+#endif
     record_fetches();
 }

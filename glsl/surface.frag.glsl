@@ -5,9 +5,17 @@
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
+#ifdef BAKED
+#include "baked.glsl"
+#else
 #include "taylor.glsl"
 #include "approaches.glsl"
+#endif
 #include "surface_frame.glsl"
+
+// After a depth pre-pass only the visible surface passes the EQUAL test: testing before the shader runs (which the
+// counting variant's atomics would otherwise forbid) shades each pixel once.
+layout(early_fragment_tests) in;
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
@@ -42,7 +50,12 @@ void main() {
     out_color = GBUFFER_PART == 0u ? vec4(omega_i, float(MATERIAL_ID + 1u)) : vec4(omega_r, 1.0);
     return;
 #endif
+#ifdef BAKED
+    float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
+    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
+#else
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
+#endif
     rgb += pigment_rgb(omega_i, omega_r, frame.pigment.rgb, frame.pigment.w);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();

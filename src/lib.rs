@@ -18,6 +18,7 @@
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.
 
+pub mod cache;
 pub mod camera;
 pub mod cli;
 pub mod error;

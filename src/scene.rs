@@ -37,6 +37,9 @@ use crate::shading::{Approach, Settings};
 
 /// The scene `diffract render` draws when given none: the Elaphe snake (generated, so it needs no files).
 pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/elaphe-snake.toml");
+/// The approach of a material that names none: the baked table (FLSS stays the reference, a material or the
+/// command line can ask for it).
+pub const DEFAULT_APPROACH: Approach = Approach::Baked;
 /// The name the default scene reports in messages.
 pub const DEFAULT_SCENE_NAME: &str = "assets/scenes/elaphe-snake.toml (built in)";
 
@@ -126,6 +129,7 @@ struct MaterialDef {
     lambda_step_nm: Option<f64>,
     window_radius: Option<u32>,
     coherence_um: Option<f64>,
+    table_tolerance: Option<f64>,
     /// Rotation of the patch about the normal, from the mesh tangent towards the bitangent.
     #[serde(default)]
     orientation_deg: f32,
@@ -335,7 +339,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
     };
     let defaults = Settings::default();
     let settings = Settings {
-        approach: d.approach.unwrap_or(defaults.approach),
+        approach: d.approach.unwrap_or(DEFAULT_APPROACH),
         order: d.terms,
         tolerance: d.tolerance.unwrap_or(defaults.tolerance),
         lambda_step_nm: d.lambda_step_nm.unwrap_or(defaults.lambda_step_nm),
@@ -343,6 +347,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
         coherence_um: d.coherence_um.unwrap_or(defaults.coherence_um),
         exposure_ev: 0.0,
         accept_f32_error: false,
+        table_tolerance: d.table_tolerance.unwrap_or(defaults.table_tolerance),
     };
     if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
         return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));

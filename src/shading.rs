@@ -1,13 +1,19 @@
 //! Shading approaches and everything a patch needs before the GPU sees it (model.md §3): which approach, the
-//! settings that trade speed for accuracy, and the prepared [`Material`] — Taylor terms, plan, window,
-//! wavelength sampling and the uniform block `DiffractionParams` of `glsl/include/params.glsl`.
+//! settings that trade speed for accuracy, what views a material must serve ([`Reach`]), and the prepared
+//! [`Material`] — Taylor terms or the baked table, plan, window, wavelength sampling and the uniform block
+//! `DiffractionParams` of `glsl/include/params.glsl`.
 //!
-//! Approaches are selected by name; their variants (term count, wavelength count, window radius, approach) are
-//! specialization constants of one shader, not copies of it.
+//! Approaches are selected by name; the thesis's four are specialization constants of one shader (term count,
+//! wavelength count, window radius, approach), the baked table a second build of the same shaders (`BAKED`).
+
+use std::io::IsTerminal;
+use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::physics::baked::{self, BakedTable, Domain, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE};
 use crate::physics::reference::window_gain;
 use crate::physics::spectrum::{self, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLERANCE};
@@ -26,10 +32,13 @@ pub enum Approach {
     Pq,
     /// Stam's analytic grating: only the dominant spacing, no height field (GPU Gems ch. 8)
     Gem,
+    /// The spectrally integrated colour baked over (u, v) with its w-dependence as a Chebyshev series, filtered
+    /// over each pixel's footprint: a handful of fetches per pixel
+    Baked,
 }
 
 impl Approach {
-    pub const ALL: [Approach; 4] = [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem];
+    pub const ALL: [Approach; 5] = [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem, Approach::Baked];
 
     /// The value of the `APPROACH` specialization constant.
     pub fn id(self) -> u32 {
@@ -38,6 +47,7 @@ impl Approach {
             Approach::Nmm => 1,
             Approach::Pq => 2,
             Approach::Gem => 3,
+            Approach::Baked => 4,
         }
     }
 
@@ -47,12 +57,51 @@ impl Approach {
             Approach::Nmm => "nmm",
             Approach::Pq => "pq",
             Approach::Gem => "gem",
+            Approach::Baked => "baked",
         }
     }
 
-    /// Whether the approach samples the Taylor terms (all but `gem`).
+    /// Whether the approach samples the Taylor terms (flss, nmm, pq).
     pub fn uses_terms(self) -> bool {
-        self != Approach::Gem
+        !matches!(self, Approach::Gem | Approach::Baked)
+    }
+}
+
+/// The views a material must serve: what sizes its Taylor plan (the largest |w|) and its baked table (the box of
+/// (u, v, w) and the smallest pixel footprint).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reach {
+    /// Light and views anywhere above the surface, by pixels whose footprint in (u, v) is at least `footprint`
+    /// (0: as fine as the lobes).
+    Hemisphere { footprint: f64 },
+    /// A BRDF map of `size` pixels across the hemisphere of views, under `light` (unit, patch frame).
+    Map { light: DVec3, size: u32 },
+    /// What a frame shows: the box of its (u, v, w) and its smallest footprint.
+    Seen { domain: Domain, footprint: f64 },
+}
+
+impl Reach {
+    /// Any light and view, at any footprint down to the lobes' width.
+    pub const ANY: Reach = Reach::Hemisphere { footprint: 0.0 };
+
+    /// The largest |w| the views reach.
+    pub fn w_max(&self) -> f64 {
+        match self {
+            Reach::Hemisphere { .. } => 2.0,
+            Reach::Map { light, .. } => 1.0 + light.z,
+            Reach::Seen { domain, .. } => -domain.w.0,
+        }
+    }
+
+    /// What a baked table for these views must cover.
+    pub fn table_request(&self) -> TableRequest {
+        match *self {
+            Reach::Hemisphere { footprint } => TableRequest { domain: Domain::HEMISPHERE, footprint, aligned: false },
+            Reach::Map { light, size } => {
+                TableRequest { domain: Domain::map(light), footprint: 2.0 / f64::from(size.max(1)), aligned: true }
+            }
+            Reach::Seen { domain, footprint } => TableRequest { domain, footprint, aligned: false },
+        }
     }
 }
 
@@ -72,6 +121,8 @@ pub struct Settings {
     pub exposure_ev: f64,
     /// Render although f32 cannot reach the tolerance (the plan's estimate says so).
     pub accept_f32_error: bool,
+    /// Baked: tolerance on the Chebyshev tail in w, relative to each texel's brightest value.
+    pub table_tolerance: f64,
 }
 
 impl Default for Settings {
@@ -85,6 +136,7 @@ impl Default for Settings {
             coherence_um: DEFAULT_COHERENCE_UM,
             exposure_ev: 0.0,
             accept_f32_error: false,
+            table_tolerance: DEFAULT_TABLE_TOLERANCE,
         }
     }
 }
@@ -118,8 +170,12 @@ pub struct DiffractionParams {
     pub gem: [f32; 4],
     /// 2^exposure, 0, 0, 0.
     pub display: [f32; 4],
+    /// Baked table: u and v of its lower edges, its extent in u and v.
+    pub table_uv: [f32; 4],
+    /// Baked table: middle of its w-interval, 1/half-width, the texel width in (u, v), the coarsest mip level.
+    pub table_w: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 128);
+const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 160);
 
 /// A patch prepared for one approach and its settings.
 pub struct Material {
@@ -134,12 +190,18 @@ pub struct Material {
     pub texels: Vec<f32>,
     pub layers: u32,
     pub params: DiffractionParams,
+    /// The baked approach's table, its plan, and how long it took to build or load (ms; from the cache?).
+    pub table: Option<BakedTable>,
+    pub table_plan: Option<TablePlan>,
+    pub table_ms: f64,
+    pub table_cached: bool,
 }
 
 impl Material {
-    /// Precomputes what `settings.approach` needs of `hf`, for light and views with |w| ≤ `w_max`.
-    pub fn prepare(hf: &HeightField, settings: Settings, w_max: f64) -> Result<Self> {
+    /// Precomputes what `settings.approach` needs of `hf` for the views of `reach`.
+    pub fn prepare(hf: &HeightField, settings: Settings, reach: &Reach) -> Result<Self> {
         let s = settings;
+        let w_max = reach.w_max();
         if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
             return Err(Error::Invalid(format!("the wavelength step must be positive, got {} nm", s.lambda_step_nm)));
         }
@@ -172,9 +234,33 @@ impl Material {
             }
             let terms = TaylorTerms::compute(hf, plan.order, None)?;
             (Some(plan), terms.to_f32_texels(plan.order), plan.order as u32 + 1)
+        } else if s.approach == Approach::Baked {
+            (None, Vec::new(), 0)
         } else {
             (None, vec![0.0; hf.nx * hf.ny * 2], 1)
         };
+        let (mut table, mut table_plan, mut table_ms, mut table_cached) = (None, None, 0.0, false);
+        let mut layers = layers;
+        let (mut table_uv, mut table_w) = ([0.0; 4], [0.0; 4]);
+        if s.approach == Approach::Baked {
+            let plan = TablePlan::new(hf, s.coherence_um, &reach.table_request(), s.table_tolerance)?;
+            let start = Instant::now();
+            let (built, cached) = baked::load_or_build(hf, &plan, progress().as_deref())?;
+            table_ms = start.elapsed().as_secs_f64() * 1e3;
+            table_cached = cached;
+            let g = built.grid;
+            let half = 0.5 * (g.w.1 - g.w.0);
+            table_uv = [g.u0 as f32, g.v0 as f32, (g.nu as f64 * g.texel) as f32, (g.nv as f64 * g.texel) as f32];
+            table_w = [
+                (0.5 * (g.w.0 + g.w.1)) as f32,
+                if half > 0.0 { (1.0 / half) as f32 } else { 0.0 },
+                g.texel as f32,
+                (built.levels.len() - 1) as f32,
+            ];
+            layers = built.layers() as u32;
+            table = Some(built);
+            table_plan = Some(plan);
+        }
         let sigma_s = s.coherence_um / 4.0;
         let sigma_f = 1.0 / (2.0 * std::f64::consts::PI * sigma_s);
         let (gx, gy, spacing) = if s.approach == Approach::Gem { dominant_grating(hf) } else { (1.0, 0.0, 0.0) };
@@ -192,25 +278,73 @@ impl Material {
             pq: [(s.coherence_um / lx).ceil().max(1.0) as f32, (s.coherence_um / ly).ceil().max(1.0) as f32, 0.0, 0.0],
             gem: [gx as f32, gy as f32, spacing as f32, GEM_ORDER_EFFICIENCY],
             display: [s.exposure_ev.exp2() as f32, 0.0, 0.0, 0.0],
+            table_uv,
+            table_w,
         };
-        Ok(Self { settings, nx: hf.nx, ny: hf.ny, plan, window, sampling, texels, layers, params })
+        Ok(Self {
+            settings,
+            nx: hf.nx,
+            ny: hf.ny,
+            plan,
+            window,
+            sampling,
+            texels,
+            layers,
+            params,
+            table,
+            table_plan,
+            table_ms,
+            table_cached,
+        })
     }
 
-    /// Specialization constants: TERMS, WINDOW_RADIUS, LAMBDA_COUNT, APPROACH, DISPLAY_OUTPUT.
+    /// Specialization constants: TERMS (Taylor layers, or the baked table's Chebyshev terms), WINDOW_RADIUS,
+    /// LAMBDA_COUNT, APPROACH, DISPLAY_OUTPUT.
     pub fn spec_constants(&self, display_output: bool) -> crate::vk::SpecConstants {
+        let terms = self.table.as_ref().map_or(self.layers, |t| t.terms as u32);
         crate::vk::SpecConstants::default()
-            .u32(0, self.layers)
+            .u32(0, terms)
             .i32(1, self.window.radius_x.max(self.window.radius_y) as i32)
             .u32(2, self.sampling.count as u32)
             .u32(3, self.settings.approach.id())
             .u32(4, u32::from(display_output))
     }
 
-    /// Texture fetches one BRDF evaluation costs at most (FLSS/PQ; NMM and gem vary per pixel).
+    /// Texels one BRDF evaluation reads at most: FLSS/PQ's Taylor terms (NMM and gem vary per pixel), or the
+    /// baked table's layers, each a trilinear sample of 2 × 4 texels.
     pub fn fetches_per_evaluation(&self) -> usize {
+        if self.table.is_some() {
+            return self.layers as usize * TRILINEAR_TEXELS;
+        }
         let taps = (2 * self.window.radius_x as usize + 1) * (2 * self.window.radius_y as usize + 1);
         self.sampling.count * self.layers as usize * taps
     }
+
+    /// One line on the baked table (its plan, and how long it took), for the commands' reports.
+    pub fn table_line(&self) -> Option<String> {
+        let (plan, table) = (self.table_plan.as_ref()?, self.table.as_ref()?);
+        let how = if self.table_cached { "loaded from the cache" } else { "built" };
+        Some(format!("{}; {how} in {:.0} ms ({})", plan.describe(), self.table_ms, table.report))
+    }
+}
+
+/// Texels a trilinear sample reads: 2 × 2 in each of two mip levels (what the counting shaders add per fetch).
+pub const TRILINEAR_TEXELS: usize = 8;
+
+/// A progress line for long table builds, on a terminal only.
+fn progress() -> Option<Box<dyn Fn(usize, usize) + Sync>> {
+    std::io::stderr().is_terminal().then(|| {
+        let start = Instant::now();
+        Box::new(move |done: usize, total: usize| {
+            let elapsed = start.elapsed().as_secs_f64();
+            if elapsed > 1.0 || done == total {
+                eprint!("\rbaking the colour table: {:3.0} % ", 100.0 * done as f64 / total as f64);
+                if done == total {
+                    eprint!("\r{:40}\r", "");
+                }
+            }
+        }) as Box<dyn Fn(usize, usize) + Sync>
+    })
 }
 
 const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
@@ -245,6 +379,8 @@ pub fn dominant_grating(hf: &HeightField) -> (f64, f64, f64) {
 mod tests {
     use super::*;
 
+    const HEMISPHERE: Reach = Reach::Hemisphere { footprint: 0.0 };
+
     #[test]
     fn gem_finds_the_period_and_direction_of_a_grating() {
         let (nx, ny, period) = (64, 8, 16);
@@ -260,7 +396,7 @@ mod tests {
     #[test]
     fn default_window_radius_follows_the_cutoff() {
         let hf = HeightField::new(650, 650, 0.1, 0.1, vec![0.0; 650 * 650]).unwrap();
-        let m = Material::prepare(&hf, Settings::default(), 2.0).unwrap();
+        let m = Material::prepare(&hf, Settings::default(), &HEMISPHERE).unwrap();
         assert_eq!(m.window.radius_x, 2, "σ = 2/π bins needs ±2 taps for a 1e-3 cutoff");
         assert_eq!(m.layers, 1, "a flat patch needs one term");
         assert_eq!(m.sampling.count, 81);
@@ -270,9 +406,9 @@ mod tests {
     fn f32_trouble_is_refused_unless_accepted() {
         let h: Vec<f64> = (0..64 * 64).map(|i| if (i % 64) < 32 { 0.0 } else { 1.5 }).collect();
         let hf = HeightField::new(64, 64, 0.1, 0.1, h).unwrap();
-        let e = Material::prepare(&hf, Settings::default(), 2.0).err().expect("refused");
+        let e = Material::prepare(&hf, Settings::default(), &HEMISPHERE).err().expect("refused");
         assert!(e.to_string().contains("f32"), "{e}");
         let accepted = Settings { accept_f32_error: true, ..Settings::default() };
-        assert!(Material::prepare(&hf, accepted, 2.0).is_ok());
+        assert!(Material::prepare(&hf, accepted, &HEMISPHERE).is_ok());
     }
 }

@@ -294,14 +294,14 @@ impl State {
             }
         }
         let scene = &options.scene;
-        let mut materials = prepare_materials(scene, &self.live.overrides)?;
+        let mut materials = prepare_materials(scene, &self.live.overrides, &[crate::shading::Reach::ANY])?;
         for m in &mut materials {
             m.params.display[0] = self.live.exposure_ev.exp2() as f32;
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
         let renderer = SceneRenderer::new(&self.ctx, &inputs, &objects, format, true)?;
         let first = &materials[scene.objects[0].material];
-        let map = match MapPass::new(&self.ctx, first, format, true) {
+        let map = match MapPass::new(&self.ctx, first, format, true, false) {
             Ok(m) => m,
             Err(e) => {
                 // SAFETY: nothing was submitted with it.

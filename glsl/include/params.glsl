@@ -1,22 +1,36 @@
 // Specialization constants and resources shared by every diffraction shader.
-// Mirrored by `shading::DiffractionParams` (std140, 128 bytes) and `shading::Material::spec_constants`.
+// Mirrored by `shading::DiffractionParams` (std140, 160 bytes) and `shading::Material::spec_constants`.
 
-layout(constant_id = 0) const uint TERMS = 1;          // Taylor terms F_0..F_{TERMS-1}
+layout(constant_id = 0) const uint TERMS = 1;          // Taylor terms F_0..F_{TERMS-1}; baked: Chebyshev terms in w
 layout(constant_id = 1) const int WINDOW_RADIUS = 1;   // taps either side of the nearest bin
 layout(constant_id = 2) const uint LAMBDA_COUNT = 81;  // uniform wavelength samples (FLSS, PQ, gem's specular)
 layout(constant_id = 3) const uint APPROACH = 0;       // see APPROACH_*
 layout(constant_id = 4) const uint DISPLAY_OUTPUT = 0; // 0: linear scene-referred RGB; 1: exposure + sRGB OETF
+// Baked: 0 reads the table's finest level (a BRDF map's point values); 1 filters over the pixel's footprint.
+// Mirrored by `render::diffraction::FOOTPRINT_ID`.
+layout(constant_id = 8) const uint FOOTPRINT = 1;
 
 #ifdef COUNT_FETCHES
 // The counting variant adds each fragment's fetches to fetch_counts[y · COUNT_STRIDE + x] (a row of the target).
 layout(constant_id = 5) const uint COUNT_STRIDE = 1;
 layout(std430, set = 0, binding = 4) buffer FetchCounts { uint fetch_counts[]; };
+// Texels fetched by this fragment so far (Taylor terms, or the baked table's trilinear samples).
+uint fetch_count = 0u;
 #endif
+
+// The counting variant's record of this fragment's fetches (a no-op otherwise).
+void record_fetches() {
+#ifdef COUNT_FETCHES
+    uvec2 pixel = uvec2(gl_FragCoord.xy);
+    atomicAdd(fetch_counts[pixel.y * COUNT_STRIDE + pixel.x], fetch_count);
+#endif
+}
 
 const uint APPROACH_FLSS = 0u;
 const uint APPROACH_NMM = 1u;
 const uint APPROACH_PQ = 2u;
 const uint APPROACH_GEM = 3u;
+const uint APPROACH_BAKED = 4u;
 
 layout(std140, set = 0, binding = 1) uniform DiffractionParams {
     ivec4 patch_px;  // nx, ny, layers, 0
@@ -27,10 +41,18 @@ layout(std140, set = 0, binding = 1) uniform DiffractionParams {
     vec4 pq;         // periods along x, y
     vec4 gem;        // grating direction (x, y), spacing (µm; 0 = none), order efficiency
     vec4 display;    // 2^exposure
+    vec4 table_uv;   // baked: u, v of the table's lower edges; its extent in u and v
+    vec4 table_w;    // baked: middle of the w-interval, 1 / half-width, texel width in (u, v), coarsest mip level
 } params;
 
+#ifdef BAKED
+// The baked colour table: Chebyshev coefficients of X, Y, Z in w packed four to a layer (coefficient d of channel
+// c is scalar 3d + c), mip-mapped, sampled trilinearly.
+layout(set = 0, binding = 2) uniform sampler2DArray baked_table;
+#else
 // F_n as RG32F (re, im), one layer per Taylor term, DC at texel (nx/2, ny/2).
 layout(set = 0, binding = 2) uniform sampler2DArray taylor_terms;
+#endif
 
 // (x̄, ȳ, z̄, D65/100) per nm from 380 to 780 nm.
 layout(std430, set = 0, binding = 3) readonly buffer SpectrumTable { vec4 spectrum_table[]; };

@@ -2,11 +2,6 @@
 // (`taylor_sum`, `taylor_sum_f32`) and src/physics/window.rs (taps: the nearest bin floor(s + 0.5) and
 // WINDOW_RADIUS bins either side; bins beyond Nyquist contribute nothing).
 
-#ifdef COUNT_FETCHES
-// The profiler's variant (build.rs compiles it with COUNT_FETCHES): texel fetches of the Taylor terms so far.
-uint fetch_count = 0u;
-#endif
-
 vec2 cmul(vec2 a, vec2 b) {
     return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x);
 }
@@ -70,14 +65,6 @@ vec2 taylor_sum(vec2 s, float kw) {
         }
     }
     return p;
-}
-
-// The counting variant's record of this fragment's fetches (a no-op otherwise).
-void record_fetches() {
-#ifdef COUNT_FETCHES
-    uvec2 pixel = uvec2(gl_FragCoord.xy);
-    atomicAdd(fetch_counts[pixel.y * COUNT_STRIDE + pixel.x], fetch_count);
-#endif
 }
 
 // |Σ_{m<P} e^{2πi s m}|² / P²: the intensity factor of P periodic copies of the patch along one axis

@@ -7,6 +7,7 @@ use anyhow::bail;
 use clap::Args;
 
 use super::parse;
+use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
 use crate::physics::taylor::DEFAULT_TOLERANCE;
 use crate::physics::window::DEFAULT_COHERENCE_UM;
 use crate::physics::{HeightField, PngScale};
@@ -79,6 +80,9 @@ pub struct ShadingArgs {
     /// Render even where f32 sums cannot reach --tolerance (the plan's estimate)
     #[arg(long)]
     pub accept_f32_error: bool,
+    /// Baked: tolerance on the table's Chebyshev tail in w, relative to each texel's brightest value
+    #[arg(long, value_name = "T", default_value_t = DEFAULT_TABLE_TOLERANCE)]
+    pub table_tolerance: f64,
 }
 
 impl ShadingArgs {
@@ -92,6 +96,7 @@ impl ShadingArgs {
             coherence_um: self.accuracy.coherence_um,
             exposure_ev: self.exposure,
             accept_f32_error: self.accept_f32_error,
+            table_tolerance: self.table_tolerance,
         }
     }
 }

@@ -126,7 +126,8 @@ fn brdf_gpu(
     if !plan.f32_suffices() {
         eprintln!("warning: f32 cannot reach the tolerance here (see the note); the GPU's rows carry that error");
     }
-    let material = crate::shading::Material::prepare(hf, settings, 2.0)?;
+    let material =
+        crate::shading::Material::prepare(hf, settings, &crate::shading::Reach::Hemisphere { footprint: 0.0 })?;
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     let values = crate::render::diffraction::evaluate_brdf(&ctx, &material, queries)?;
     let samples: Vec<crate::physics::Sample> = queries

@@ -10,7 +10,7 @@ use super::args::{HeightFieldArgs, LightArgs, ShadingArgs};
 use super::GpuArgs;
 use crate::physics::optics;
 use crate::render::diffraction;
-use crate::shading::{Approach, Material};
+use crate::shading::{Approach, Material, Reach};
 
 #[derive(Args, Debug)]
 pub struct MapArgs {
@@ -24,6 +24,9 @@ pub struct MapArgs {
     /// Also write the linear scene-referred RGB (sRGB primaries, before exposure) as 32-bit float EXR
     #[arg(long, value_name = "FILE.exr")]
     pub exr: Option<PathBuf>,
+    /// Baked: average each pixel over its footprint (else the table's point value at the pixel's centre)
+    #[arg(long)]
+    pub footprint: bool,
     /// Map size in pixels (odd sizes put a pixel exactly at normal view)
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub size: u32,
@@ -40,10 +43,11 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let hf = args.heightfield.load()?;
     let light = optics::direction(args.light.light_theta, args.light.light_phi);
     let start = Instant::now();
-    let material = Material::prepare(&hf, args.shading.settings(), 1.0 + light.z)?;
+    let material = Material::prepare(&hf, args.shading.settings(), &Reach::Map { light, size: args.size })?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
-    let map = diffraction::render_map(&ctx, &material, args.size, light).context("rendering the BRDF map")?;
+    let map =
+        diffraction::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
     let bad = map.non_finite();
     if bad > 0 {
         anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");

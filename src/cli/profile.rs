@@ -17,7 +17,7 @@ use crate::profile::{self as prof, Config, Row, Spread, Sweep};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, Overrides};
 use crate::render::profile::{fetch_probe, FrameSample, MapWorkload, ProbeResult, SceneView, SceneWorkload, Workload};
 use crate::scene::Scene;
-use crate::shading::{Approach, Material, Settings};
+use crate::shading::{Approach, Material, Reach, Settings};
 use crate::vk::Context;
 
 #[derive(Args, Debug)]
@@ -297,9 +297,10 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
 fn prepare(subject: &Subject, config: &Config, args: &ProfileArgs) -> crate::Result<Vec<Material>> {
     match subject {
         Subject::Map { heightfield, light, .. } => {
-            Ok(vec![Material::prepare(heightfield, settings_of(config, args), 1.0 + light.z)?])
+            let reach = Reach::Map { light: *light, size: config.size };
+            Ok(vec![Material::prepare(heightfield, settings_of(config, args), &reach)?])
         }
-        Subject::Scene { scene, .. } => prepare_materials(scene, &overrides_of(config, args)),
+        Subject::Scene { scene, .. } => prepare_materials(scene, &overrides_of(config, args), &[Reach::ANY]),
     }
 }
 
@@ -397,6 +398,7 @@ fn settings_of(config: &Config, args: &ProfileArgs) -> Settings {
         coherence_um: args.accuracy.coherence_um,
         exposure_ev: 0.0,
         accept_f32_error: args.accept_f32_error,
+        table_tolerance: crate::physics::baked::DEFAULT_TABLE_TOLERANCE,
     }
 }
 
@@ -420,7 +422,7 @@ fn profile_one(
 ) -> anyhow::Result<Row> {
     let Measured { materials, precompute_ms, reference, probe, exposure } = *with;
     let mut workload: Box<dyn Workload + '_> = match subject {
-        Subject::Map { light, .. } => Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light)?),
+        Subject::Map { light, .. } => Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, false)?),
         Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, materials, size)?),
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);

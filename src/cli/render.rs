@@ -94,7 +94,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         return preview(&ctx, &scene, args, width, height);
     }
     let start = Instant::now();
-    let materials = prepare_materials(&scene, &args.settings.overrides())?;
+    let materials = prepare_materials(&scene, &args.settings.overrides(), &[crate::shading::Reach::ANY])?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height)?;
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);

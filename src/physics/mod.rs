@@ -9,6 +9,8 @@
 //! - `power` = |P(u/λ, v/λ)|², the coherence-windowed DTFT of exp(i·k·w·h), 1 for a flat mirror at specular.
 //! - `reflectance` = C(ω_i, ω_r)·power, the thesis's relative reflectance ρ_λ (model.md §1.5).
 
+pub mod baked;
+pub mod chebyshev;
 pub mod cie_tables;
 pub mod colour;
 pub mod gsf;

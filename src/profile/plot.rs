@@ -51,6 +51,7 @@ fn colour(approach: Approach) -> RGBColor {
         Approach::Nmm => RGBColor(255, 127, 14),
         Approach::Pq => RGBColor(44, 160, 44),
         Approach::Gem => RGBColor(214, 39, 40),
+        Approach::Baked => RGBColor(148, 103, 189),
     }
 }
 

@@ -10,13 +10,14 @@
 //! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
 //! surface count (the hemisphere disk of a map, covered pixels of a scene).
 
-use std::io::{IsTerminal, Read, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use glam::DVec3;
 
+use crate::cache::Fnv;
 use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab, D65_WHITE};
 use crate::physics::reference::{window_gain, Method, Reference};
@@ -99,14 +100,7 @@ impl ReferenceJob<'_> {
         let mut h = Fnv::default();
         h.u64(u64::from(CACHE_VERSION));
         for m in &self.materials {
-            let hf = m.heightfield;
-            h.u64(hf.nx as u64);
-            h.u64(hf.ny as u64);
-            h.f64(hf.dx_um);
-            h.f64(hf.dy_um);
-            for &z in &hf.heights_um {
-                h.f64(z);
-            }
+            h.heightfield(m.heightfield);
             h.f64(m.coherence_um);
         }
         h.u64(u64::from(self.width));
@@ -334,21 +328,14 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
     })
 }
 
-/// The default cache folder: `$XDG_CACHE_HOME/diffract`, else `~/.cache/diffract`.
+/// The default cache folder ([`crate::cache::default_dir`]).
 pub fn default_cache_dir() -> Option<PathBuf> {
-    std::env::var_os("XDG_CACHE_HOME")
-        .filter(|v| !v.is_empty())
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
-        .map(|d| d.join("diffract"))
+    crate::cache::default_dir()
 }
 
 const MAGIC: &[u8; 8] = b"DFRREF01";
 
 fn write_cached(file: &Path, image: &ReferenceImage) -> std::io::Result<()> {
-    if let Some(dir) = file.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
     let mut bytes = Vec::with_capacity(64 + image.xyz.len() * 25);
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&image.width.to_le_bytes());
@@ -365,70 +352,30 @@ fn write_cached(file: &Path, image: &ReferenceImage) -> std::io::Result<()> {
         }
         bytes.push(u8::from(m));
     }
-    // Write then rename, so that an interrupted run leaves no half file behind.
-    let tmp = file.with_extension("tmp");
-    std::fs::File::create(&tmp)?.write_all(&bytes)?;
-    std::fs::rename(tmp, file)
+    crate::cache::write_atomic(file, &bytes)
 }
 
 /// A cached image for `job`, or None (missing, unreadable or not matching: it is then recomputed).
 fn read_cached(file: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
-    let mut bytes = Vec::new();
-    std::fs::File::open(file).ok()?.read_to_end(&mut bytes).ok()?;
-    let mut at = 0usize;
-    let mut take = |n: usize| -> Option<&[u8]> {
-        let s = bytes.get(at..at + n)?;
-        at += n;
-        Some(s)
-    };
-    if take(8)? != MAGIC {
+    let bytes = std::fs::read(file).ok()?;
+    let mut r = crate::cache::Reader::new(&bytes);
+    if r.take(8)? != MAGIC {
         return None;
     }
-    let u32_at = |s: &[u8]| u32::from_le_bytes(s.try_into().expect("4 bytes"));
-    let u64_at = |s: &[u8]| u64::from_le_bytes(s.try_into().expect("8 bytes"));
-    let f64_at = |s: &[u8]| f64::from_le_bytes(s.try_into().expect("8 bytes"));
-    let (width, height) = (u32_at(take(4)?), u32_at(take(4)?));
+    let (width, height) = (r.u32()?, r.u32()?);
     if (width, height) != (job.width, job.height) {
         return None;
     }
-    let quadrature = (u64_at(take(8)?) as usize, f64_at(take(8)?), f64_at(take(8)?));
-    let len = u64_at(take(8)?) as usize;
-    let description = String::from_utf8(take(len)?.to_vec()).ok()?;
+    let quadrature = (usize::try_from(r.u64()?).ok()?, r.f64()?, r.f64()?);
+    let description = r.string()?;
     let n = (width * height) as usize;
     let mut xyz = Vec::with_capacity(n);
     let mut mask = Vec::with_capacity(n);
     for _ in 0..n {
-        let p = take(25)?;
-        xyz.push(DVec3::new(f64_at(&p[0..8]), f64_at(&p[8..16]), f64_at(&p[16..24])));
-        mask.push(p[24] != 0);
+        xyz.push(DVec3::new(r.f64()?, r.f64()?, r.f64()?));
+        mask.push(r.take(1)?[0] != 0);
     }
-    Some(ReferenceImage { width, height, xyz, mask, description, quadrature })
-}
-
-/// 64-bit FNV-1a (stable across builds, unlike std's hasher).
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    fn bytes(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
-    }
-
-    fn u64(&mut self, v: u64) {
-        self.bytes(&v.to_le_bytes());
-    }
-
-    fn f64(&mut self, v: f64) {
-        self.u64(v.to_bits());
-    }
+    r.finished().then_some(ReferenceImage { width, height, xyz, mask, description, quadrature })
 }
 
 #[cfg(test)]

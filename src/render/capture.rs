@@ -8,7 +8,7 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material};
+use crate::shading::{Approach, Material, Reach};
 use crate::vk::Context;
 
 /// Settings that replace every material's own (the command line's `--approach`, `--terms`, …).
@@ -21,20 +21,25 @@ pub struct Overrides {
     pub accept_f32_error: bool,
 }
 
-/// Prepares every material of `scene` (Taylor terms, plan, window) for views over the whole hemisphere.
-pub fn prepare_materials(scene: &Scene, overrides: &Overrides) -> Result<Vec<Material>> {
+/// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
+/// material i (one for all when a single one is given).
+pub fn prepare_materials(scene: &Scene, overrides: &Overrides, reaches: &[Reach]) -> Result<Vec<Material>> {
+    if reaches.is_empty() || (reaches.len() != 1 && reaches.len() != scene.materials.len()) {
+        return Err(Error::Invalid(format!("{} reaches for {} materials", reaches.len(), scene.materials.len())));
+    }
     scene
         .materials
         .iter()
-        .map(|m| {
+        .enumerate()
+        .map(|(i, m)| {
             let mut s = m.settings;
             s.approach = overrides.approach.unwrap_or(s.approach);
             s.order = overrides.order.or(s.order);
             s.lambda_step_nm = overrides.lambda_step_nm.unwrap_or(s.lambda_step_nm);
             s.window_radius = overrides.window_radius.or(s.window_radius);
             s.accept_f32_error |= overrides.accept_f32_error;
-            // Light and views anywhere over the hemisphere: |w| ≤ 2.
-            Material::prepare(&m.heightfield, s, 2.0).map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
+            Material::prepare(&m.heightfield, s, &reaches[i.min(reaches.len() - 1)])
+                .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
         })
         .collect()
 }

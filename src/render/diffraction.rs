@@ -1,6 +1,6 @@
-//! Diffraction shading on the GPU: a patch's resources (the Taylor terms as one RG32F 2D-array image, the
-//! spectral table, the `DiffractionParams` uniforms), the BRDF-map pass and the compute evaluation behind
-//! `diffract brdf --gpu`.
+//! Diffraction shading on the GPU: a patch's resources (the Taylor terms as one RG32F 2D-array image, or the
+//! baked colour table as a mip-mapped RGBA32F 2D-array image; the spectral table, the `DiffractionParams`
+//! uniforms), the BRDF-map pass and the compute evaluation behind `diffract brdf --gpu`.
 
 use std::io::IsTerminal;
 
@@ -35,6 +35,11 @@ pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
 pub const COUNT_BINDING: u32 = 4;
 /// The specialization constant of the counters' row stride.
 pub const COUNT_STRIDE_ID: u32 = 5;
+/// The specialization constant that makes the baked shaders filter over the pixel's footprint (1) or read the
+/// table's finest level (0) (`FOOTPRINT` in glsl/include/params.glsl).
+pub const FOOTPRINT_ID: u32 = 8;
+/// The baked table's texel format: filtered linearly in every Vulkan driver diffract targets (checked).
+pub const TABLE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
 /// The fetch counters' binding for a fragment shader.
 pub fn count_binding() -> Binding {
@@ -52,26 +57,50 @@ pub struct PatchResources {
 impl PatchResources {
     pub fn new(ctx: &Context, material: &Material) -> Result<Self> {
         let limits = &ctx.info.limits;
-        let (nx, ny) = (material.nx as u32, material.ny as u32);
-        if nx > limits.max_image_dimension2_d || ny > limits.max_image_dimension2_d {
+        let (what, desc, sampler_name) = match &material.table {
+            Some(table) => {
+                if !ctx.filters_linearly(TABLE_FORMAT) {
+                    return Err(Error::Invalid(format!(
+                        "{} cannot filter RGBA32F textures linearly, which the baked approach needs; use \
+                         --approach flss",
+                        ctx.info.name
+                    )));
+                }
+                let (w, h) = (table.grid.nu as u32, table.grid.nv as u32);
+                let desc = ImageDesc::texture_array(w, h, table.layers() as u32, TABLE_FORMAT)
+                    .with_mips(table.levels.len() as u32);
+                ("baked table", desc, "baked table (trilinear)")
+            }
+            None => {
+                let (nx, ny) = (material.nx as u32, material.ny as u32);
+                let desc = ImageDesc::texture_array(nx, ny, material.layers, vk::Format::R32G32_SFLOAT);
+                ("taylor terms", desc, "taylor terms (nearest)")
+            }
+        };
+        if desc.width > limits.max_image_dimension2_d || desc.height > limits.max_image_dimension2_d {
             return Err(Error::Invalid(format!(
-                "a {nx}×{ny} patch exceeds the device's {}-texel image limit",
-                limits.max_image_dimension2_d
+                "a {}×{} {what} exceeds the device's {}-texel image limit",
+                desc.width, desc.height, limits.max_image_dimension2_d
             )));
         }
-        if material.layers > limits.max_image_array_layers {
+        if desc.layers > limits.max_image_array_layers {
             return Err(Error::Invalid(format!(
-                "{} Taylor terms exceed the device's {} image layers",
-                material.layers, limits.max_image_array_layers
+                "{} layers of {what} exceed the device's {} image layers",
+                desc.layers, limits.max_image_array_layers
             )));
         }
-        let desc = ImageDesc::texture_array(nx, ny, material.layers, vk::Format::R32G32_SFLOAT);
-        let terms = ctx.create_image(desc, "taylor terms")?;
+        let terms = ctx.create_image(desc, what)?;
         let mut made = PartialPatch { terms: Some(terms), ..Default::default() };
         let result = (|| {
             let terms = made.terms.as_ref().expect("just made");
-            ctx.upload_image(terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?;
-            made.sampler = Some(ctx.create_sampler("taylor terms (nearest)")?);
+            match &material.table {
+                Some(table) => {
+                    let texels: Vec<f32> = table.levels.iter().flat_map(|l| l.texels.iter().copied()).collect();
+                    ctx.upload_image(terms, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
+                }
+                None => ctx.upload_image(terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?,
+            }
+            made.sampler = Some(ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
             let table = spectrum::gpu_table();
             made.spectrum = Some(ctx.create_buffer_init(
                 vk::BufferUsageFlags::STORAGE_BUFFER,
@@ -192,14 +221,21 @@ impl MapPass {
     pub const NAME: &'static str = "brdf map";
 
     /// `display_output`: exposure and sRGB in the shader (for a window's UNORM images); else linear RGB.
-    pub fn new(ctx: &Context, material: &Material, color_format: vk::Format, display_output: bool) -> Result<Self> {
-        Self::build(ctx, material, color_format, display_output, None)
+    /// `footprint`: a baked material averages over each pixel's footprint instead of reading its point value.
+    pub fn new(
+        ctx: &Context,
+        material: &Material,
+        color_format: vk::Format,
+        display_output: bool,
+        footprint: bool,
+    ) -> Result<Self> {
+        Self::build(ctx, material, color_format, display_output, None, footprint)
     }
 
-    /// The profiler's variant: linear output, and each fragment adds its Taylor-term texel fetches to a
-    /// per-pixel counter (`u32` at y·`stride` + x of the buffer passed to [`Self::record`]).
-    pub fn counting(ctx: &Context, material: &Material, stride: u32) -> Result<Self> {
-        Self::build(ctx, material, LINEAR_FORMAT, false, Some(stride))
+    /// The profiler's variant: linear output, and each fragment adds its texel fetches (Taylor terms or baked
+    /// table) to a per-pixel counter (`u32` at y·`stride` + x of the buffer passed to [`Self::record`]).
+    pub fn counting(ctx: &Context, material: &Material, stride: u32, footprint: bool) -> Result<Self> {
+        Self::build(ctx, material, LINEAR_FORMAT, false, Some(stride), footprint)
     }
 
     fn build(
@@ -208,15 +244,17 @@ impl MapPass {
         color_format: vk::Format,
         display_output: bool,
         count_stride: Option<u32>,
+        footprint: bool,
     ) -> Result<Self> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let mut bindings = patch_bindings(stages).to_vec();
-        let mut specialization = material.spec_constants(display_output);
-        let mut fragment = shaders::MAP_FRAG;
+        let baked = material.table.is_some();
+        let mut specialization = material.spec_constants(display_output).u32(FOOTPRINT_ID, u32::from(footprint));
+        let mut fragment = if baked { shaders::MAP_BAKED_FRAG } else { shaders::MAP_FRAG };
         if let Some(stride) = count_stride {
             bindings.push(count_binding());
             specialization = specialization.u32(COUNT_STRIDE_ID, stride);
-            fragment = shaders::MAP_COUNT_FRAG;
+            fragment = if baked { shaders::MAP_BAKED_COUNT_FRAG } else { shaders::MAP_COUNT_FRAG };
         }
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
@@ -280,12 +318,13 @@ impl MapPass {
     }
 }
 
-/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels.
-pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3) -> Result<MapImage> {
+/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels;
+/// `footprint`: a baked material averages over each pixel (else each pixel is the point value at its centre).
+pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
     let mut patch = PatchResources::new(ctx, material)?;
     let result = (|| {
         patch.update(&light_params(material, light))?;
-        let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false)?;
+        let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?;
         let out = draw_map_bands(ctx, &pass, &patch, size);
         // SAFETY: draw_map_bands waited for its work.
         unsafe { pass.destroy(ctx) };

@@ -83,12 +83,13 @@ pub struct MapWorkload {
 }
 
 impl MapWorkload {
-    pub fn new(ctx: &Context, material: &Material, size: u32, light: DVec3) -> Result<Self> {
+    /// `footprint`: a baked material averages over each pixel (else reads its point value).
+    pub fn new(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<Self> {
         let mut patch = PatchResources::new(ctx, material)?;
         let parts = (|| {
             patch.update(&light_params(material, light))?;
-            let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false)?;
-            let counting = match MapPass::counting(ctx, material, size) {
+            let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?;
+            let counting = match MapPass::counting(ctx, material, size, footprint) {
                 Ok(c) => c,
                 Err(e) => {
                     // SAFETY: unused.

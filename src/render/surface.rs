@@ -150,12 +150,14 @@ impl SceneRenderer {
         }
         for (index, input) in materials.iter().enumerate() {
             let patch = PatchResources::new(ctx, input.material)?;
+            let baked = input.material.table.is_some();
             let (fragment, specialization) = match variant {
-                SurfaceVariant::Shade { display_output } => {
-                    (shaders::SURFACE_FRAG, input.material.spec_constants(display_output))
-                }
+                SurfaceVariant::Shade { display_output } => (
+                    if baked { shaders::SURFACE_BAKED_FRAG } else { shaders::SURFACE_FRAG },
+                    input.material.spec_constants(display_output),
+                ),
                 SurfaceVariant::CountFetches { stride } => (
-                    shaders::SURFACE_COUNT_FRAG,
+                    if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
                     input.material.spec_constants(false).u32(super::diffraction::COUNT_STRIDE_ID, stride),
                 ),
                 SurfaceVariant::GBuffer { part } => (

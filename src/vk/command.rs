@@ -179,7 +179,7 @@ impl Context {
     pub fn barrier_image(&self, cmd: vk::CommandBuffer, image: &Image, from: ImageState, to: ImageState) {
         let range = vk::ImageSubresourceRange::default()
             .aspect_mask(image.aspect())
-            .level_count(1)
+            .level_count(image.desc.mip_levels)
             .layer_count(image.desc.layers);
         self.barrier_raw_image(cmd, image.raw, range, from, to);
     }

@@ -18,25 +18,37 @@ pub struct ImageDesc {
     pub usage: vk::ImageUsageFlags,
     /// View it as a 2D array even with one layer (shaders that declare `sampler2DArray` need that).
     pub array: bool,
+    /// Mip levels (1: none); level l is max(1, width >> l) × max(1, height >> l).
+    pub mip_levels: u32,
 }
 
 impl ImageDesc {
     /// A colour target that can be read back.
     pub fn render_target(width: u32, height: u32, format: vk::Format) -> Self {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers: 1, format, usage, array: false }
+        Self { width, height, layers: 1, format, usage, array: false, mip_levels: 1 }
     }
 
     pub fn depth(width: u32, height: u32) -> Self {
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage, array: false }
+        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage, array: false, mip_levels: 1 }
     }
 
     /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
     pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
         let usage =
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers, format, usage, array: true }
+        Self { width, height, layers, format, usage, array: true, mip_levels: 1 }
+    }
+
+    /// The same with `levels` mip levels (uploaded level by level with [`Context::upload_image`]).
+    pub fn with_mips(self, levels: u32) -> Self {
+        Self { mip_levels: levels, ..self }
+    }
+
+    /// Width and height of mip level `level`.
+    pub fn level_extent(&self, level: u32) -> (u32, u32) {
+        ((self.width >> level).max(1), (self.height >> level).max(1))
     }
 
     /// Bytes per texel of the formats diffract uses.
@@ -50,8 +62,11 @@ impl ImageDesc {
         })
     }
 
+    /// Bytes of every layer of every mip level, tightly packed.
     pub fn byte_size(&self) -> Result<u64> {
-        Ok(self.texel_size()? * u64::from(self.width) * u64::from(self.height) * u64::from(self.layers))
+        let texels: u64 =
+            (0..self.mip_levels).map(|l| self.level_extent(l)).map(|(w, h)| u64::from(w) * u64::from(h)).sum();
+        Ok(self.texel_size()? * texels * u64::from(self.layers))
     }
 }
 
@@ -75,8 +90,8 @@ impl Image {
         vk::Extent2D { width: self.desc.width, height: self.desc.height }
     }
 
-    fn layers(&self) -> vk::ImageSubresourceLayers {
-        vk::ImageSubresourceLayers::default().aspect_mask(self.aspect()).layer_count(self.desc.layers)
+    fn layers(&self, level: u32) -> vk::ImageSubresourceLayers {
+        vk::ImageSubresourceLayers::default().aspect_mask(self.aspect()).mip_level(level).layer_count(self.desc.layers)
     }
 
     /// # Safety
@@ -103,14 +118,14 @@ impl Sampler {
 
 impl Context {
     pub fn create_image(&self, desc: ImageDesc, name: &str) -> Result<Image> {
-        if desc.width == 0 || desc.height == 0 || desc.layers == 0 {
+        if desc.width == 0 || desc.height == 0 || desc.layers == 0 || desc.mip_levels == 0 {
             return Err(Error::Invalid(format!("image {name:?} has an empty extent")));
         }
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
             .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
-            .mip_levels(1)
+            .mip_levels(desc.mip_levels)
             .array_layers(desc.layers)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -155,7 +170,7 @@ impl Context {
                         .subresource_range(
                             vk::ImageSubresourceRange::default()
                                 .aspect_mask(aspect)
-                                .level_count(1)
+                                .level_count(desc.mip_levels)
                                 .layer_count(desc.layers),
                         );
                     self.device().create_image_view(&view_info, None).vk("vkCreateImageView")
@@ -176,7 +191,8 @@ impl Context {
         }
     }
 
-    /// Fills every layer of `image` from `data` (tightly packed, layer after layer) and leaves it in `final_state`.
+    /// Fills every layer of every mip level of `image` from `data` (tightly packed: level after level, each
+    /// layer after layer) and leaves it in `final_state`.
     pub fn upload_image(&self, image: &Image, data: &[u8], final_state: ImageState) -> Result<()> {
         let size = image.desc.byte_size()?;
         if data.len() as u64 != size {
@@ -187,17 +203,27 @@ impl Context {
         let result = staging.write(data).and_then(|()| {
             self.one_shot("image upload", |cmd| {
                 self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(image.layers())
-                    .image_extent(vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 });
-                // SAFETY: the staging buffer holds exactly the image's texels.
+                let texel = image.desc.texel_size().expect("checked by byte_size");
+                let mut offset = 0;
+                let regions: Vec<_> = (0..image.desc.mip_levels)
+                    .map(|level| {
+                        let (width, height) = image.desc.level_extent(level);
+                        let region = vk::BufferImageCopy::default()
+                            .buffer_offset(offset)
+                            .image_subresource(image.layers(level))
+                            .image_extent(vk::Extent3D { width, height, depth: 1 });
+                        offset += texel * u64::from(width * height) * u64::from(image.desc.layers);
+                        region
+                    })
+                    .collect();
+                // SAFETY: the staging buffer holds exactly the image's texels, level after level.
                 unsafe {
                     self.device().cmd_copy_buffer_to_image(
                         cmd,
                         staging.raw,
                         image.raw,
                         vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        &[region],
+                        &regions,
                     )
                 };
                 self.barrier_image(cmd, image, ImageState::TRANSFER_DST, final_state);
@@ -208,16 +234,16 @@ impl Context {
         result
     }
 
-    /// Reads every layer of a colour image back (tightly packed); `state` is the image's current state, and the
-    /// image is left in it.
+    /// Reads every layer of a colour image's first mip level back (tightly packed); `state` is the image's
+    /// current state, and the image is left in it.
     pub fn read_image(&self, image: &Image, state: ImageState) -> Result<Vec<u8>> {
-        let size = image.desc.byte_size()?;
+        let size = ImageDesc { mip_levels: 1, ..image.desc }.byte_size()?;
         let readback = self.create_buffer(BufferDesc::readback(size), "readback (image)")?;
         let result =
             self.one_shot("image readback", |cmd| {
                 self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
                 let region = vk::BufferImageCopy::default()
-                    .image_subresource(image.layers())
+                    .image_subresource(image.layers(0))
                     .image_extent(vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 });
                 // SAFETY: the readback buffer is as large as the image's texels.
                 unsafe {
@@ -238,12 +264,31 @@ impl Context {
         bytes
     }
 
+    /// Whether the device filters `format` linearly when sampling (the baked table's trilinear fetches need it).
+    pub fn filters_linearly(&self, format: vk::Format) -> bool {
+        // SAFETY: a query on a live instance and one of its physical devices.
+        let props = unsafe { self.instance().get_physical_device_format_properties(self.info.raw, format) };
+        props.optimal_tiling_features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR)
+    }
+
     /// A nearest-filtering, edge-clamped sampler (diffract reads exact texels with `texelFetch`).
     pub fn create_sampler(&self, name: &str) -> Result<Sampler> {
+        self.create_filtered_sampler(name, false)
+    }
+
+    /// An edge-clamped sampler: `linear` filters trilinearly over every mip level (the baked table), else
+    /// nearest.
+    pub fn create_filtered_sampler(&self, name: &str, linear: bool) -> Result<Sampler> {
+        let (filter, mip) = if linear {
+            (vk::Filter::LINEAR, vk::SamplerMipmapMode::LINEAR)
+        } else {
+            (vk::Filter::NEAREST, vk::SamplerMipmapMode::NEAREST)
+        };
         let info = vk::SamplerCreateInfo::default()
-            .mag_filter(vk::Filter::NEAREST)
-            .min_filter(vk::Filter::NEAREST)
-            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(mip)
+            .max_lod(vk::LOD_CLAMP_NONE)
             .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
             .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);

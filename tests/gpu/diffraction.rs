@@ -4,7 +4,7 @@ use diffract::physics::optics::direction;
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
 use diffract::render::diffraction::{evaluate_brdf, render_map, MapImage};
-use diffract::shading::{Approach, Material, Settings};
+use diffract::shading::{Approach, Material, Reach, Settings};
 use glam::DVec3;
 
 use crate::golden;
@@ -40,8 +40,8 @@ fn map_direction(size: u32, x: u32, y: u32) -> Option<DVec3> {
 }
 
 fn map(hf: &HeightField, settings: Settings, size: u32, light: DVec3) -> (Material, MapImage) {
-    let material = Material::prepare(hf, settings, 1.0 + light.z).unwrap();
-    let image = gpu_test(|ctx| render_map(ctx, &material, size, light).unwrap());
+    let material = Material::prepare(hf, settings, &Reach::Map { light, size }).unwrap();
+    let image = gpu_test(|ctx| render_map(ctx, &material, size, light, false).unwrap());
     assert_eq!(image.non_finite(), 0);
     (material, image)
 }
@@ -64,7 +64,7 @@ fn gpu_power_matches_the_cpu_taylor_sum() {
         let cpu = Reference::new(&hf, window, Method::Taylor, Some(plan)).unwrap().evaluate(&queries).unwrap();
         let radius = window.radius_x.max(window.radius_y) as u32;
         let settings = Settings { order: Some(plan.order), window_radius: Some(radius), ..Settings::default() };
-        let material = Material::prepare(&hf, settings, 2.0).unwrap();
+        let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
         let gpu = gpu_test(|ctx| evaluate_brdf(ctx, &material, &queries).unwrap());
         let mut compared = 0;
         for (c, (power, reflectance)) in cpu.iter().zip(&gpu) {

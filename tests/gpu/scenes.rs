@@ -2,6 +2,7 @@
 
 use diffract::render::capture::{prepare_materials, Overrides, SceneCapture};
 use diffract::scene::Scene;
+use diffract::shading::Reach;
 
 use crate::harness::gpu_test;
 
@@ -13,7 +14,7 @@ fn every_asset_scene_renders_in_colour() {
     assert!(scenes.len() >= 3, "{scenes:?}");
     for path in scenes.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
         let scene = Scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let materials = prepare_materials(&scene, &Overrides::default()).unwrap();
+        let materials = prepare_materials(&scene, &Overrides::default(), &[Reach::ANY]).unwrap();
         let (w, h) = (96, 96);
         let linear = gpu_test(|ctx| {
             let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h).unwrap();

@@ -5,7 +5,7 @@ use diffract::mesh::Mesh;
 use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
 use diffract::physics::{HeightField, Method, PngScale, Reference};
 use diffract::render::surface::{render_surface, SurfaceScene};
-use diffract::shading::{Material, Settings};
+use diffract::shading::{Material, Reach, Settings};
 use glam::{DVec3, Vec3, Vec4};
 
 use crate::harness::gpu_test;
@@ -57,7 +57,7 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
         .tiled(3, 3)
         .unwrap();
     let settings = Settings { lambda_step_nm: 10.0, coherence_um: 8.0, exposure_ev: 2.0, ..Settings::default() };
-    let material = Material::prepare(&hf, settings, 2.0).unwrap();
+    let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     let reference = Reference::new(&hf, material.window, Method::Taylor, material.plan).unwrap();
     let (w, h) = (64u32, 48u32);
     let sc = scene(30.0, -1.0);
@@ -110,7 +110,7 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
         .tiled(2, 2)
         .unwrap();
     let settings = Settings { lambda_step_nm: 20.0, coherence_um: 8.0, ..Settings::default() };
-    let material = Material::prepare(&hf, settings, 2.0).unwrap();
+    let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     let (w, h) = (48u32, 40u32);
     let render = |tangent_deg: f32, orientation_deg: f32| {
         let sc = scene(tangent_deg, 1.0);

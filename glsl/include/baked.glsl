@@ -1,0 +1,54 @@
+// The baked approach: the spectrally integrated colour of the patch over (u, v), its dependence on w a Chebyshev
+// series, prefiltered into mip levels; mirrors src/physics/baked/sample.rs (same names).
+// Requires params.glsl (compiled with BAKED) and brdf.glsl.
+
+// RGBA layers of the table: 3 channels × TERMS coefficients, four to a layer (`baked::layers_for`).
+const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
+// Texels a trilinear sample reads (`shading::TRILINEAR_TEXELS`): what the counting variant adds per fetch.
+const uint TRILINEAR_TEXELS = 8u;
+// The widest footprint in (u, v) a pixel may claim: where a mesh edge or a crease makes the derivatives of u and v
+// jump (the 2×2 quad straddles two surfaces), they no longer describe one pixel's views. A pixel at most this wide
+// averages over a patch of directions about 7° across.
+const float MAX_FOOTPRINT = 0.25;
+
+// The mip level whose texels are `footprint` wide in (u, v), clamped to the levels there are (`BakedTable::lod`).
+float table_lod(float footprint) {
+    float texel = params.table_w.z;
+    if (!(footprint > texel)) return 0.0;
+    return clamp(log2(footprint / texel), 0.0, params.table_w.w);
+}
+
+// XYZ relative to a D65 mirror, before the gain and the shadowing, at `uvw` and mip level `lod`
+// (`BakedTable::xyz`): trilinear samples of every layer, then Σ_d a_d·T_d(t) per channel, clamped at 0.
+vec3 baked_xyz(vec3 uvw, float lod) {
+    float t = clamp((uvw.z - params.table_w.x) * params.table_w.y, -1.0, 1.0);
+    float cheb[TERMS];
+    cheb[0] = 1.0;
+    for (uint d = 1u; d < TERMS; ++d) cheb[d] = d == 1u ? t : 2.0 * t * cheb[d - 1u] - cheb[d - 2u];
+    vec2 coords = (uvw.xy - params.table_uv.xy) / params.table_uv.zw;
+    vec3 xyz = vec3(0.0);
+    for (uint layer = 0u; layer < TABLE_LAYERS; ++layer) {
+        vec4 c = textureLod(baked_table, vec3(coords, float(layer)), lod);
+        for (uint j = 0u; j < 4u; ++j) {
+            uint s = 4u * layer + j;
+            if (s < 3u * TERMS) xyz[s % 3u] += c[j] * cheb[s / 3u];
+        }
+    }
+#ifdef COUNT_FETCHES
+    fetch_count += TABLE_LAYERS * TRILINEAR_TEXELS;
+#endif
+    return max(xyz, vec3(0.0));
+}
+
+// The relative reflectance's colour for one pair of patch-frame directions: XYZ · C · shadowing (the baked twin
+// of `diffraction_xyz` in approaches.glsl).
+vec3 baked_diffraction_xyz(vec3 omega_i, vec3 omega_r, float lod) {
+    if (omega_i.z <= 0.0 || omega_r.z <= 0.0) return vec3(0.0);
+    return baked_xyz(-omega_i - omega_r, lod) * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);
+}
+
+// A pixel's footprint in (u, v): the larger of the screen derivatives of (u, v), at most MAX_FOOTPRINT. Call it
+// in uniform control flow (derivatives come from the 2×2 quad).
+float pixel_footprint(vec2 uv) {
+    return min(max(length(dFdx(uv)), length(dFdy(uv))), MAX_FOOTPRINT);
+}

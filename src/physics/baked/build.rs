@@ -1,0 +1,563 @@
+//! The exact build of a baked table, in f64 (the module overview in `mod.rs` says what is built and why).
+//!
+//! For each wavelength λ (1 nm steps over 380–780 nm) and each Chebyshev node w_c in w, the amplitudes
+//! A_k = DFT(exp(i·κ·h))[k] with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
+//! spectrum is its cell's spectrum on every T-th bin). Then, per texel:
+//!
+//! - lattice path (the tiling stride is ≥ [`super::INDEPENDENT_STRIDE`] window widths, so lobes do not
+//!   interfere): |P(s)|² = Σ_k |A_k|²·exp(−|T·k − s|²/σ²), and a texel's average of each lobe is exactly
+//!   (σ_u√π/2)·[erf]_{edges}/texel per axis (or its value at the texel's centre, for point tables). These
+//!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`super::INVISIBLE`], and
+//!   their tails beyond it, are left out. The lobes' intensities are computed first (the FFTs, in parallel over
+//!   λ); then bands of texel rows, small enough to stay in cache, gather every lobe that reaches them, for all
+//!   nodes in w at once.
+//! - coherent path (anything else): P(s) = Σ_taps g(j − s)·A_j with the full window (the reference's taps),
+//!   evaluated at s×s sub-samples of each texel (s from the lobe width; 1 for point tables) and averaged,
+//!   separably: first along u for every spectrum row that carries anything, then along v.
+//!
+//! The node values become Chebyshev coefficients by a DCT per texel. The degree is measured first on a coarse
+//! probe of the same table ([`super::PROBE_TEXELS`]² texels, 5 nm steps, the Bessel bound's terms): the
+//! smallest degree whose tail stays below the tolerance × each texel's brightest value (plus
+//! [`super::INVISIBLE`]) in every texel and channel.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
+
+use super::{BakedTable, Grid, TablePlan, INVISIBLE, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM};
+use crate::error::{Error, Result};
+use crate::physics::chebyshev;
+use crate::physics::heightfield::HeightField;
+use crate::physics::spectrum::{spectrum_at, Sampling};
+
+/// Most sub-samples per texel axis on the coherent path.
+const MAX_SUBSAMPLES: usize = 8;
+/// Bytes of accumulators a band of texel rows may hold (about what a core's L2 cache keeps).
+const BAND_BYTES: usize = 512 << 10;
+
+/// Progress callback: (steps done, steps in all).
+pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
+
+/// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ: Σ_λ |P|²·weight is XYZ relative to a D65
+/// mirror, as `spectrum::reflectance_to_xyz` sums it.
+struct Spectral {
+    lambda_um: Vec<f64>,
+    weight: Vec<[f64; 3]>,
+}
+
+impl Spectral {
+    fn new(step_nm: f64) -> Self {
+        let sampling = Sampling::visible(step_nm);
+        let norm = sampling.y_norm();
+        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
+        for l in sampling.wavelengths() {
+            let s = spectrum_at(l);
+            let w = [s[0], s[1], s[2]].map(|c| c * s[3] * step_nm / norm);
+            if w.iter().any(|&c| c != 0.0) {
+                lambda_um.push(l * 1e-3);
+                weight.push(w);
+            }
+        }
+        Self { lambda_um, weight }
+    }
+}
+
+/// The patch's tiling cell and its FFT plans.
+struct Cell {
+    px: usize,
+    py: usize,
+    /// Tiling strides: full-patch bin = stride × cell bin.
+    tx: i64,
+    ty: i64,
+    heights: Vec<f64>,
+    /// Distinct heights and each pixel's index among them, where they are few (an 8-bit scan has ≤ 256): the
+    /// phases exp(i·κ·h) are then computed once per distinct height.
+    distinct: Option<(Vec<f64>, Vec<u32>)>,
+    fx: Arc<dyn Fft<f64>>,
+    fy: Arc<dyn Fft<f64>>,
+}
+
+impl Cell {
+    fn new(hf: &HeightField, (px, py): (usize, usize)) -> Self {
+        let centred = hf.centred();
+        let heights: Vec<f64> = (0..px * py).map(|i| centred[(i / px) * hf.nx + i % px]).collect();
+        let mut values = heights.clone();
+        values.sort_by(f64::total_cmp);
+        values.dedup();
+        let distinct = (values.len() * 8 <= heights.len()).then(|| {
+            let index = heights.iter().map(|h| values.partition_point(|v| v < h) as u32).collect();
+            (values, index)
+        });
+        let mut planner = FftPlanner::new();
+        Self {
+            px,
+            py,
+            tx: (hf.nx / px) as i64,
+            ty: (hf.ny / py) as i64,
+            heights,
+            distinct,
+            fx: planner.plan_fft_inverse(px),
+            fy: planner.plan_fft_inverse(py),
+        }
+    }
+
+    /// A_k for every cell bin, row-major in FFT order (index k mod n), normalised so that a flat patch has
+    /// A_0 = 1: the centred inverse DFT of exp(i·κ·h) of `physics::taylor` (+i exponent, 1/N²).
+    fn amplitudes(&self, kappa: f64, scratch: &mut Vec<Complex64>) -> Vec<Complex64> {
+        let (px, py) = (self.px, self.py);
+        let norm = 1.0 / (px * py) as f64;
+        let mut a: Vec<Complex64> = match &self.distinct {
+            Some((values, index)) => {
+                let phases: Vec<Complex64> = values.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect();
+                index.iter().map(|&i| phases[i as usize]).collect()
+            }
+            None => self.heights.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect(),
+        };
+        self.fx.process(&mut a);
+        scratch.resize(px * py, Complex64::default());
+        for r in 0..py {
+            for c in 0..px {
+                scratch[c * py + r] = a[r * px + c];
+            }
+        }
+        self.fy.process(scratch);
+        for c in 0..px {
+            for r in 0..py {
+                a[r * px + c] = scratch[c * py + r];
+            }
+        }
+        a
+    }
+
+    /// The centred bin of FFT index `i` of an `n`-point axis (DC at ⌊n/2⌋ in the centred array, so indices
+    /// from n − ⌊n/2⌋ on are negative frequencies).
+    fn bin(i: usize, n: usize) -> i64 {
+        if i < n - n / 2 {
+            i as i64
+        } else {
+            i as i64 - n as i64
+        }
+    }
+}
+
+/// Texel edges, the window and band along one axis of the grid.
+#[derive(Clone, Copy)]
+struct Axis {
+    origin: f64,
+    texel: f64,
+    count: usize,
+    /// Patch length (µm), window width σ (bins), pixels and tiling stride along the axis, window radius (taps).
+    length: f64,
+    sigma: f64,
+    pixels: usize,
+    stride: i64,
+    radius: i64,
+}
+
+impl Axis {
+    /// u of the lookup's band edge at λ: |u| ≤ (N/2)·λ/L.
+    fn band(&self, lambda: f64) -> f64 {
+        0.5 * self.pixels as f64 * lambda / self.length
+    }
+
+    /// The lobe of full-patch bin `bin` at λ, exp(−(u − centre)²/σ_u²), on the texels within `reach` (in σ_u)
+    /// of its centre: (first texel, weights). Box weights average it over each texel (clipped to the band);
+    /// point weights take its value at the texel's centre (zero out of band).
+    fn lobe(&self, bin: i64, lambda: f64, reach: f64, point: bool) -> (usize, Vec<f64>) {
+        let per_bin = lambda / self.length;
+        let (centre, sigma_u) = (bin as f64 * per_bin, self.sigma * per_bin);
+        let band = self.band(lambda);
+        let reach = reach * sigma_u;
+        let first = ((centre - reach - self.origin) / self.texel).floor().max(0.0) as usize;
+        let last = (((centre + reach - self.origin) / self.texel).ceil().max(0.0) as usize).min(self.count);
+        let scale = 0.5 * std::f64::consts::PI.sqrt() * sigma_u / self.texel;
+        let weights = (first..last.max(first))
+            .map(|a| {
+                let (e0, e1) = (self.origin + a as f64 * self.texel, self.origin + (a + 1) as f64 * self.texel);
+                if point {
+                    let u = 0.5 * (e0 + e1);
+                    let d = (u - centre) / sigma_u;
+                    return if u.abs() <= band { (-d * d).exp() } else { 0.0 };
+                }
+                let (e0, e1) = (e0.max(-band), e1.min(band));
+                if e1 <= e0 {
+                    return 0.0;
+                }
+                scale * erf_difference((e0 - centre) / sigma_u, (e1 - centre) / sigma_u)
+            })
+            .collect();
+        (first, weights)
+    }
+
+    /// The window's taps at each sub-sample position (s per texel) at λ, as the reference takes them: full-patch
+    /// bins on the tiling lattice within `radius` of the nearest bin and inside the patch's spectrum, as (cell
+    /// index in FFT order, weight); empty where the lookup itself is out of band.
+    fn taps(&self, lambda: f64, s: usize, cells: usize) -> Vec<Vec<(usize, f64)>> {
+        let band = self.band(lambda);
+        let half = (self.pixels / 2) as i64;
+        let (lo, hi) = (-half, self.pixels as i64 - 1 - half);
+        (0..self.count * s)
+            .map(|i| {
+                let u = self.origin + (i as f64 + 0.5) / s as f64 * self.texel;
+                if u.abs() > band {
+                    return Vec::new();
+                }
+                let at = u * self.length / lambda;
+                let nearest = (at + 0.5).floor() as i64;
+                let first = -(-(nearest - self.radius).max(lo)).div_euclid(self.stride);
+                let last = (nearest + self.radius).min(hi).div_euclid(self.stride);
+                (first..=last)
+                    .map(|k| {
+                        let d = (k * self.stride) as f64 - at;
+                        (k.rem_euclid(cells as i64) as usize, (-0.5 * d * d / (self.sigma * self.sigma)).exp())
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// erf(b) − erf(a) for a ≤ b without cancellation in the tails.
+fn erf_difference(a: f64, b: f64) -> f64 {
+    if a >= 0.0 {
+        libm::erfc(a) - libm::erfc(b)
+    } else if b <= 0.0 {
+        libm::erfc(-b) - libm::erfc(-a)
+    } else {
+        libm::erf(b) - libm::erf(a)
+    }
+}
+
+/// Node values of one build: `data[t·nodes·3 + c·3 + ch]` is channel ch at w-node c of texel t.
+struct NodeValues {
+    nodes: usize,
+    texels: usize,
+    data: Vec<f64>,
+}
+
+/// What one build pass covers.
+struct Pass<'a> {
+    grid: Grid,
+    nodes: usize,
+    spectral: Spectral,
+    cell: &'a Cell,
+    ax: Axis,
+    ay: Axis,
+    /// Texel centres' values instead of texel averages.
+    point: bool,
+    subsamples: usize,
+}
+
+/// One lobe at one wavelength: its cell bin (FFT order), the texels it reaches, and |A|² at each node in w.
+struct Lobe {
+    kx: usize,
+    ky: usize,
+    columns: (usize, usize),
+    rows: (usize, usize),
+    intensity: Vec<f64>,
+}
+
+/// One wavelength of the lattice path: the lobe weights per cell column and row, and the lobes.
+struct Wavelength {
+    weight: [f64; 3],
+    columns: Vec<(usize, Vec<f64>)>,
+    rows: Vec<(usize, Vec<f64>)>,
+    /// Sorted by their first row.
+    lobes: Vec<Lobe>,
+}
+
+impl Pass<'_> {
+    fn ws(&self) -> Vec<f64> {
+        chebyshev::nodes(self.nodes).into_iter().map(|t| self.grid.w_of(t)).collect()
+    }
+
+    fn tick(progress: Option<Progress<'_>>, done: &AtomicUsize, offset: usize, total: usize) {
+        let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(p) = progress {
+            p(offset + d, total);
+        }
+    }
+
+    /// Lattice path, step 1: every wavelength's lobe weights and its lobes' intensities at every node in w.
+    fn wavelengths(&self, progress: Option<Progress<'_>>, offset: usize, total: usize) -> Vec<Wavelength> {
+        let ws = self.ws();
+        let done = AtomicUsize::new(0);
+        let widest = (1.0 / INVISIBLE).ln().sqrt();
+        let (px, py) = (self.cell.px, self.cell.py);
+        (0..self.spectral.lambda_um.len())
+            .into_par_iter()
+            .map(|l| {
+                let lambda = self.spectral.lambda_um[l];
+                let axis = |axis: &Axis, n: usize| -> Vec<(usize, Vec<f64>)> {
+                    (0..n).map(|k| axis.lobe(Cell::bin(k, n) * axis.stride, lambda, widest, self.point)).collect()
+                };
+                let (columns, rows) = (axis(&self.ax, px), axis(&self.ay, py));
+                let mut scratch = Vec::new();
+                let spectra: Vec<Vec<Complex64>> = ws
+                    .iter()
+                    .map(|&w| self.cell.amplitudes(2.0 * std::f64::consts::PI * w / lambda, &mut scratch))
+                    .collect();
+                let mut lobes = Vec::new();
+                for (ky, (y0, wy)) in rows.iter().enumerate() {
+                    if wy.is_empty() {
+                        continue;
+                    }
+                    for (kx, (x0, wx)) in columns.iter().enumerate() {
+                        if wx.is_empty() {
+                            continue;
+                        }
+                        let intensity: Vec<f64> = spectra.iter().map(|a| a[ky * px + kx].norm_sqr()).collect();
+                        let peak = intensity.iter().fold(0.0, |m: f64, &v| m.max(v));
+                        if peak < INVISIBLE {
+                            continue;
+                        }
+                        // This lobe's own reach: beyond it, it adds less than INVISIBLE.
+                        let reach = (peak / INVISIBLE).ln().sqrt();
+                        let span = |first: usize, w: &[f64], k: usize, n: usize, axis: &Axis| {
+                            let centre = (Cell::bin(k, n) * axis.stride) as f64 * lambda / axis.length;
+                            let r = reach * axis.sigma * lambda / axis.length;
+                            let lo = ((centre - r - axis.origin) / axis.texel).floor().max(0.0) as usize;
+                            let hi = ((centre + r - axis.origin) / axis.texel).ceil().max(0.0) as usize;
+                            (lo.max(first), hi.min(first + w.len()))
+                        };
+                        let (columns, rows) = (span(*x0, wx, kx, px, &self.ax), span(*y0, wy, ky, py, &self.ay));
+                        if columns.0 < columns.1 && rows.0 < rows.1 {
+                            lobes.push(Lobe { kx, ky, columns, rows, intensity });
+                        }
+                    }
+                }
+                lobes.sort_by_key(|lobe| lobe.rows.0);
+                Self::tick(progress, &done, offset, total);
+                Wavelength { weight: self.spectral.weight[l], columns, rows, lobes }
+            })
+            .collect()
+    }
+
+    /// Lattice path, step 2: bands of texel rows gather every lobe that reaches them.
+    fn lattice(&self, progress: Option<Progress<'_>>, offset: usize, total: usize) -> NodeValues {
+        let wavelengths = self.wavelengths(progress, offset, total);
+        let (nu, nv, stride) = (self.grid.nu, self.grid.nv, self.nodes * 3);
+        let band = (BAND_BYTES / (nu * stride * 8)).clamp(1, nv);
+        let tallest = wavelengths.iter().flat_map(|w| w.lobes.iter().map(|l| l.rows.1 - l.rows.0)).max().unwrap_or(0);
+        let mut data = vec![0.0; nu * nv * stride];
+        data.par_chunks_mut(band * nu * stride).enumerate().for_each(|(index, acc)| {
+            let (r0, r1) = (index * band, ((index + 1) * band).min(nv));
+            let mut f = vec![0.0; stride];
+            for wl in &wavelengths {
+                let start = wl.lobes.partition_point(|l| l.rows.0 + tallest < r0);
+                for lobe in &wl.lobes[start..] {
+                    if lobe.rows.0 >= r1 {
+                        break;
+                    }
+                    let (ya, yb) = (lobe.rows.0.max(r0), lobe.rows.1.min(r1));
+                    if ya >= yb {
+                        continue;
+                    }
+                    for (c, &i) in lobe.intensity.iter().enumerate() {
+                        for ch in 0..3 {
+                            f[c * 3 + ch] = i * wl.weight[ch];
+                        }
+                    }
+                    let (x0, wx) = &wl.columns[lobe.kx];
+                    let (y0, wy) = &wl.rows[lobe.ky];
+                    let (xa, xb) = lobe.columns;
+                    for row in ya..yb {
+                        let fy = wy[row - y0];
+                        let line = &mut acc[((row - r0) * nu + xa) * stride..((row - r0) * nu + xb) * stride];
+                        for (texel, &fx) in line.chunks_exact_mut(stride).zip(&wx[xa - x0..xb - x0]) {
+                            let s = fy * fx;
+                            for (dst, &v) in texel.iter_mut().zip(&f) {
+                                *dst += s * v;
+                            }
+                        }
+                    }
+                }
+            }
+        });
+        NodeValues { nodes: self.nodes, texels: nu * nv, data }
+    }
+
+    /// Coherent path: P at every sub-sample by the separable windowed sum, |P|² averaged into its texel; in
+    /// parallel over the nodes in w, one wavelength after another.
+    fn coherent(&self, progress: Option<Progress<'_>>, offset: usize, total: usize) -> NodeValues {
+        let (nu, nv, s) = (self.grid.nu, self.grid.nv, self.subsamples);
+        let (px, py) = (self.cell.px, self.cell.py);
+        let ws = self.ws();
+        let mut planes: Vec<Vec<f64>> = (0..self.nodes).map(|_| vec![0.0; nu * nv * 3]).collect();
+        let done = AtomicUsize::new(0);
+        let share = 1.0 / (s * s) as f64;
+        for (l, &lambda) in self.spectral.lambda_um.iter().enumerate() {
+            let weight = self.spectral.weight[l];
+            let (columns, rows) = (self.ax.taps(lambda, s, px), self.ay.taps(lambda, s, py));
+            planes.par_iter_mut().zip(&ws).for_each(|(plane, &w)| {
+                let mut scratch = Vec::new();
+                let a = self.cell.amplitudes(2.0 * std::f64::consts::PI * w / lambda, &mut scratch);
+                // Rows of the spectrum that carry anything (an AFM scan's all do; a 1D grating's one).
+                let q: Vec<Option<Vec<Complex64>>> = (0..py)
+                    .map(|r| {
+                        let line = &a[r * px..][..px];
+                        (line.iter().map(|c| c.norm()).sum::<f64>() >= INVISIBLE * 1e-3)
+                            .then(|| columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect())
+                    })
+                    .collect();
+                for (j, taps) in rows.iter().enumerate() {
+                    let live: Vec<(&Vec<Complex64>, f64)> =
+                        taps.iter().filter_map(|&(k, g)| q[k].as_ref().map(|line| (line, g))).collect();
+                    if live.is_empty() {
+                        continue;
+                    }
+                    for (i, taps) in columns.iter().enumerate() {
+                        if taps.is_empty() {
+                            continue;
+                        }
+                        let p: Complex64 = live.iter().map(|(line, g)| line[i] * *g).sum();
+                        let t = ((j / s) * nu + i / s) * 3;
+                        for ch in 0..3 {
+                            plane[t + ch] += weight[ch] * p.norm_sqr() * share;
+                        }
+                    }
+                }
+            });
+            Self::tick(progress, &done, offset, total);
+        }
+        let stride = self.nodes * 3;
+        let mut data = vec![0.0; nu * nv * stride];
+        for (c, plane) in planes.iter().enumerate() {
+            for (t, v) in plane.chunks_exact(3).enumerate() {
+                data[t * stride + c * 3..][..3].copy_from_slice(v);
+            }
+        }
+        NodeValues { nodes: self.nodes, texels: nu * nv, data }
+    }
+}
+
+impl<'a> Pass<'a> {
+    fn new(
+        hf: &HeightField,
+        plan: &TablePlan,
+        cell: &'a Cell,
+        grid: Grid,
+        nodes: usize,
+        step: f64,
+        point: bool,
+    ) -> Self {
+        let (lx, ly) = hf.size_um();
+        let axis = |origin, count, length, sigma, pixels, stride, radius| Axis {
+            origin,
+            texel: grid.texel,
+            count,
+            length,
+            sigma,
+            pixels,
+            stride,
+            radius,
+        };
+        let w = &plan.window;
+        // Sub-samples per texel axis on the coherent path: enough that their spacing is at most the lobe width.
+        let subsamples = if point || plan.lattice {
+            1
+        } else {
+            ((grid.texel / plan.lobe_width.0).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
+        };
+        Self {
+            grid,
+            nodes,
+            spectral: Spectral::new(step),
+            cell,
+            ax: axis(grid.u0, grid.nu, lx, w.sigma_x, hf.nx, cell.tx, w.radius_x),
+            ay: axis(grid.v0, grid.nv, ly, w.sigma_y, hf.ny, cell.ty, w.radius_y),
+            point,
+            subsamples,
+        }
+    }
+
+    fn run(&self, lattice: bool, progress: Option<Progress<'_>>) -> NodeValues {
+        let total = self.spectral.lambda_um.len();
+        if lattice {
+            self.lattice(progress, 0, total)
+        } else {
+            self.coherent(progress, 0, total)
+        }
+    }
+}
+
+/// The degree in w the tolerance needs, measured on `plan`'s (probe) grid: its Bessel-bound terms, 5 nm
+/// steps, texel-centre values. Returns (terms, largest relative tail left).
+pub fn probe(hf: &HeightField, plan: &TablePlan) -> (usize, f64) {
+    let cell = Cell::new(hf, plan.cell);
+    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.probe_terms, PROBE_LAMBDA_STEP_NM, true);
+    measure_degree(&pass.run(plan.lattice, None), plan.tolerance)
+}
+
+/// Builds the table `plan` describes for `hf`. `progress(done, total)` counts wavelengths.
+pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>) -> Result<BakedTable> {
+    let cell = Cell::new(hf, plan.cell);
+    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.terms, TABLE_LAMBDA_STEP_NM, plan.point);
+    let coef = to_coefficients(&pass.run(plan.lattice, progress));
+    if coef.iter().any(|c| !c.is_finite()) {
+        return Err(Error::Invalid("the baked table has non-finite coefficients (a bug in diffract)".into()));
+    }
+    let report = format!(
+        "{} terms in w; {} path, {}{}",
+        plan.terms,
+        if plan.lattice { "lattice" } else { "coherent" },
+        if plan.point { "texel-centre values" } else { "texel averages" },
+        if pass.subsamples > 1 { format!(" of {0}×{0} sub-samples", pass.subsamples) } else { String::new() },
+    );
+    Ok(BakedTable::from_coefficients(plan.grid, plan.terms, &coef, report))
+}
+
+/// Chebyshev coefficients of every texel: `out[(d·3 + ch)·texels + t]`.
+fn to_coefficients(values: &NodeValues) -> Vec<f64> {
+    let (nodes, n) = (values.nodes, values.texels);
+    let m = chebyshev::coefficient_matrix(nodes);
+    let stride = nodes * 3;
+    let mut out = vec![0.0; stride * n];
+    out.par_chunks_mut(n).enumerate().for_each(|(scalar, dst)| {
+        let (d, ch) = (scalar / 3, scalar % 3);
+        for (t, o) in dst.iter_mut().enumerate() {
+            let texel = &values.data[t * stride..][..stride];
+            *o = m[d].iter().enumerate().map(|(c, f)| f * texel[c * 3 + ch]).sum();
+        }
+    });
+    out
+}
+
+/// The fewest terms whose tail is within the tolerance × the texel's brightest node value (+ INVISIBLE) in
+/// every texel and channel of the probe, and the largest relative tail left at that degree.
+fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
+    let (nodes, n) = (values.nodes, values.texels);
+    let coef = to_coefficients(values);
+    let peak =
+        |t: usize, ch: usize| (0..nodes).map(|c| values.data[(t * nodes + c) * 3 + ch].abs()).fold(0.0, f64::max);
+    let mut needed = 1;
+    for t in 0..n {
+        for ch in 0..3 {
+            let allowed = tolerance * peak(t, ch) + INVISIBLE;
+            let mut tail = 0.0;
+            let mut degree = nodes;
+            for d in (0..nodes).rev() {
+                tail += coef[(d * 3 + ch) * n + t].abs();
+                if tail > allowed {
+                    break;
+                }
+                degree = d;
+            }
+            needed = needed.max(degree.max(1));
+        }
+    }
+    let mut worst = 0.0f64;
+    for t in 0..n {
+        for ch in 0..3 {
+            let p = peak(t, ch);
+            if p > INVISIBLE {
+                let tail: f64 = (needed..nodes).map(|d| coef[(d * 3 + ch) * n + t].abs()).sum();
+                worst = worst.max(tail / p);
+            }
+        }
+    }
+    (needed, worst)
+}

@@ -1,0 +1,511 @@
+//! The baked colour table: the spectrally integrated colour of a patch over (u, v), with its dependence on w
+//! as a Chebyshev series, prefiltered into mip levels — the `baked` approach's few filtered fetches per pixel in
+//! place of FLSS's tens of thousands.
+//!
+//! What it stores. The colour of a pixel depends on the patch only through (u, v, w) = −ω_i − ω_r; the gain C
+//! and the shadowing stay analytic. So the table holds, per texel of a (u, v) grid and per colour channel,
+//!
+//!   B(u, v, w) = Σ_λ |P(u/λ, v/λ; k·w)|²·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ      (likewise Y, Z)
+//!
+//! — the XYZ that `Reference::flss_xyz` divides by C·shadowing — averaged over the texel's square, and
+//! expanded in w as Σ_d a_d·T_d(t) with t the position of w in the table's interval mapped to [−1, 1]
+//! (see [`super::chebyshev`] for why Chebyshev and not slices). Mip level L averages 2^L texels per axis, so a
+//! pixel whose footprint in (u, v) spans F picks the level whose texels are F wide and sees the footprint's
+//! average colour. A texel narrower than the narrowest lobe holds the point value.
+//!
+//! How it is built ([`build`]): exactly, in f64, with 1 nm wavelength steps and the reference's full window,
+//! from FFTs of exp(i·k·w·h) itself — no Taylor series, so no cancellation however deep the structure. Where
+//! the patch is a tiling of a cell (the AFM cut-outs are tiled 10×) and the tiling stride is many window widths,
+//! the spectrum's lobes do not overlap and each lobe's average over a texel is a product of two error
+//! functions: the build then costs what the lobes cost, not what the texels cost. Otherwise the coherent
+//! windowed sum is evaluated at sub-samples of every texel.
+//!
+//! What it costs is decided by what the scene can show ([`TablePlan`]): the (u, v, w) box its directions
+//! produce, the smallest pixel footprint (texels finer than it are never read; finer than the lobes they gain
+//! nothing), the degree in w the tolerance needs (measured on a coarse probe of the same table), and at most
+//! [`MAX_TABLE_BYTES`] of GPU memory.
+
+pub mod build;
+pub mod cache;
+pub mod sample;
+
+use glam::DVec3;
+
+use super::heightfield::HeightField;
+use super::window::Window;
+use crate::error::{Error, Result};
+
+/// GPU memory one material's table may take, with its mip levels.
+pub const MAX_TABLE_BYTES: u64 = 256 << 20;
+/// Default tolerance on the Chebyshev tail in w, relative to each texel's brightest value over w.
+pub const DEFAULT_TABLE_TOLERANCE: f64 = 1e-4;
+/// Colour below which nothing is seen (XYZ relative to a D65 mirror; at the +8 EV the AFM maps are shown with it
+/// is 2.6·10⁻⁷): the tolerance's absolute floor and the weakest lobe the build keeps.
+pub const INVISIBLE: f64 = 1e-10;
+/// The wavelength step of the build, nm (the reference's).
+pub const TABLE_LAMBDA_STEP_NM: f64 = 1.0;
+/// Most Chebyshev terms in w (a structure needing more is far deeper than the wavelengths it is lit with).
+pub const MAX_TERMS: usize = 64;
+/// Texels across the coarse probe on which the degree in w is measured.
+pub const PROBE_TEXELS: usize = 48;
+/// The probe's wavelength step, nm (the degree in w hardly depends on the spectral sampling).
+pub const PROBE_LAMBDA_STEP_NM: f64 = 5.0;
+/// Coefficients per texel of an RGBA32F layer.
+pub const LAYER_CHANNELS: usize = 4;
+
+/// The (u, v, w) a table covers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain {
+    pub u: (f64, f64),
+    pub v: (f64, f64),
+    pub w: (f64, f64),
+}
+
+impl Domain {
+    /// Every pair of directions above the surface: |u|, |v| ≤ 2, −2 ≤ w ≤ 0.
+    pub const HEMISPHERE: Domain = Domain { u: (-2.0, 2.0), v: (-2.0, 2.0), w: (-2.0, 0.0) };
+
+    /// A BRDF map's views (the unit disk of ω_r.xy) under the light `light` (unit, patch frame).
+    pub fn map(light: DVec3) -> Self {
+        Self { u: (-light.x - 1.0, -light.x + 1.0), v: (-light.y - 1.0, -light.y + 1.0), w: (-light.z - 1.0, -light.z) }
+    }
+
+    /// The box of a set of (u, v, w) points, clipped to the hemisphere's; None for no points.
+    pub fn bounding(points: impl IntoIterator<Item = DVec3>) -> Option<Self> {
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for p in points.into_iter().filter(|p| p.is_finite()) {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        if lo.x > hi.x {
+            return None;
+        }
+        let h = Self::HEMISPHERE;
+        let clip = |(a, b): (f64, f64), (ha, hb): (f64, f64)| (a.max(ha), b.min(hb).max(a.max(ha)));
+        Some(Self { u: clip((lo.x, hi.x), h.u), v: clip((lo.y, hi.y), h.v), w: clip((lo.z, hi.z), h.w) })
+    }
+}
+
+/// What a table must serve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableRequest {
+    pub domain: Domain,
+    /// The smallest pixel footprint the table will be sampled with, in (u, v) units (0: as fine as the lobes).
+    pub footprint: f64,
+    /// Pixel centres lie on a grid of this spacing starting half a pixel inside the domain (a BRDF map): the
+    /// texels are then an odd fraction of a pixel, so that every pixel centre is a texel centre.
+    pub aligned: bool,
+}
+
+/// The texel grid: texel (a, b) covers u ∈ [u0 + a·texel, u0 + (a + 1)·texel) and likewise v; w is mapped from
+/// `w` to t ∈ [−1, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    pub u0: f64,
+    pub v0: f64,
+    pub texel: f64,
+    pub nu: usize,
+    pub nv: usize,
+    pub w: (f64, f64),
+}
+
+impl Grid {
+    pub fn u_centre(&self, a: usize) -> f64 {
+        self.u0 + (a as f64 + 0.5) * self.texel
+    }
+
+    pub fn v_centre(&self, b: usize) -> f64 {
+        self.v0 + (b as f64 + 0.5) * self.texel
+    }
+
+    /// t ∈ [−1, 1] of w (clamped: the series is never extrapolated).
+    pub fn t_of(&self, w: f64) -> f64 {
+        let (w0, w1) = self.w;
+        if w1 <= w0 {
+            return 0.0;
+        }
+        ((2.0 * w - w0 - w1) / (w1 - w0)).clamp(-1.0, 1.0)
+    }
+
+    /// w at t.
+    pub fn w_of(&self, t: f64) -> f64 {
+        let (w0, w1) = self.w;
+        0.5 * (w0 + w1) + 0.5 * (w1 - w0) * t
+    }
+
+    /// Mip level sizes, level 0 first, down to 1×1 (Vulkan's rule: each level halves, rounding down).
+    pub fn level_sizes(&self) -> Vec<(usize, usize)> {
+        let mut sizes = vec![(self.nu, self.nv)];
+        while let Some(&(w, h)) = sizes.last().filter(|&&(w, h)| w > 1 || h > 1) {
+            sizes.push(((w / 2).max(1), (h / 2).max(1)));
+        }
+        sizes
+    }
+
+    /// Bytes of `terms` coefficients per channel in RGBA32F layers, over every mip level.
+    pub fn bytes(&self, terms: usize) -> u64 {
+        let texels: u64 = self.level_sizes().iter().map(|&(w, h)| (w * h) as u64).sum();
+        texels * layers_for(terms) as u64 * (LAYER_CHANNELS * 4) as u64
+    }
+}
+
+/// RGBA layers holding `terms` coefficients of X, Y and Z: coefficient d of channel c is scalar 3d + c.
+pub fn layers_for(terms: usize) -> usize {
+    (3 * terms).div_ceil(LAYER_CHANNELS)
+}
+
+/// How a table will be built, decided before the table's own work: the grid, and the degree in w measured on
+/// a coarse probe of the same table (cached like the tables).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TablePlan {
+    pub grid: Grid,
+    /// Chebyshev terms kept in w (measured), and the largest tail they leave on the probe, relative to each
+    /// texel's brightest value.
+    pub terms: usize,
+    pub probe_tail: f64,
+    /// Terms the probe measured with (from the Bessel bound on the w-bandwidth).
+    pub probe_terms: usize,
+    pub tolerance: f64,
+    /// Standard deviation in u of the intensity lobes at λ = 380 nm and 780 nm.
+    pub lobe_width: (f64, f64),
+    /// Pixels of the tiling cell, and whether the lobes are independent (tiling stride ≥ 10.5 window widths).
+    pub cell: (usize, usize),
+    pub lattice: bool,
+    /// Texel-centre values (a map whose pixel centres are texel centres) instead of texel averages.
+    pub point: bool,
+    /// The texel the footprint asked for, when memory made the table coarser.
+    pub coarsened_from: Option<f64>,
+    /// The window (full: taps down to 10⁻¹⁷) in bins of the whole patch.
+    pub window: Window,
+    pub coherence_um: f64,
+}
+
+/// Tiling strides (in window widths σ) beyond which neighbouring lobes no longer interfere: their cross term
+/// carries exp(−(T/σ)²/4) ≤ 10⁻¹².
+pub const INDEPENDENT_STRIDE: f64 = 10.5;
+
+impl TablePlan {
+    pub fn new(hf: &HeightField, coherence_um: f64, request: &TableRequest, tolerance: f64) -> Result<Self> {
+        if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
+            return Err(Error::Invalid(format!("the table tolerance must lie in (0, 1), got {tolerance}")));
+        }
+        let d = request.domain;
+        for (name, (a, b)) in [("u", d.u), ("v", d.v), ("w", d.w)] {
+            if !(a.is_finite() && b.is_finite() && a <= b) {
+                return Err(Error::Invalid(format!("the table's {name} range [{a}, {b}] is not an interval")));
+            }
+        }
+        let footprint = request.footprint;
+        if !(footprint.is_finite() && footprint >= 0.0) || (request.aligned && footprint == 0.0) {
+            return Err(Error::Invalid(format!("the smallest pixel footprint must be positive, got {footprint}")));
+        }
+        let (lx, ly) = hf.size_um();
+        let window = Window::new(lx, ly, coherence_um, None)?;
+        // A lobe's intensity |A|²·exp(−d²/σ²) has the standard deviation σ/√2 bins, λ/L in u per bin.
+        let lobe = |nm: f64| (window.sigma_x / lx).min(window.sigma_y / ly) * nm * 1e-3 / std::f64::consts::SQRT_2;
+        let lobe_width = (lobe(super::spectrum::VISIBLE_MIN_NM), lobe(super::spectrum::VISIBLE_MAX_NM));
+        let cell = period_cell(hf);
+        let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
+        let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
+        let probe_terms = Self::probe_terms(hf, &window, d.w, tolerance)?;
+        let mut plan = Self {
+            grid: probe_grid(d),
+            terms: probe_terms,
+            probe_tail: 0.0,
+            probe_terms,
+            tolerance,
+            lobe_width,
+            cell,
+            lattice,
+            point: request.aligned,
+            coarsened_from: None,
+            window,
+            coherence_um,
+        };
+        (plan.terms, plan.probe_tail) = cache::probe(hf, &plan, || build::probe(hf, &plan));
+        plan.size_grid(request);
+        Ok(plan)
+    }
+
+    /// The finest grid the request can use within [`MAX_TABLE_BYTES`]. Texels finer than the narrowest lobe
+    /// gain nothing (a texel one standard deviation wide averages a lobe's peak down by 4 %), coarser than the
+    /// footprint would blur what a pixel resolves. A map's texels are an odd fraction of its pixels.
+    fn size_grid(&mut self, request: &TableRequest) {
+        let (d, footprint, finest) = (request.domain, request.footprint, self.lobe_width.0);
+        let fits = |g: &Grid| g.bytes(self.terms) <= MAX_TABLE_BYTES;
+        let mut grid;
+        if request.aligned {
+            let mut k = ((footprint / finest).ceil() as usize).max(1) | 1;
+            grid = Self::grid(d, footprint / k as f64, true);
+            while !fits(&grid) && k > 1 {
+                self.coarsened_from.get_or_insert(grid.texel);
+                k -= 2;
+                grid = Self::grid(d, footprint / k as f64, true);
+            }
+        } else {
+            grid = Self::grid(d, footprint.max(finest), false);
+        }
+        let mut scale = 1.0;
+        while !fits(&grid) {
+            self.coarsened_from.get_or_insert(grid.texel);
+            scale *= 2f64.powf(0.25);
+            grid = Self::grid(d, footprint.max(if request.aligned { 0.0 } else { finest }) * scale, request.aligned);
+        }
+        self.grid = grid;
+    }
+
+    /// The grid of `texel` over `d`: aligned to d's lower corner (maps), else widened by a texel and snapped to
+    /// multiples of the texel (so that nearby views give the same table).
+    fn grid(d: Domain, texel: f64, aligned: bool) -> Grid {
+        let (u0, v0, u1, v1) = if aligned {
+            (d.u.0, d.v.0, d.u.1, d.v.1)
+        } else {
+            let lo = |x: f64| ((x / texel).floor() - 1.0) * texel;
+            let hi = |x: f64| ((x / texel).ceil() + 1.0) * texel;
+            (lo(d.u.0), lo(d.v.0), hi(d.u.1), hi(d.v.1))
+        };
+        let n = |a: f64, b: f64| (((b - a) / texel).round() as usize).max(1);
+        Grid { u0, v0, texel, nu: n(u0, u1), nv: n(v0, v1), w: d.w }
+    }
+
+    /// Terms enough for the probe to see a tail far below the tolerance: the Bessel bound on the w-bandwidth
+    /// Ω = 2π(h_max − h_min)/λ_min over the interval's half-width, for an amplitude of the window gain squared
+    /// (the most |P|² can reach).
+    fn probe_terms(hf: &HeightField, window: &Window, w: (f64, f64), tolerance: f64) -> Result<usize> {
+        let (h0, h1) = hf.range();
+        let omega = 2.0 * std::f64::consts::PI * (h1 - h0) / (super::spectrum::VISIBLE_MIN_NM * 1e-3);
+        let x = omega * 0.5 * (w.1 - w.0);
+        let gain = super::reference::window_gain(window, hf);
+        super::chebyshev::terms_for(x, gain * gain, tolerance * INVISIBLE.sqrt(), MAX_TERMS)
+            .map(|n| n.max(2))
+            .ok_or_else(|| {
+                Error::Invalid(format!(
+                    "the baked table cannot follow this structure in w: heights spanning {:.3} µm at 380 nm need \
+                     more than {MAX_TERMS} Chebyshev terms over w ∈ [{:.2}, {:.2}]; check the heights or use flss",
+                    h1 - h0,
+                    w.0,
+                    w.1
+                ))
+            })
+    }
+
+    /// One line for users: grid, lobes, degree, memory.
+    pub fn describe(&self) -> String {
+        let g = &self.grid;
+        let resolved = if g.texel <= self.lobe_width.0 * 1.0001 {
+            "resolves every lobe".to_string()
+        } else {
+            format!(
+                "lobes of {:.4}–{:.4} narrower than a texel are averaged over it",
+                self.lobe_width.0, self.lobe_width.1
+            )
+        };
+        format!(
+            "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]; {}×{} texels of {:.5} ({}{}); \
+             {} path, {}; {} terms in w (measured tail {:.1e}, tolerance {:.0e}); {:.1} MiB",
+            g.u0,
+            g.u0 + g.nu as f64 * g.texel,
+            g.v0,
+            g.v0 + g.nv as f64 * g.texel,
+            g.w.0,
+            g.w.1,
+            g.nu,
+            g.nv,
+            g.texel,
+            resolved,
+            self.coarsened_from
+                .map(|t| format!("; coarsened from {t:.5} to fit {} MiB", MAX_TABLE_BYTES >> 20))
+                .unwrap_or_default(),
+            if self.lattice { "lattice" } else { "coherent" },
+            if self.point { "texel-centre values" } else { "texel averages" },
+            self.terms,
+            self.probe_tail,
+            self.tolerance,
+            g.bytes(self.terms) as f64 / (1u64 << 20) as f64
+        )
+    }
+}
+
+/// The table `plan` describes: from the cache folder ([`crate::cache::default_dir`]) when an earlier run built
+/// it, else built (and stored there). Returns the table and whether it came from the cache.
+pub fn load_or_build(
+    hf: &HeightField,
+    plan: &TablePlan,
+    progress: Option<build::Progress<'_>>,
+) -> Result<(BakedTable, bool)> {
+    let file = crate::cache::default_dir().map(|dir| cache::file(&dir, hf, plan));
+    if let Some(table) = file.as_deref().and_then(|f| cache::read(f, plan)) {
+        return Ok((table, true));
+    }
+    let table = build::build(hf, plan, progress)?;
+    if let Some(f) = &file {
+        if let Err(e) = cache::write(f, &table) {
+            eprintln!("warning: could not cache the baked table in {}: {e}", f.display());
+        }
+    }
+    Ok((table, false))
+}
+
+/// The probe's grid: the domain in at most [`PROBE_TEXELS`] texels per axis.
+fn probe_grid(d: Domain) -> Grid {
+    let (eu, ev) = (d.u.1 - d.u.0, d.v.1 - d.v.0);
+    let texel = (eu.max(ev) / PROBE_TEXELS as f64).max(1e-6);
+    let n = |e: f64| ((e / texel).ceil() as usize).max(1);
+    Grid { u0: d.u.0, v0: d.v.0, texel, nu: n(eu), nv: n(ev), w: d.w }
+}
+
+/// The smallest cell (px, py) of which the height field is an exact periodic tiling (its own size if none).
+pub fn period_cell(hf: &HeightField) -> (usize, usize) {
+    let h = &hf.heights_um;
+    let (nx, ny) = (hf.nx, hf.ny);
+    let divisors = |n: usize| (1..=n).filter(move |p| n % p == 0);
+    let px = divisors(nx).find(|&p| (0..ny).all(|r| (p..nx).all(|c| h[r * nx + c] == h[r * nx + c - p]))).unwrap_or(nx);
+    let py =
+        divisors(ny).find(|&p| (p..ny).all(|r| (0..nx).all(|c| h[r * nx + c] == h[(r - p) * nx + c]))).unwrap_or(ny);
+    (px, py)
+}
+
+/// One mip level: RGBA32F texels, layer after layer, rows top (v0) first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableLevel {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<f32>,
+}
+
+/// A built table: the grid, the Chebyshev terms kept, and every mip level.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BakedTable {
+    pub grid: Grid,
+    pub terms: usize,
+    pub levels: Vec<TableLevel>,
+    /// How it was built, in one line (path, degree and its measured tail, time).
+    pub report: String,
+}
+
+impl BakedTable {
+    pub fn layers(&self) -> usize {
+        layers_for(self.terms)
+    }
+
+    /// Bytes of every level (what the GPU holds).
+    pub fn bytes(&self) -> u64 {
+        self.levels.iter().map(|l| l.texels.len() as u64 * 4).sum()
+    }
+
+    /// Packs level 0 from f64 coefficients `coef[(d·3 + c)·nu·nv + b·nu + a]` and averages the mip levels.
+    pub fn from_coefficients(grid: Grid, terms: usize, coef: &[f64], report: String) -> Self {
+        let (nu, nv) = (grid.nu, grid.nv);
+        let layers = layers_for(terms);
+        let mut level0 = vec![0f32; layers * nu * nv * LAYER_CHANNELS];
+        for scalar in 0..3 * terms {
+            let (layer, channel) = (scalar / LAYER_CHANNELS, scalar % LAYER_CHANNELS);
+            let plane = &coef[scalar * nu * nv..][..nu * nv];
+            for (i, v) in plane.iter().enumerate() {
+                level0[(layer * nu * nv + i) * LAYER_CHANNELS + channel] = *v as f32;
+            }
+        }
+        let mut levels = vec![TableLevel { width: nu, height: nv, texels: level0 }];
+        for &(w, h) in &grid.level_sizes()[1..] {
+            let next = downsample(levels.last().expect("level 0"), w, h, layers);
+            levels.push(next);
+        }
+        Self { grid, terms, levels, report }
+    }
+}
+
+/// A coarser level by box resampling: texel i of the `w`-wide level covers [i·r, (i + 1)·r) texels of the finer
+/// one (r = fine/coarse width), each weighted by its overlap, so every level keeps the mean (and the texel
+/// centres line up in normalised coordinates, as the sampler reads them).
+fn downsample(fine: &TableLevel, w: usize, h: usize, layers: usize) -> TableLevel {
+    let weights = |n_fine: usize, n: usize| -> Vec<Vec<(usize, f64)>> {
+        let r = n_fine as f64 / n as f64;
+        (0..n)
+            .map(|i| {
+                let (a, b) = (i as f64 * r, (i + 1) as f64 * r);
+                (a.floor() as usize..(b.ceil() as usize).min(n_fine))
+                    .map(|j| (j, ((j + 1) as f64).min(b) - (j as f64).max(a)))
+                    .filter(|&(_, o)| o > 0.0)
+                    .map(|(j, o)| (j, o / r))
+                    .collect()
+            })
+            .collect()
+    };
+    let (wx, wy) = (weights(fine.width, w), weights(fine.height, h));
+    let mut texels = vec![0f32; layers * w * h * LAYER_CHANNELS];
+    for layer in 0..layers {
+        let src = &fine.texels[layer * fine.width * fine.height * LAYER_CHANNELS..];
+        for (y, ry) in wy.iter().enumerate() {
+            for (x, rx) in wx.iter().enumerate() {
+                let mut acc = [0f64; LAYER_CHANNELS];
+                for &(sy, fy) in ry {
+                    for &(sx, fx) in rx {
+                        let t = &src[(sy * fine.width + sx) * LAYER_CHANNELS..][..LAYER_CHANNELS];
+                        for (a, v) in acc.iter_mut().zip(t) {
+                            *a += fy * fx * f64::from(*v);
+                        }
+                    }
+                }
+                let out = &mut texels[((layer * h + y) * w + x) * LAYER_CHANNELS..][..LAYER_CHANNELS];
+                for (o, a) in out.iter_mut().zip(acc) {
+                    *o = a as f32;
+                }
+            }
+        }
+    }
+    TableLevel { width: w, height: h, texels }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tiling_is_found_and_a_random_patch_is_its_own_cell() {
+        let cell: Vec<f64> = (0..12).map(|i| ((i * 7919) % 13) as f64 * 0.01).collect();
+        let hf = HeightField::new(4, 3, 0.1, 0.1, cell).unwrap();
+        assert_eq!(period_cell(&hf), (4, 3));
+        assert_eq!(period_cell(&hf.tiled(5, 2).unwrap()), (4, 3));
+        let rows = HeightField::new(6, 5, 0.1, 0.1, (0..30).map(|i| (i % 6) as f64).collect()).unwrap();
+        assert_eq!(period_cell(&rows), (6, 1), "constant along y: a cell one row tall");
+    }
+
+    #[test]
+    fn mip_levels_keep_the_mean_and_end_in_one_texel() {
+        let grid = Grid { u0: -1.0, v0: -1.0, texel: 0.1, nu: 7, nv: 5, w: (-2.0, -1.0) };
+        assert_eq!(grid.level_sizes(), vec![(7, 5), (3, 2), (1, 1)]);
+        let terms = 2;
+        let coef: Vec<f64> = (0..3 * terms * 35).map(|i| ((i * 37) % 11) as f64).collect();
+        let table = BakedTable::from_coefficients(grid, terms, &coef, String::new());
+        assert_eq!(table.layers(), 2);
+        for scalar in 0..3 * terms {
+            let mean = coef[scalar * 35..][..35].iter().sum::<f64>() / 35.0;
+            let (layer, ch) = (scalar / 4, scalar % 4);
+            for level in &table.levels {
+                let n = level.width * level.height;
+                let sum: f64 = (0..n).map(|i| f64::from(level.texels[(layer * n + i) * 4 + ch])).sum();
+                assert!((sum / n as f64 - mean).abs() < 1e-5, "scalar {scalar}: {} vs {mean}", sum / n as f64);
+            }
+        }
+        assert_eq!(table.bytes(), grid.bytes(terms));
+    }
+
+    #[test]
+    fn a_map_grid_puts_texel_centres_on_pixel_centres() {
+        let cell: Vec<f64> = (0..100 * 100).map(|i| ((i * 7919) % 101) as f64 * 1e-3).collect();
+        let hf = HeightField::new(100, 100, 0.065, 0.065, cell).unwrap().tiled(10, 10).unwrap();
+        let pixel = 2.0 / 64.0;
+        let request = TableRequest { domain: Domain::map(DVec3::new(0.0, 0.0, 1.0)), footprint: pixel, aligned: true };
+        let plan = TablePlan::new(&hf, 65.0, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
+        assert!(plan.point && plan.terms >= 1);
+        let k = (pixel / plan.grid.texel).round();
+        assert!((pixel / plan.grid.texel - k).abs() < 1e-9 && k as usize % 2 == 1, "{plan:?}");
+        assert!(plan.grid.texel <= plan.lobe_width.0 * 1.0001, "{}", plan.describe());
+        // Pixel 10's centre is texel (10 k + (k − 1)/2)'s centre.
+        let px = -1.0 + (10.0 + 0.5) * pixel;
+        let a = 10 * k as usize + (k as usize - 1) / 2;
+        assert!((plan.grid.u_centre(a) - px).abs() < 1e-12);
+        assert!(plan.lattice && plan.cell == (100, 100));
+    }
+}

@@ -1,0 +1,85 @@
+//! Reading a baked table as the shader does (`baked_xyz` in glsl/include/baked.glsl, same names): texel
+//! coordinates of (u, v), the mip level of a footprint, trilinear filtering with clamped edges, and the
+//! Chebyshev sum in w. The CPU twin lets tests read the table the GPU reads without a GPU.
+
+use glam::DVec3;
+
+use super::{BakedTable, TableLevel, LAYER_CHANNELS};
+use crate::physics::chebyshev;
+
+impl BakedTable {
+    /// Level-0 texel coordinates of (u, v), texel centres at integers + ½ (the sampler's convention).
+    pub fn texel_coords(&self, u: f64, v: f64) -> (f64, f64) {
+        let g = &self.grid;
+        ((u - g.u0) / g.texel, (v - g.v0) / g.texel)
+    }
+
+    /// The mip level whose texels are `footprint` wide (in u, v), clamped to the levels there are.
+    pub fn lod(&self, footprint: f64) -> f64 {
+        let levels = (self.levels.len() - 1) as f64;
+        // NaN and footprints within a texel read level 0.
+        match footprint.partial_cmp(&self.grid.texel) {
+            Some(std::cmp::Ordering::Greater) => (footprint / self.grid.texel).log2().clamp(0.0, levels),
+            _ => 0.0,
+        }
+    }
+
+    /// XYZ (relative to a D65 mirror, before the gain and the shadowing) at `uvw`, mip level `lod`.
+    pub fn xyz(&self, uvw: DVec3, lod: f64) -> DVec3 {
+        let lod = lod.clamp(0.0, (self.levels.len() - 1) as f64);
+        let (lo, frac) = (lod.floor() as usize, lod - lod.floor());
+        let (x, y) = self.texel_coords(uvw.x, uvw.y);
+        let (nx, ny) = (x / self.grid.nu as f64, y / self.grid.nv as f64);
+        let mut scalars = self.bilinear(&self.levels[lo], nx, ny);
+        if frac > 0.0 && lo + 1 < self.levels.len() {
+            let hi = self.bilinear(&self.levels[lo + 1], nx, ny);
+            for (s, h) in scalars.iter_mut().zip(hi) {
+                *s += frac * (h - *s);
+            }
+        }
+        self.sum(&scalars, uvw.z)
+    }
+
+    /// The level-0 texel (a, b) at w, without filtering.
+    pub fn texel_xyz(&self, a: usize, b: usize, w: f64) -> DVec3 {
+        let level = &self.levels[0];
+        let n = level.width * level.height;
+        let scalars: Vec<f64> = (0..3 * self.terms)
+            .map(|s| {
+                let (layer, ch) = (s / LAYER_CHANNELS, s % LAYER_CHANNELS);
+                f64::from(level.texels[(layer * n + b * level.width + a) * LAYER_CHANNELS + ch])
+            })
+            .collect();
+        self.sum(&scalars, w)
+    }
+
+    /// Σ_d a_d·T_d(t) per channel, clamped at 0 (XYZ of light is never negative; interpolation can ring).
+    fn sum(&self, scalars: &[f64], w: f64) -> DVec3 {
+        let t = chebyshev::polynomials(self.grid.t_of(w), self.terms);
+        let mut xyz = [0.0; 3];
+        for (s, &a) in scalars.iter().enumerate().take(3 * self.terms) {
+            xyz[s % 3] += a * t[s / 3];
+        }
+        DVec3::from(xyz).max(DVec3::ZERO)
+    }
+
+    /// Every scalar of a level at normalised coordinates, bilinear between texel centres, edges clamped.
+    fn bilinear(&self, level: &TableLevel, nx: f64, ny: f64) -> Vec<f64> {
+        let (w, h) = (level.width, level.height);
+        let (fx, fy) = (nx * w as f64 - 0.5, ny * h as f64 - 0.5);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let clamp = |i: f64, n: usize| (i.max(0.0) as usize).min(n - 1);
+        let (xa, xb, ya, yb) = (clamp(x0, w), clamp(x0 + 1.0, w), clamp(y0, h), clamp(y0 + 1.0, h));
+        let n = w * h;
+        (0..3 * self.terms)
+            .map(|s| {
+                let (layer, ch) = (s / LAYER_CHANNELS, s % LAYER_CHANNELS);
+                let at = |x: usize, y: usize| f64::from(level.texels[(layer * n + y * w + x) * LAYER_CHANNELS + ch]);
+                let top = at(xa, ya) + tx * (at(xb, ya) - at(xa, ya));
+                let bottom = at(xa, yb) + tx * (at(xb, yb) - at(xa, yb));
+                top + ty * (bottom - top)
+            })
+            .collect()
+    }
+}
