@@ -14,7 +14,11 @@ layout(location = 0) out vec3 patch_light;
 layout(location = 1) out vec3 patch_view;
 
 void main() {
-    vec4 p = frame.model * vec4(in_position, 1.0);
+    // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
+    // test needs both to compute the same bits: `precise` forbids the contractions and reorderings that a compiler
+    // might choose differently in each. (`invariant gl_Position` says the same, but Debian 12's validation layer
+    // rejects the decoration glslang puts on the gl_PerVertex member.)
+    precise vec4 p = frame.model * vec4(in_position, 1.0);
     vec3 n = normalize(mat3(frame.normal_matrix) * in_normal);
     vec3 t = mat3(frame.model) * in_tangent.xyz;
     t = normalize(t - n * dot(n, t));
@@ -28,5 +32,6 @@ void main() {
     patch_light = vec3(dot(l, t), dot(l, b), dot(l, n));
     vec3 v = frame.camera_pos.xyz - p.xyz;
     patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
-    gl_Position = frame.view_proj * p;
+    precise vec4 clip = frame.view_proj * p;
+    gl_Position = clip;
 }

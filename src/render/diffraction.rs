@@ -259,14 +259,14 @@ impl MapPass {
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
             vertex: shaders::FULLSCREEN_VERT,
-            fragment,
+            fragment: Some(fragment),
             specialization,
             bindings: &bindings,
             push_constant_size: 16,
             vertex_stride: 0,
             vertex_attributes: &[],
             color_format,
-            depth_format: None,
+            depth: None,
             cull_back_faces: false,
         })?;
         Ok(Self { pipeline, counting: count_stride.is_some() })

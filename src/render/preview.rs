@@ -11,7 +11,9 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
-use crate::vk::{Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants};
+use crate::vk::{
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+};
 
 /// Mirrors `FrameUniforms` in `glsl/include/preview_frame.glsl`.
 #[repr(C)]
@@ -89,14 +91,14 @@ impl PreviewPass {
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
             vertex: shaders::PREVIEW_VERT,
-            fragment: shaders::PREVIEW_FRAG,
+            fragment: Some(shaders::PREVIEW_FRAG),
             specialization: SpecConstants::default(),
             bindings: &bindings,
             push_constant_size: 0,
             vertex_stride: std::mem::size_of::<Vertex>() as u32,
             vertex_attributes: &VERTEX_ATTRIBUTES,
             color_format: COLOR_FORMAT,
-            depth_format: Some(DEPTH_FORMAT),
+            depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: true,
         });
         match pipeline {

@@ -16,7 +16,7 @@ use crate::shaders;
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, ImageDesc, ImageState, MemoryState,
-    PassProfile, Pipeline, Sampler,
+    PassProfile, Pipeline, Sampler, Statistics,
 };
 
 /// One frame's cost: GPU time (timestamps), wall time of record + submit + wait on the CPU, and fragment
@@ -29,7 +29,7 @@ pub struct FrameSample {
 }
 
 impl FrameSample {
-    fn measure(ctx: &Context, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<Self> {
+    fn measure(ctx: &Context, name: &str, record: impl FnOnce(vk::CommandBuffer, &Statistics<'_>)) -> Result<Self> {
         let start = Instant::now();
         let PassProfile { gpu_ms, fragment_invocations } = ctx.one_shot_profiled(name, record)?;
         Ok(Self { gpu_ms, cpu_ms: start.elapsed().as_secs_f64() * 1e3, fragment_invocations })
@@ -122,9 +122,11 @@ impl MapWorkload {
 
 impl Workload for MapWorkload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        FrameSample::measure(ctx, MapPass::NAME, |cmd| {
+        FrameSample::measure(ctx, MapPass::NAME, |cmd, statistics| {
             self.target.begin(ctx, cmd);
+            statistics.begin(cmd);
             self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None);
+            statistics.end(cmd);
         })
     }
 
@@ -192,14 +194,14 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
         let pipeline = pipeline.insert(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: PROBE_NAME,
             vertex: shaders::FULLSCREEN_VERT,
-            fragment: shaders::FETCH_PROBE_FRAG,
+            fragment: Some(shaders::FETCH_PROBE_FRAG),
             specialization: crate::vk::SpecConstants::default().u32(0, PROBE_LAYERS).i32(1, PROBE_TAPS as i32),
             bindings: &bindings,
             push_constant_size: 0,
             vertex_stride: 0,
             vertex_attributes: &[],
             color_format: LINEAR_FORMAT,
-            depth_format: None,
+            depth: None,
             cull_back_faces: false,
         })?);
         let writes = [DescriptorWrite::SampledImage(2, &texture, sampler)];
@@ -357,9 +359,9 @@ impl<'a> SceneWorkload<'a> {
 
 impl Workload for SceneWorkload<'_> {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        FrameSample::measure(ctx, SceneRenderer::NAME, |cmd| {
+        FrameSample::measure(ctx, SceneRenderer::NAME, |cmd, statistics| {
             self.target.begin(ctx, cmd);
-            self.renderer.record(ctx, cmd, &self.target.view(), self.view.background);
+            self.renderer.record_with(ctx, cmd, &self.target.view(), self.view.background, None, Some(statistics));
         })
     }
 
@@ -373,7 +375,7 @@ impl Workload for SceneWorkload<'_> {
         let (target, background) = (&self.target, self.view.background);
         let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
-            renderer.record_counted(ctx, cmd, &target.view(), background, Some(counts));
+            renderer.record_counted(ctx, cmd, &target.view(), background, counts);
         });
         // SAFETY: counted_frame waited.
         unsafe { renderer.destroy(ctx) };

@@ -1,7 +1,9 @@
-//! The surface pass: meshes shaded by diffraction, offscreen (and, later, in a window).
+//! The surface pass: meshes shaded by diffraction, offscreen and in a window.
 //!
 //! A [`SceneRenderer`] holds one pipeline and one set of patch resources per material (uploaded once, shared
-//! by every object that uses it) and a vertex/index/uniform set per object.
+//! by every object that uses it) and a vertex/index/uniform set per object. A frame draws every object twice: a
+//! depth pre-pass (vertex shader only), then the shading pass with an EQUAL depth test, so that overlapping
+//! surfaces (a snake's scales lie four deep) are shaded once per pixel, not once per layer.
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -15,7 +17,8 @@ use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Pipeline, VertexAttribute,
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, Statistics,
+    VertexAttribute,
 };
 
 /// Mirrors `SurfaceUniforms` in `glsl/include/surface_frame.glsl`.
@@ -71,6 +74,9 @@ struct MaterialGpu {
     pigment: [f32; 3],
 }
 
+/// The depth pre-pass's name (and debug label).
+const DEPTH_PASS: &str = "surface depth";
+
 struct ObjectGpu {
     mesh: MeshBuffers,
     uniforms: Buffer,
@@ -96,6 +102,7 @@ pub enum SurfaceVariant {
 pub struct SceneRenderer {
     materials: Vec<MaterialGpu>,
     objects: Vec<ObjectGpu>,
+    depth: Option<Pipeline>,
     counting: bool,
 }
 
@@ -122,7 +129,7 @@ impl SceneRenderer {
         color_format: vk::Format,
         variant: SurfaceVariant,
     ) -> Result<Self> {
-        let mut made = Self { materials: Vec::new(), objects: Vec::new(), counting: false };
+        let mut made = Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false };
         match made.fill(ctx, materials, objects, color_format, variant) {
             Ok(()) => Ok(made),
             Err(e) => {
@@ -142,8 +149,22 @@ impl SceneRenderer {
         variant: SurfaceVariant,
     ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let frame_binding = Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
+        self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+            name: DEPTH_PASS,
+            vertex: shaders::SURFACE_VERT,
+            fragment: None,
+            specialization: crate::vk::SpecConstants::default(),
+            bindings: &[frame_binding],
+            push_constant_size: 0,
+            vertex_stride: std::mem::size_of::<Vertex>() as u32,
+            vertex_attributes: &VERTEX_ATTRIBUTES,
+            color_format,
+            depth: Some((DEPTH_FORMAT, DepthTest::Write)),
+            cull_back_faces: false,
+        })?);
         let [p, t, s] = patch_bindings(stages);
-        let mut bindings = vec![Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }, p, t, s];
+        let mut bindings = vec![frame_binding, p, t, s];
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
         if self.counting {
             bindings.push(super::diffraction::count_binding());
@@ -168,14 +189,14 @@ impl SceneRenderer {
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
                 vertex: shaders::SURFACE_VERT,
-                fragment,
+                fragment: Some(fragment),
                 specialization,
                 bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format,
-                depth_format: Some(DEPTH_FORMAT),
+                depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
                 cull_back_faces: false,
             });
             let pipeline = match pipeline {
@@ -260,7 +281,7 @@ impl SceneRenderer {
 
     /// Records every object into `target` (in attachment layouts).
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
-        self.record_counted(ctx, cmd, target, background, None);
+        self.record_with(ctx, cmd, target, background, None, None);
     }
 
     /// [`Self::record`] with the per-pixel fetch counters of a counting renderer.
@@ -270,10 +291,35 @@ impl SceneRenderer {
         cmd: vk::CommandBuffer,
         target: &TargetView,
         background: [f32; 4],
+        counts: &Buffer,
+    ) {
+        self.record_with(ctx, cmd, target, background, Some(counts), None);
+    }
+
+    /// [`Self::record`] with fetch counters (a counting renderer) and the shading pass's draws bracketed for a
+    /// pipeline-statistics query (the depth pre-pass is not counted).
+    pub fn record_with(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        target: &TargetView,
+        background: [f32; 4],
         counts: Option<&Buffer>,
+        statistics: Option<&Statistics<'_>>,
     ) {
         debug_assert_eq!(self.counting, counts.is_some(), "a counting renderer takes counters, and only it");
         begin_rendering(ctx, cmd, target, background, None);
+        if let Some(depth) = &self.depth {
+            ctx.begin_label(cmd, DEPTH_PASS);
+            for object in &self.objects {
+                ctx.bind(cmd, depth, &[DescriptorWrite::UniformBuffer(0, &object.uniforms)], &[]);
+                object.mesh.draw(ctx, cmd);
+            }
+            ctx.end_label(cmd);
+        }
+        if let Some(s) = statistics {
+            s.begin(cmd);
+        }
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
@@ -284,12 +330,18 @@ impl SceneRenderer {
             ctx.bind(cmd, &material.pipeline, &writes, &[]);
             object.mesh.draw(ctx, cmd);
         }
+        if let Some(s) = statistics {
+            s.end(cmd);
+        }
         end_rendering(ctx, cmd);
     }
 
     /// # Safety
     /// The GPU must be done with everything.
     pub unsafe fn destroy(self, ctx: &Context) {
+        if let Some(depth) = self.depth {
+            depth.destroy(ctx);
+        }
         for m in self.materials {
             m.pipeline.destroy(ctx);
             m.patch.destroy(ctx);

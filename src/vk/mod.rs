@@ -34,9 +34,10 @@ pub use gpu_allocator::MemoryLocation;
 pub use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
 pub use pipeline::{
-    Binding, ComputePipelineDesc, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants, VertexAttribute,
+    Binding, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    VertexAttribute,
 };
-pub use query::{PassProfile, ScopeTiming, TimestampRing};
+pub use query::{PassProfile, ScopeTiming, Statistics, TimestampRing};
 
 use crate::error::{Error, Result, VkResultExt};
 

@@ -68,10 +68,21 @@ pub struct VertexAttribute {
     pub offset: u32,
 }
 
+/// How a graphics pipeline uses the depth attachment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthTest {
+    /// Nearer fragments pass (LESS) and write their depth.
+    Write,
+    /// Only fragments at exactly the stored depth pass, without writing: the shading pass after a depth
+    /// pre-pass, which so shades each pixel once (the vertex shader must declare `invariant gl_Position`).
+    Equal,
+}
+
 pub struct GraphicsPipelineDesc<'a> {
     pub name: &'a str,
     pub vertex: &'a [u8],
-    pub fragment: &'a [u8],
+    /// None: a depth-only pipeline (no fragment stage, colour writes masked).
+    pub fragment: Option<&'a [u8]>,
     pub specialization: SpecConstants,
     pub bindings: &'a [Binding],
     pub push_constant_size: u32,
@@ -79,7 +90,8 @@ pub struct GraphicsPipelineDesc<'a> {
     pub vertex_stride: u32,
     pub vertex_attributes: &'a [VertexAttribute],
     pub color_format: vk::Format,
-    pub depth_format: Option<vk::Format>,
+    /// The depth attachment's format and how it is tested, if there is one.
+    pub depth: Option<(vk::Format, DepthTest)>,
     pub cull_back_faces: bool,
 }
 
@@ -212,7 +224,9 @@ impl Context {
         };
         let prepared = (|| {
             partial.modules.push(self.create_shader_module(desc.vertex, &format!("{} (vertex)", desc.name))?);
-            partial.modules.push(self.create_shader_module(desc.fragment, &format!("{} (fragment)", desc.name))?);
+            if let Some(fragment) = desc.fragment {
+                partial.modules.push(self.create_shader_module(fragment, &format!("{} (fragment)", desc.name))?);
+            }
             self.create_layouts(desc.name, desc.bindings, desc.push_constant_size, stages, &mut partial)
         })();
         if let Err(e) = prepared {
@@ -221,18 +235,17 @@ impl Context {
             return Err(e);
         }
         let spec = desc.specialization.info();
-        let shader_stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(partial.modules[0])
-                .name(ENTRY)
-                .specialization_info(&spec),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(partial.modules[1])
-                .name(ENTRY)
-                .specialization_info(&spec),
-        ];
+        let shader_stages: Vec<_> = [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT]
+            .into_iter()
+            .zip(&partial.modules)
+            .map(|(stage, &module)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(stage)
+                    .module(module)
+                    .name(ENTRY)
+                    .specialization_info(&spec)
+            })
+            .collect();
         let vb = [vk::VertexInputBindingDescription::default().binding(0).stride(desc.vertex_stride)];
         let attrs: Vec<_> = desc
             .vertex_attributes
@@ -259,19 +272,21 @@ impl Context {
             .line_width(1.0);
         let multisample =
             vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let (depth_format, test) = desc.depth.unzip();
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(desc.depth_format.is_some())
-            .depth_write_enable(desc.depth_format.is_some())
-            .depth_compare_op(vk::CompareOp::LESS);
-        let blend_attachment =
-            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+            .depth_test_enable(test.is_some())
+            .depth_write_enable(test == Some(DepthTest::Write))
+            .depth_compare_op(if test == Some(DepthTest::Equal) { vk::CompareOp::EQUAL } else { vk::CompareOp::LESS });
+        let writes =
+            if desc.fragment.is_some() { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
+        let blend_attachment = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let color_formats = [desc.color_format];
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
-            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+            .depth_attachment_format(depth_format.unwrap_or(vk::Format::UNDEFINED));
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&shader_stages)
             .vertex_input_state(&vertex_input)

@@ -105,12 +105,45 @@ pub struct PassProfile {
     pub fragment_invocations: Option<u64>,
 }
 
+/// The draws of a profiled submission whose fragment-shader invocations are counted: the recorder calls
+/// [`Statistics::begin`] and [`Statistics::end`] around them once (both outside rendering scopes, or both inside
+/// the same one). A no-op where the device has no pipeline statistics.
+pub struct Statistics<'a> {
+    ctx: &'a Context,
+    pool: vk::QueryPool,
+    /// 0: not begun, 1: begun, 2: ended.
+    state: std::cell::Cell<u8>,
+}
+
+impl Statistics<'_> {
+    pub fn begin(&self, cmd: vk::CommandBuffer) {
+        if self.pool != vk::QueryPool::null() && self.state.replace(1) == 0 {
+            // SAFETY: cmd is recording; the query was reset before the recording started.
+            unsafe { self.ctx.device().cmd_begin_query(cmd, self.pool, 0, vk::QueryControlFlags::empty()) };
+        }
+    }
+
+    pub fn end(&self, cmd: vk::CommandBuffer) {
+        if self.pool != vk::QueryPool::null() && self.state.get() == 1 {
+            self.state.set(2);
+            // SAFETY: paired with begin, in the same rendering scope (or outside any).
+            unsafe { self.ctx.device().cmd_end_query(cmd, self.pool, 0) };
+        }
+    }
+}
+
 impl Context {
-    /// [`Context::one_shot_timed`] that also counts fragment-shader invocations with a pipeline-statistics
-    /// query where the device has the feature.
-    pub fn one_shot_profiled(&self, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<PassProfile> {
+    /// [`Context::one_shot_timed`] that also counts the fragment-shader invocations of the draws the recorder
+    /// brackets with [`Statistics`], where the device has pipeline statistics.
+    pub fn one_shot_profiled(
+        &self,
+        name: &str,
+        record: impl FnOnce(vk::CommandBuffer, &Statistics<'_>),
+    ) -> Result<PassProfile> {
+        let unsupported = Statistics { ctx: self, pool: vk::QueryPool::null(), state: Default::default() };
         if !self.has_pipeline_statistics() {
-            return Ok(PassProfile { gpu_ms: self.one_shot_timed(name, record)?, fragment_invocations: None });
+            let gpu_ms = self.one_shot_timed(name, |cmd| record(cmd, &unsupported))?;
+            return Ok(PassProfile { gpu_ms, fragment_invocations: None });
         }
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::PIPELINE_STATISTICS)
@@ -119,17 +152,18 @@ impl Context {
         // SAFETY: a plain create on a live device that enabled pipelineStatisticsQuery.
         let pool = unsafe { self.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
         self.set_name(pool, name);
+        let statistics = Statistics { ctx: self, pool, state: Default::default() };
         let timed = self.one_shot_timed(name, |cmd| {
-            // SAFETY: cmd is recording, outside any rendering scope; the query is reset before it begins.
-            unsafe {
-                self.device().cmd_reset_query_pool(cmd, pool, 0, 1);
-                self.device().cmd_begin_query(cmd, pool, 0, vk::QueryControlFlags::empty());
-            }
-            record(cmd);
-            // SAFETY: paired with the begin above, outside any rendering scope.
-            unsafe { self.device().cmd_end_query(cmd, pool, 0) };
+            // SAFETY: cmd is recording, outside any rendering scope.
+            unsafe { self.device().cmd_reset_query_pool(cmd, pool, 0, 1) };
+            record(cmd, &statistics);
         });
+        let closed = statistics.state.get() == 2;
         let result = timed.and_then(|gpu_ms| {
+            if !closed {
+                // Reading a query that never ended would wait forever.
+                return Err(crate::Error::Invalid(format!("{name}: the counted draws were not bracketed (a bug)")));
+            }
             let mut count = [0u64; 1];
             // SAFETY: the work that wrote the query has completed (one_shot waits).
             unsafe {
