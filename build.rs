@@ -10,8 +10,7 @@ use std::path::{Path, PathBuf};
 
 /// Further builds of a shader with macros defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macros
 /// separated by spaces). `BAKED` makes the diffraction shaders read the baked colour table instead of the Taylor
-/// terms, `COUNT_FETCHES` makes them count their texel fetches per pixel, `GBUFFER` makes the surface pass write
-/// the directions and footprints the exact reference and the baked table's plan need.
+/// terms, `COUNT_FETCHES` makes them count their texel fetches and shadings per pixel.
 const VARIANTS: &[(&str, &str, &str)] = &[
     ("map.frag", "map_count.frag", "COUNT_FETCHES"),
     ("map.frag", "map_baked.frag", "BAKED"),
@@ -19,7 +18,6 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface.frag", "surface_count.frag", "COUNT_FETCHES"),
     ("surface.frag", "surface_baked.frag", "BAKED"),
     ("surface.frag", "surface_baked_count.frag", "BAKED COUNT_FETCHES"),
-    ("surface.frag", "surface_gbuffer.frag", "GBUFFER"),
 ];
 
 /// Shader stages recognised from the second-to-last component of a file name.

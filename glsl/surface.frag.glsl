@@ -36,20 +36,9 @@ vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, vec3 pigment, float ambient) {
     return transmitted * pigment * irradiance;
 }
 
-#ifdef GBUFFER
-// The profiler's G-buffer variant: the per-pixel inputs of the exact CPU reference instead of a colour.
-// Constant ids mirrored by `render::surface::MATERIAL_ID_ID` and `GBUFFER_PART_ID`.
-layout(constant_id = 6) const uint MATERIAL_ID = 0;
-layout(constant_id = 7) const uint GBUFFER_PART = 0;  // 0: (ω_i, material + 1); 1: (ω_r, 1)
-#endif
-
 void main() {
     vec3 omega_i = normalize(patch_light);
     vec3 omega_r = normalize(patch_view);
-#ifdef GBUFFER
-    out_color = GBUFFER_PART == 0u ? vec4(omega_i, float(MATERIAL_ID + 1u)) : vec4(omega_r, 1.0);
-    return;
-#endif
 #ifdef BAKED
     float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
     vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));

@@ -35,8 +35,33 @@ use crate::mesh::{obj, Mesh};
 use crate::physics::{HeightField, PngScale};
 use crate::shading::{Approach, Settings};
 
-/// The scene `diffract render` draws when given none: the Elaphe snake (generated, so it needs no files).
+/// The scene `diffract render` draws when given none: the Elaphe snake on the measured scan (built in, with the
+/// files it names, so it works from any folder).
 pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/elaphe-snake.toml");
+/// Where the built-in scene's relative paths start: `assets/scenes` inside the binary.
+const BUILT_IN_BASE: &str = "<built-in>/scenes";
+/// The files under `assets/` built into the binary, for the built-in scene.
+const BUILT_IN: [(&str, &[u8]); 2] = [
+    ("afm/elaphe-100px.png", include_bytes!("../assets/afm/elaphe-100px.png")),
+    ("afm/xenopeltis-100px.png", include_bytes!("../assets/afm/xenopeltis-100px.png")),
+];
+
+/// The built-in bytes of `file` when it names one of [`BUILT_IN`] from [`BUILT_IN_BASE`].
+fn built_in(file: &Path) -> Option<&'static [u8]> {
+    let rest = file.strip_prefix("<built-in>").ok()?;
+    let mut parts: Vec<&str> = Vec::new();
+    for c in rest.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                parts.pop()?;
+            }
+            std::path::Component::Normal(p) => parts.push(p.to_str()?),
+            _ => {}
+        }
+    }
+    let name = parts.join("/");
+    BUILT_IN.iter().find(|(n, _)| *n == name).map(|(_, bytes)| *bytes)
+}
 /// The approach of a material that names none: the baked table (FLSS stays the reference, a material or the
 /// command line can ask for it).
 pub const DEFAULT_APPROACH: Approach = Approach::Baked;
@@ -219,7 +244,7 @@ impl Scene {
 
     /// The built-in default scene.
     pub fn default_scene() -> Result<Self> {
-        Self::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME, Path::new("."))
+        Self::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME, Path::new(BUILT_IN_BASE))
     }
 
     /// Parses scene text; `name` appears in messages and `base` resolves relative paths.
@@ -310,17 +335,24 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
     let hf = match (&d.heightfield, d.generate) {
         (Some(path), None) => {
             let file = base.join(path.get_ref());
-            if !file.exists() {
-                return Err(
-                    loc.at(path.span(), format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()))
-                );
-            }
             let png = match (d.pixel_size_um, d.height_um) {
                 (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
                 (None, None) => None,
                 _ => return Err(at("pixel_size_um and height_um go together".into())),
             };
-            HeightField::load(&file, png).map_err(|e| loc.at(path.span(), e))?
+            match (built_in(&file), png) {
+                (Some(bytes), Some(scale)) => {
+                    HeightField::from_png_bytes(&file, bytes, scale).map_err(|e| loc.at(path.span(), e))?
+                }
+                (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
+                (None, _) if !file.exists() => {
+                    return Err(loc.at(
+                        path.span(),
+                        format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
+                    ))
+                }
+                (None, png) => HeightField::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
+            }
         }
         (None, Some(kind)) => {
             let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));

@@ -29,7 +29,7 @@ use crate::vk::{Buffer, BufferDesc, Context, ContextDesc, ImageState, TimestampR
 /// The key bindings, as `H` prints them and the README lists them.
 pub const BINDINGS: &str = "\
 mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
-keys:  1 2 3 4   approach flss / nmm / pq / gem
+keys:  1 … 5     approach flss / nmm / pq / gem / baked
        T / shift+T   Taylor terms + / −        L / shift+L   wavelength step + / − (nm)
        R / shift+R   window radius + / −       + / −         exposure ± 0.5 EV
        arrows        light azimuth / elevation M             BRDF map ↔ geometry
@@ -366,6 +366,7 @@ impl State {
                 "2" => live.overrides.approach = Some(Approach::Nmm),
                 "3" => live.overrides.approach = Some(Approach::Pq),
                 "4" => live.overrides.approach = Some(Approach::Gem),
+                "5" => live.overrides.approach = Some(Approach::Baked),
                 "t" => {
                     let n = self.gpu.as_ref().and_then(|g| g.materials[0].plan).map_or(10, |p| p.order);
                     live.overrides.order = Some(if shift { n.saturating_sub(1) } else { n + 1 });
@@ -575,7 +576,11 @@ impl State {
         self.last_title = Instant::now();
         let Some(gpu) = &self.gpu else { return };
         let m = &gpu.materials[0];
-        let terms = m.plan.map(|p| format!("N={}", p.order)).unwrap_or_else(|| "no terms".into());
+        let terms = match (&m.table, m.plan) {
+            (Some(t), _) => format!("table {}×{} w:{}", t.grid.nu, t.grid.nv, t.terms),
+            (None, Some(p)) => format!("N={}", p.order),
+            (None, None) => "no terms".into(),
+        };
         let gpu_ms = self.gpu_ms.map(|ms| format!("GPU {ms:.1} ms")).unwrap_or_else(|| "GPU –".into());
         self.window.set_title(&format!(
             "diffract — {} {terms} Δλ={} nm r={} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",

@@ -1,15 +1,12 @@
 // The baked approach: the spectrally integrated colour of the patch over (u, v), its dependence on w a Chebyshev
 // series, prefiltered into mip levels; mirrors src/physics/baked/sample.rs (same names).
 // Requires params.glsl (compiled with BAKED) and brdf.glsl.
+#include "footprint.glsl"
 
 // RGBA layers of the table: 3 channels × TERMS coefficients, four to a layer (`baked::layers_for`).
 const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
 // Texels a trilinear sample reads (`shading::TRILINEAR_TEXELS`): what the counting variant adds per fetch.
 const uint TRILINEAR_TEXELS = 8u;
-// The widest footprint in (u, v) a pixel may claim: where a mesh edge or a crease makes the derivatives of u and v
-// jump (the 2×2 quad straddles two surfaces), they no longer describe one pixel's views. A pixel at most this wide
-// averages over a patch of directions about 7° across.
-const float MAX_FOOTPRINT = 0.25;
 
 // The mip level whose texels are `footprint` wide in (u, v), clamped to the levels there are (`BakedTable::lod`).
 float table_lod(float footprint) {
@@ -45,10 +42,4 @@ vec3 baked_xyz(vec3 uvw, float lod) {
 vec3 baked_diffraction_xyz(vec3 omega_i, vec3 omega_r, float lod) {
     if (omega_i.z <= 0.0 || omega_r.z <= 0.0) return vec3(0.0);
     return baked_xyz(-omega_i - omega_r, lod) * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);
-}
-
-// A pixel's footprint in (u, v): the larger of the screen derivatives of (u, v), at most MAX_FOOTPRINT. Call it
-// in uniform control flow (derivatives come from the 2×2 quad).
-float pixel_footprint(vec2 uv) {
-    return min(max(length(dFdx(uv)), length(dFdy(uv))), MAX_FOOTPRINT);
 }

@@ -11,9 +11,10 @@ layout(constant_id = 4) const uint DISPLAY_OUTPUT = 0; // 0: linear scene-referr
 layout(constant_id = 8) const uint FOOTPRINT = 1;
 
 #ifdef COUNT_FETCHES
-// The counting variant adds each fragment's fetches to fetch_counts[y · COUNT_STRIDE + x] (a row of the target).
+// The counting variant adds each fragment's fetches, and 1, to fetch_counts[y · COUNT_STRIDE + x] (a row of the
+// target): the texels a pixel cost and how many times it was shaded. Mirrored by `render::profile::Counts`.
 layout(constant_id = 5) const uint COUNT_STRIDE = 1;
-layout(std430, set = 0, binding = 4) buffer FetchCounts { uint fetch_counts[]; };
+layout(std430, set = 0, binding = 4) buffer FetchCounts { uvec2 fetch_counts[]; };
 // Texels fetched by this fragment so far (Taylor terms, or the baked table's trilinear samples).
 uint fetch_count = 0u;
 #endif
@@ -22,7 +23,9 @@ uint fetch_count = 0u;
 void record_fetches() {
 #ifdef COUNT_FETCHES
     uvec2 pixel = uvec2(gl_FragCoord.xy);
-    atomicAdd(fetch_counts[pixel.y * COUNT_STRIDE + pixel.x], fetch_count);
+    uint i = pixel.y * COUNT_STRIDE + pixel.x;
+    atomicAdd(fetch_counts[i].x, fetch_count);
+    atomicAdd(fetch_counts[i].y, 1u);
 #endif
 }
 

@@ -194,9 +194,12 @@ pub struct TermsArgs {
     pub w_max: f64,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
-    /// Also run the precomputation and report its time
+    /// Also run the precomputation (Taylor terms and baked table) and report its time
     #[arg(long)]
     pub compute: bool,
+    /// Baked table: tolerance on its Chebyshev tail in w, relative to each texel's brightest value
+    #[arg(long, value_name = "T", default_value_t = crate::physics::baked::DEFAULT_TABLE_TOLERANCE)]
+    pub table_tolerance: f64,
 }
 
 pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
@@ -237,6 +240,16 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         let start = std::time::Instant::now();
         crate::physics::TaylorTerms::compute(&hf, plan.order, None)?;
         println!("precomputed {} terms in {:.1} ms", plan.order + 1, start.elapsed().as_secs_f64() * 1e3);
+    }
+    // The table `view` and rendered sequences use: any light and view, as fine as the lobes within 256 MiB.
+    let request = crate::shading::Reach::ANY.table_request();
+    let table = crate::physics::baked::TablePlan::new(&hf, acc.coherence_um, &request, args.table_tolerance)?;
+    println!("any light and view: {}", table.describe());
+    if args.compute {
+        let start = std::time::Instant::now();
+        let (_, cached) = crate::physics::baked::load_or_build(&hf, &table, None)?;
+        let how = if cached { "loaded from the cache" } else { "built" };
+        println!("{how} the baked table in {:.1} ms", start.elapsed().as_secs_f64() * 1e3);
     }
     Ok(())
 }

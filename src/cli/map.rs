@@ -56,12 +56,16 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if let Some(exr) = &args.exr {
         crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
     }
+    if let Some(line) = material.table_line() {
+        eprintln!("{line}");
+    }
     let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
     let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
     let taps = 2 * material.window.radius_x + 1;
     let sampling = match material.settings.approach {
         Approach::Nmm => format!("one λ per DFT bin crossed ({} λ near specular)", material.sampling.count),
         Approach::Gem => format!("orders of the {:.3} µm spacing", material.params.gem[2]),
+        Approach::Baked => format!("a table of {} λ at 1 nm", material.sampling.count),
         _ => format!("{} λ", material.sampling.count),
     };
     println!(

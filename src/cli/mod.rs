@@ -111,7 +111,7 @@ Examples:
 
 Controls (also printed at start and by H):
   mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
-  1 2 3 4 approach · T/shift+T terms · L/shift+L wavelength step · R/shift+R window radius · +/- exposure
+  1 2 3 4 5 approach (flss nmm pq gem baked) · T/shift+T terms · L/shift+L wavelength step · R/shift+R window radius · +/- exposure
   arrows light · M BRDF map <-> geometry · P screenshot · H help · Esc quit";
 
 const MAP_HELP: &str = "\

@@ -14,8 +14,11 @@ use super::GpuArgs;
 use crate::physics::{optics, spectrum};
 use crate::profile::reference::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::profile::{self as prof, Config, Row, Spread, Sweep};
-use crate::render::capture::{material_inputs, prepare_materials, scene_objects, Overrides};
-use crate::render::profile::{fetch_probe, FrameSample, MapWorkload, ProbeResult, SceneView, SceneWorkload, Workload};
+use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches, Overrides};
+use crate::render::gbuffer::{GBuffer, Seen};
+use crate::render::profile::{
+    fetch_probe, Counts, FrameSample, MapWorkload, ProbeResult, SceneView, SceneWorkload, Workload,
+};
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Reach, Settings};
 use crate::vk::Context;
@@ -94,6 +97,11 @@ pub struct ProfileArgs {
     /// Recompute the reference and do not cache it
     #[arg(long)]
     pub no_reference_cache: bool,
+    /// Evaluate the exact reference at S×S positions inside each pixel and average them (the pixel's area, so
+    /// footprint filtering and point-sampling aliasing are both measured); baked maps then filter over each
+    /// pixel's footprint too
+    #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub reference_samples: u32,
 }
 
 /// What is profiled.
@@ -196,11 +204,18 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
         };
         progress("precomputing");
         let start = Instant::now();
-        let materials = prepare(&subject, config, args).with_context(|| format!("configuration {}", config.label()))?;
+        let materials =
+            prepare(&ctx, &subject, config, args, size).with_context(|| format!("configuration {}", config.label()))?;
         let precompute_ms = start.elapsed().as_secs_f64() * 1e3;
+        for line in materials.iter().filter_map(Material::table_line) {
+            if show {
+                eprint!("\r{:100}\r", "");
+            }
+            eprintln!("[{}/{}] {line}", i + 1, configs.len());
+        }
         if !references.iter().any(|(s, _)| *s == size) {
             let start = Instant::now();
-            let image = reference_for(&ctx, &subject, &materials, size, cache.as_deref())?;
+            let image = reference_for(&ctx, &subject, size, args.reference_samples, cache.as_deref())?;
             eprintln!(
                 "reference {}×{} ({:.1} s): {}",
                 size.0,
@@ -294,53 +309,55 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
 }
 
 /// The materials `config` asks for (the Taylor terms and everything else the GPU needs).
-fn prepare(subject: &Subject, config: &Config, args: &ProfileArgs) -> crate::Result<Vec<Material>> {
+/// A scene's materials are sized (baked tables) for the views its frame at `size` shows.
+fn prepare(
+    ctx: &Context,
+    subject: &Subject,
+    config: &Config,
+    args: &ProfileArgs,
+    size: (u32, u32),
+) -> crate::Result<Vec<Material>> {
     match subject {
         Subject::Map { heightfield, light, .. } => {
             let reach = Reach::Map { light: *light, size: config.size };
             Ok(vec![Material::prepare(heightfield, settings_of(config, args), &reach)?])
         }
-        Subject::Scene { scene, .. } => prepare_materials(scene, &overrides_of(config, args), &[Reach::ANY]),
+        Subject::Scene { scene, .. } => {
+            let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], size.0, size.1)?;
+            prepare_materials(scene, &overrides_of(config, args), &reaches)
+        }
     }
 }
 
-/// `materials`: prepared for the subject (a scene's reference draws its G-buffer with them).
+/// The exact reference of `subject` at `size`. With `samples` > 1 it is evaluated at `samples`² positions per
+/// pixel (an image that many times larger) and averaged.
 fn reference_for(
     ctx: &Context,
     subject: &Subject,
-    materials: &[Material],
     size: (u32, u32),
+    samples: u32,
     cache: Option<&std::path::Path>,
 ) -> anyhow::Result<ReferenceImage> {
-    match subject {
+    let fine = (size.0 * samples, size.1 * samples);
+    let image = match subject {
         Subject::Map { heightfield, light, coherence_um } => {
             let job = ReferenceJob {
                 materials: vec![ReferenceMaterial { heightfield, coherence_um: *coherence_um }],
-                width: size.0,
-                height: size.1,
-                pixels: ReferenceJob::map_pixels(size.0, *light),
+                width: fine.0,
+                height: fine.1,
+                pixels: ReferenceJob::map_pixels(fine.0, *light),
             };
-            Ok(job.compute(cache)?)
+            job.compute(cache)?
         }
         Subject::Scene { scene, .. } => {
             // The directions each pixel sees come from the GPU's rasteriser (the same triangles, the same
-            // fragments); everything after them is evaluated on the CPU.
-            let workload = scene_workload(ctx, scene, materials, size)?;
-            let parts = workload.gbuffer(ctx);
-            // SAFETY: gbuffer waited for its work.
-            unsafe { Box::new(workload).destroy(ctx) };
-            let [light, view] = parts?;
-            let pixels = light
-                .chunks(4)
-                .zip(view.chunks(4))
-                .map(|(l, v)| {
-                    if l[3] < 0.5 {
-                        return None;
-                    }
-                    let material = (l[3].round() as usize).checked_sub(1)?;
-                    let dir =
-                        |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])).normalize_or_zero();
-                    let (omega_i, omega_r) = (dir(l), dir(v));
+            // fragments, at `samples` times the resolution); everything after them is evaluated on the CPU.
+            let gbuffer = GBuffer::draw(ctx, scene, &scene.camera, scene.light_dir, fine.0, fine.1)?;
+            let pixels = gbuffer
+                .pixels
+                .iter()
+                .map(|seen| {
+                    let Seen { omega_i, omega_r, material, .. } = (*seen)?;
                     let pigment = DVec3::from(scene.materials.get(material)?.pigment.map(f64::from));
                     let extra_rgb = optics::pigment_rgb(omega_i, omega_r, pigment, f64::from(scene.ambient));
                     Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
@@ -352,13 +369,14 @@ fn reference_for(
                     .iter()
                     .map(|m| ReferenceMaterial { heightfield: &m.heightfield, coherence_um: m.settings.coherence_um })
                     .collect(),
-                width: size.0,
-                height: size.1,
+                width: fine.0,
+                height: fine.1,
                 pixels,
             };
-            Ok(job.compute(cache)?)
+            job.compute(cache)?
         }
-    }
+    };
+    Ok(image.downsample(samples))
 }
 
 fn overrides_of(config: &Config, args: &ProfileArgs) -> Overrides {
@@ -422,7 +440,11 @@ fn profile_one(
 ) -> anyhow::Result<Row> {
     let Measured { materials, precompute_ms, reference, probe, exposure } = *with;
     let mut workload: Box<dyn Workload + '_> = match subject {
-        Subject::Map { light, .. } => Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, false)?),
+        Subject::Map { light, .. } => {
+            // Against an area-sampled reference a baked map averages over its pixels too.
+            let footprint = args.reference_samples > 1;
+            Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, footprint)?)
+        }
         Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, materials, size)?),
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);
@@ -436,7 +458,9 @@ fn profile_one(
     let gpu: Vec<f64> = samples.iter().filter_map(|s| s.gpu_ms).collect();
     let gpu_ms = (gpu.len() == samples.len()).then(|| Spread::of(&gpu)).flatten();
     let cpu_ms = Spread::of(&samples.iter().map(|s| s.cpu_ms).collect::<Vec<_>>()).expect("at least one frame");
-    let total_fetches: u64 = fetches.iter().map(|&f| u64::from(f)).sum();
+    let total_fetches: u64 = fetches.iter().map(|c| u64::from(c.fetches)).sum();
+    let covered = reference.mask.iter().filter(|&&m| m).count();
+    let shaded: u64 = fetches.iter().zip(&reference.mask).filter(|(_, &m)| m).map(|(c, _)| u64::from(c.shaded)).sum();
     let fetches_per_s = gpu_ms.filter(|s| s.median > 0.0).map(|s| total_fetches as f64 / (s.median * 1e-3));
     let m = &materials[0];
     Ok(Row {
@@ -451,10 +475,12 @@ fn profile_one(
         gpu_ms,
         cpu_ms,
         fragment_invocations: samples.last().and_then(|s| s.fragment_invocations),
+        shaded_per_pixel: shaded as f64 / covered.max(1) as f64,
         fetches_per_pixel: total_fetches as f64 / f64::from(size.0 * size.1),
         fetches_per_s,
         roofline_fraction: fetches_per_s.zip(probe).map(|(rate, p)| rate / p.fetches_per_s),
         error,
+        table: prof::TableSummary::of(m),
     })
 }
 
@@ -464,7 +490,7 @@ fn measure(
     workload: &mut dyn Workload,
     args: &ProfileArgs,
     progress: &dyn Fn(&str),
-) -> crate::Result<(Vec<FrameSample>, Vec<f32>, Vec<u32>)> {
+) -> crate::Result<(Vec<FrameSample>, Vec<f32>, Vec<Counts>)> {
     for w in 0..args.warmup {
         progress(&format!("warm-up {}/{}", w + 1, args.warmup));
         workload.frame(ctx)?;

@@ -12,7 +12,7 @@ use glam::{Mat4, Quat, Vec3};
 use super::args::SceneOverrideArgs;
 use super::GpuArgs;
 use crate::mesh::Mesh;
-use crate::render::capture::{prepare_materials, SceneCapture};
+use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
 use crate::scene::Scene;
 
@@ -94,7 +94,18 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         return preview(&ctx, &scene, args, width, height);
     }
     let start = Instant::now();
-    let materials = prepare_materials(&scene, &args.settings.overrides(), &[crate::shading::Reach::ANY])?;
+    // One frame: each baked table covers what that frame's pixels see (a G-buffer says); a sequence: any view.
+    let reaches = if args.frames == 1 {
+        scene_reaches(&ctx, &scene, &[(scene.camera, scene.light_dir)], width, height)?
+    } else {
+        vec![crate::shading::Reach::ANY]
+    };
+    let materials = prepare_materials(&scene, &args.settings.overrides(), &reaches)?;
+    for (m, material) in scene.materials.iter().zip(&materials) {
+        if let Some(line) = material.table_line() {
+            eprintln!("material {:?}: {line}", m.name);
+        }
+    }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height)?;
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);

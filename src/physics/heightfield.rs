@@ -130,18 +130,36 @@ pub fn check_dims(nx: u64, ny: u64) -> Result<()> {
 }
 
 fn read_png(path: &Path, scale: PngScale) -> Result<HeightField> {
+    decode_png(path, scale, || {
+        let file = std::fs::File::open(path).map_err(|e| Error::input(path, format!("cannot open: {e}")))?;
+        Ok(std::io::BufReader::new(file))
+    })
+}
+
+impl HeightField {
+    /// A greyscale PNG held in memory (`name` appears in messages): the measured scans built into the binary.
+    pub fn from_png_bytes(name: &Path, bytes: &[u8], scale: PngScale) -> Result<Self> {
+        decode_png(name, scale, || Ok(std::io::Cursor::new(bytes)))
+    }
+}
+
+/// Decodes a greyscale PNG that `open` reads (twice: its size is checked before any pixel is allocated).
+fn decode_png<R: std::io::BufRead + std::io::Seek>(
+    path: &Path,
+    scale: PngScale,
+    open: impl Fn() -> Result<R>,
+) -> Result<HeightField> {
     for (flag, v) in [("--pixel-size-um", scale.pixel_size_um), ("--height-um", scale.height_um)] {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error::input(path, format!("{flag} must be a positive number of µm, got {v}")));
         }
     }
-    let reader = image::ImageReader::open(path)
-        .map_err(|e| Error::input(path, format!("cannot open: {e}")))?
+    let reader = image::ImageReader::new(open()?)
         .with_guessed_format()
         .map_err(|e| Error::input(path, format!("cannot read: {e}")))?;
     let (w, h) = reader.into_dimensions().map_err(|e| Error::input(path, format!("not a readable PNG: {e}")))?;
     check_dims(u64::from(w), u64::from(h)).map_err(|e| Error::input(path, e.to_string()))?;
-    let mut reader = image::ImageReader::open(path).map_err(|e| Error::input(path, format!("cannot open: {e}")))?;
+    let mut reader = image::ImageReader::new(open()?);
     reader.set_format(image::ImageFormat::Png);
     let img = reader.decode().map_err(|e| Error::input(path, format!("not a readable PNG: {e}")))?;
     let (w, h) = (img.width() as usize, img.height() as usize);

@@ -205,7 +205,12 @@ pub struct Row {
     pub precompute_ms: f64,
     pub gpu_ms: Option<Spread>,
     pub cpu_ms: Spread,
+    /// Fragment-shader invocations of the shading pass by pipeline statistics (llvmpipe counts 16 per rasterised
+    /// 4×4 block, before the depth test).
     pub fragment_invocations: Option<u64>,
+    /// Invocations that shaded a pixel (counted by the counting shaders after the early depth test), per pixel
+    /// that shows the surface.
+    pub shaded_per_pixel: f64,
     /// Counted Taylor-term fetches per image pixel.
     pub fetches_per_pixel: f64,
     /// Counted fetches / median GPU time.
@@ -213,10 +218,35 @@ pub struct Row {
     /// `fetches_per_s` over the probe's peak (with `--roofline`).
     pub roofline_fraction: Option<f64>,
     pub error: reference::ImageError,
+    /// The baked approach's table (of the first material).
+    pub table: Option<TableSummary>,
+}
+
+/// What a baked table costs: its Chebyshev terms in w, its level-0 texels, its GPU memory and how long it took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableSummary {
+    pub terms: usize,
+    pub texels: (usize, usize),
+    pub mib: f64,
+    pub ms: f64,
+    pub cached: bool,
+}
+
+impl TableSummary {
+    pub fn of(material: &crate::shading::Material) -> Option<Self> {
+        let table = material.table.as_ref()?;
+        Some(Self {
+            terms: table.terms,
+            texels: (table.grid.nu, table.grid.nv),
+            mib: table.bytes() as f64 / (1u64 << 20) as f64,
+            ms: material.table_ms,
+            cached: material.table_cached,
+        })
+    }
 }
 
 /// The CSV's column header (the schema a test checks).
-pub const CSV_COLUMNS: [&str; 23] = [
+pub const CSV_COLUMNS: [&str; 27] = [
     "approach",
     "terms",
     "order",
@@ -233,12 +263,16 @@ pub const CSV_COLUMNS: [&str; 23] = [
     "gpu_ms_p90",
     "cpu_ms_median",
     "fragment_invocations",
+    "shaded_per_covered_pixel",
     "fetches_per_pixel",
     "fetches_per_s",
     "roofline_fraction",
     "mean_de2000",
     "p99_de2000",
     "rel_xyz_rmse",
+    "table_terms",
+    "table_texels",
+    "table_mib",
     "label",
 ];
 
@@ -267,12 +301,16 @@ impl Row {
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.p90))),
             format!("{:.4}", self.cpu_ms.median),
             opt(self.fragment_invocations),
+            format!("{:.3}", self.shaded_per_pixel),
             format!("{:.1}", self.fetches_per_pixel),
             opt(self.fetches_per_s.map(|v| format!("{v:.4e}"))),
             opt(self.roofline_fraction.map(|v| format!("{v:.4}"))),
             format!("{:.5}", self.error.mean_de),
             format!("{:.5}", self.error.p99_de),
             format!("{:.5e}", self.error.rel_rmse),
+            opt(self.table.map(|t| t.terms)),
+            opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
+            opt(self.table.map(|t| format!("{:.2}", t.mib))),
             c.label(),
         ]
     }
@@ -311,17 +349,23 @@ pub fn markdown(rows: &[Row]) -> String {
     for r in rows {
         let c = &r.config;
         let gpu = r.gpu_ms.map_or("n/a".to_string(), |s| format!("{} [{}, {}]", ms(s.median), ms(s.p10), ms(s.p90)));
-        let lambda = match c.approach {
-            Approach::Nmm => "per bin".to_string(),
+        let lambda = match (c.approach, &r.table) {
+            (Approach::Nmm, _) => "per bin".to_string(),
+            (Approach::Baked, _) => "1 (baked)".to_string(),
             _ => format!("{} ({})", c.lambda_step_nm, r.lambda_count),
+        };
+        // A baked row's "N" is its table's Chebyshev terms in w and its "taps" the table's texels and memory.
+        let (order, taps) = match &r.table {
+            Some(t) => (format!("w: {}", t.terms), format!("{}×{} texels, {:.0} MiB", t.texels.0, t.texels.1, t.mib)),
+            None => (r.order.map_or("–".to_string(), |n| n.to_string()), format!("{}²", r.taps)),
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {}² | {}×{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2e} |",
+            "| {} | {} | {} | {} | {}×{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2e} |",
             c.approach.name(),
-            r.order.map_or("–".to_string(), |n| n.to_string()),
+            order,
             lambda,
-            r.taps,
+            taps,
             r.width,
             r.height,
             gpu,

@@ -194,6 +194,36 @@ impl ReferenceJob<'_> {
     }
 }
 
+impl ReferenceImage {
+    /// The image of `s`×`s` blocks averaged (a reference evaluated at s² positions per pixel); a pixel counts
+    /// where all of its positions show the surface (edge pixels, partly covered, are left out).
+    pub fn downsample(self, s: u32) -> Self {
+        if s <= 1 {
+            return self;
+        }
+        let (w, h) = (self.width / s, self.height / s);
+        let mut xyz = Vec::with_capacity((w * h) as usize);
+        let mut mask = Vec::with_capacity((w * h) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let at = |i: u32, j: u32| ((y * s + j) * self.width + x * s + i) as usize;
+                let mut sum = DVec3::ZERO;
+                let mut all = true;
+                for j in 0..s {
+                    for i in 0..s {
+                        sum += self.xyz[at(i, j)];
+                        all &= self.mask[at(i, j)];
+                    }
+                }
+                xyz.push(sum / f64::from(s * s));
+                mask.push(all);
+            }
+        }
+        let description = format!("{}; {s}×{s} positions per pixel, averaged", self.description);
+        Self { width: w, height: h, xyz, mask, description, quadrature: self.quadrature }
+    }
+}
+
 /// Evaluates `f` for every pixel with a query, rows shared out to every core, progress on stderr.
 fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Vec<DVec3> {
     let (w, h) = (job.width as usize, job.height as usize);

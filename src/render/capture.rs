@@ -3,6 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
+use super::gbuffer::{merge_reaches, GBuffer};
 use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceFrame};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -42,6 +43,24 @@ pub fn prepare_materials(scene: &Scene, overrides: &Overrides, reaches: &[Reach]
                 .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
         })
         .collect()
+}
+
+/// What each material of `scene` must serve when drawn at `width`×`height` from each of `views` (camera, world
+/// direction towards the light): the (u, v, w) and footprints its pixels see, from a G-buffer of every view.
+pub fn scene_reaches(
+    ctx: &Context,
+    scene: &Scene,
+    views: &[(Camera, Vec3)],
+    width: u32,
+    height: u32,
+) -> Result<Vec<Reach>> {
+    let frames = views
+        .iter()
+        .map(|(camera, light)| {
+            Ok(GBuffer::draw(ctx, scene, camera, *light, width, height)?.reaches(scene.materials.len()))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(merge_reaches(&frames, scene.materials.len()))
 }
 
 /// The renderer's view of `scene`'s materials (from [`prepare_materials`], in the same order).

@@ -5,6 +5,7 @@
 
 pub mod capture;
 pub mod diffraction;
+pub mod gbuffer;
 pub mod preview;
 pub mod profile;
 pub mod surface;

@@ -42,22 +42,35 @@ pub trait Workload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample>;
     /// The last frame's linear scene-referred RGBA, rows top first.
     fn image(&self, ctx: &Context) -> Result<Vec<f32>>;
-    /// Draws one frame with the counting shaders: the Taylor-term texel fetches of each pixel, rows top first.
-    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>>;
+    /// Draws one frame with the counting shaders: each pixel's texel fetches and shadings, rows top first.
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>>;
     /// # Safety
     /// The GPU must be done with the workload.
     unsafe fn destroy(self: Box<Self>, ctx: &Context);
 }
 
-/// Zeroed per-pixel fetch counters, drawn into by `record`, read back.
+/// What the counting shaders record per pixel (`fetch_counts` in glsl/include/params.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Counts {
+    /// Texels fetched (Taylor terms, or the baked table's trilinear samples at 8 texels each).
+    pub fetches: u32,
+    /// Fragment-shader invocations that shaded the pixel (after the early depth test, unlike llvmpipe's pipeline
+    /// statistics, which count every rasterised 4×4 block).
+    pub shaded: u32,
+}
+const _: () = assert!(std::mem::size_of::<Counts>() == 8);
+
+/// Zeroed per-pixel counters, drawn into by `record`, read back.
 pub fn counted_frame(
     ctx: &Context,
     width: u32,
     height: u32,
     name: &str,
     record: impl FnOnce(vk::CommandBuffer, &Buffer),
-) -> Result<Vec<u32>> {
-    let counts = ctx.create_buffer(BufferDesc::readback(4 * u64::from(width) * u64::from(height)), "fetch counts")?;
+) -> Result<Vec<Counts>> {
+    let bytes = (std::mem::size_of::<Counts>() as u64) * u64::from(width) * u64::from(height);
+    let counts = ctx.create_buffer(BufferDesc::readback(bytes), "fetch counts")?;
     let result = ctx
         .one_shot(name, |cmd| {
             // SAFETY: cmd is recording; the buffer was made with TRANSFER_DST usage.
@@ -134,7 +147,7 @@ impl Workload for MapWorkload {
         Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
     }
 
-    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>> {
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
         let (target, pass, patch) = (&self.target, &self.counting, &self.patch);
         counted_frame(ctx, self.size, self.size, "brdf map (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
@@ -334,27 +347,6 @@ impl<'a> SceneWorkload<'a> {
         }
         Ok(renderer)
     }
-
-    /// The reference's inputs per pixel: [(ω_i, material + 1), (ω_r, 1)] in the patch frame as RGBA float rows;
-    /// material 0 marks the background.
-    pub fn gbuffer(&self, ctx: &Context) -> Result<[Vec<f32>; 2]> {
-        let mut parts: [Vec<f32>; 2] = [Vec::new(), Vec::new()];
-        for (part, out) in parts.iter_mut().enumerate() {
-            let variant = SurfaceVariant::GBuffer { part: part as u32 };
-            let renderer =
-                Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, self.width, self.height)?;
-            let drawn = ctx
-                .one_shot("surface (reference inputs)", |cmd| {
-                    self.target.begin(ctx, cmd);
-                    renderer.record(ctx, cmd, &self.target.view(), [0.0; 4]);
-                })
-                .and_then(|()| self.target.read(ctx));
-            // SAFETY: one_shot waited.
-            unsafe { renderer.destroy(ctx) };
-            *out = bytemuck::pod_collect_to_vec(&drawn?);
-        }
-        Ok(parts)
-    }
 }
 
 impl Workload for SceneWorkload<'_> {
@@ -369,7 +361,7 @@ impl Workload for SceneWorkload<'_> {
         Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
     }
 
-    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<u32>> {
+    fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
         let variant = SurfaceVariant::CountFetches { stride: self.width };
         let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, self.width, self.height)?;
         let (target, background) = (&self.target, self.view.background);

@@ -37,6 +37,41 @@ pub struct SurfaceUniforms {
 }
 const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 256);
 
+/// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
+#[derive(Clone, Copy, Debug)]
+pub struct ObjectView<'a> {
+    pub camera: &'a Camera,
+    pub aspect: f32,
+    /// World-space unit vector towards the light.
+    pub light_dir: Vec3,
+    pub ambient: f32,
+}
+
+impl SurfaceUniforms {
+    /// One object's uniforms: its model matrix, its material's orientation (cos, sin) and pigment, and the
+    /// material's index (`orientation.z`, which the G-buffer writes).
+    pub fn new(view: &ObjectView<'_>, model: Mat4, orientation: [f32; 2], pigment: [f32; 3], material: usize) -> Self {
+        let normal = Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
+        let [cos, sin] = orientation;
+        let [r, g, b] = pigment;
+        Self {
+            view_proj: view.camera.view_projection(view.aspect).to_cols_array_2d(),
+            model: model.to_cols_array_2d(),
+            normal_matrix: normal.to_cols_array_2d(),
+            camera_pos: view.camera.position.extend(1.0).to_array(),
+            light_dir: view.light_dir.normalize().extend(0.0).to_array(),
+            orientation: [cos, sin, material as f32, 0.0],
+            pigment: [r, g, b, view.ambient],
+        }
+    }
+}
+
+/// cos and sin of a patch's rotation about the normal.
+pub fn orientation(degrees: f32) -> [f32; 2] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    [cos, sin]
+}
+
 /// The attributes of [`Vertex`] the vertex shaders read: position, normal and tangent. The UVs stay on the CPU
 /// (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be stripped by
 /// the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
@@ -83,19 +118,14 @@ struct ObjectGpu {
     material: usize,
 }
 
-/// Specialization constants of the G-buffer build (glsl/surface.frag.glsl): the material's index and which part.
-pub const MATERIAL_ID_ID: u32 = 6;
-pub const GBUFFER_PART_ID: u32 = 7;
-
 /// Which build of the surface shader a renderer uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SurfaceVariant {
     /// The colour (linear, or display-encoded).
     Shade { display_output: bool },
-    /// Linear colour, and each fragment's Taylor-term fetches added to a per-pixel counter (row stride given).
+    /// Linear colour, and each fragment's texel fetches and shading added to per-pixel counters (row stride
+    /// given).
     CountFetches { stride: u32 },
-    /// The reference's inputs: part 0 writes (ω_i, material + 1), part 1 (ω_r, 1), patch frame, linear float.
-    GBuffer { part: u32 },
 }
 
 /// GPU state for drawing a set of objects with their materials.
@@ -169,7 +199,7 @@ impl SceneRenderer {
         if self.counting {
             bindings.push(super::diffraction::count_binding());
         }
-        for (index, input) in materials.iter().enumerate() {
+        for input in materials {
             let patch = PatchResources::new(ctx, input.material)?;
             let baked = input.material.table.is_some();
             let (fragment, specialization) = match variant {
@@ -180,10 +210,6 @@ impl SceneRenderer {
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
                     input.material.spec_constants(false).u32(super::diffraction::COUNT_STRIDE_ID, stride),
-                ),
-                SurfaceVariant::GBuffer { part } => (
-                    shaders::SURFACE_GBUFFER_FRAG,
-                    input.material.spec_constants(false).u32(MATERIAL_ID_ID, index as u32).u32(GBUFFER_PART_ID, part),
                 ),
             };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -207,12 +233,11 @@ impl SceneRenderer {
                     return Err(e);
                 }
             };
-            let (sin, cos) = input.orientation_deg.to_radians().sin_cos();
             self.materials.push(MaterialGpu {
                 pipeline,
                 patch,
                 params: input.material.params,
-                orientation: [cos, sin],
+                orientation: orientation(input.orientation_deg),
                 pigment: input.pigment,
             });
         }
@@ -250,21 +275,10 @@ impl SceneRenderer {
         models: &[Mat4],
         aspect: f32,
     ) -> Result<()> {
-        let view_proj = camera.view_projection(aspect).to_cols_array_2d();
+        let view = ObjectView { camera, aspect, light_dir, ambient };
         for (object, model) in self.objects.iter_mut().zip(models) {
-            let normal = Mat4::from_mat3(glam::Mat3::from_mat4(*model).inverse().transpose());
             let material = &self.materials[object.material];
-            let [cos, sin] = material.orientation;
-            let [r, g, b] = material.pigment;
-            let u = SurfaceUniforms {
-                view_proj,
-                model: model.to_cols_array_2d(),
-                normal_matrix: normal.to_cols_array_2d(),
-                camera_pos: camera.position.extend(1.0).to_array(),
-                light_dir: light_dir.normalize().extend(0.0).to_array(),
-                orientation: [cos, sin, 0.0, 0.0],
-                pigment: [r, g, b, ambient],
-            };
+            let u = SurfaceUniforms::new(&view, *model, material.orientation, material.pigment, object.material);
             object.uniforms.write(bytemuck::bytes_of(&u))?;
         }
         Ok(())

@@ -1,8 +1,7 @@
 //! Every scene shipped in assets/scenes renders validation-clean, with colour.
 
-use diffract::render::capture::{prepare_materials, Overrides, SceneCapture};
+use diffract::render::capture::{prepare_materials, scene_reaches, Overrides, SceneCapture};
 use diffract::scene::Scene;
-use diffract::shading::Reach;
 
 use crate::harness::gpu_test;
 
@@ -14,9 +13,11 @@ fn every_asset_scene_renders_in_colour() {
     assert!(scenes.len() >= 3, "{scenes:?}");
     for path in scenes.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
         let scene = Scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let materials = prepare_materials(&scene, &Overrides::default(), &[Reach::ANY]).unwrap();
         let (w, h) = (96, 96);
         let linear = gpu_test(|ctx| {
+            // As `diffract render` does: each baked table covers what this frame shows.
+            let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
+            let materials = prepare_materials(&scene, &Overrides::default(), &reaches).unwrap();
             let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h).unwrap();
             let frame = capture.render(ctx, &scene.camera, scene.light_dir, scene.ambient, scene.render.background);
             // SAFETY: render waited.

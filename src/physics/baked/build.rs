@@ -527,7 +527,8 @@ fn to_coefficients(values: &NodeValues) -> Vec<f64> {
 }
 
 /// The fewest terms whose tail is within the tolerance × the texel's brightest node value (+ INVISIBLE) in
-/// every texel and channel of the probe, and the largest relative tail left at that degree.
+/// every texel and channel of the probe, and the largest relative tail left at that degree among texels bright
+/// enough for the relative bound to govern (peak ≥ 100·INVISIBLE/tolerance).
 fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
     let (nodes, n) = (values.nodes, values.texels);
     let coef = to_coefficients(values);
@@ -553,7 +554,7 @@ fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
     for t in 0..n {
         for ch in 0..3 {
             let p = peak(t, ch);
-            if p > INVISIBLE {
+            if p >= 100.0 * INVISIBLE / tolerance {
                 let tail: f64 = (needed..nodes).map(|d| coef[(d * 3 + ch) * n + t].abs()).sum();
                 worst = worst.max(tail / p);
             }

@@ -70,6 +70,22 @@ impl Domain {
         Self { u: (-light.x - 1.0, -light.x + 1.0), v: (-light.y - 1.0, -light.y + 1.0), w: (-light.z - 1.0, -light.z) }
     }
 
+    /// A tiny box at normal reflection (the table of a material nothing shows).
+    pub const POINT: Domain = Domain { u: (-0.01, 0.01), v: (-0.01, 0.01), w: (-2.0, -1.98) };
+
+    /// The box widened by `margin` on every side, clipped to the hemisphere's.
+    pub fn widened(&self, margin: f64) -> Self {
+        let h = Self::HEMISPHERE;
+        let grow = |(a, b): (f64, f64), (ha, hb): (f64, f64)| ((a - margin).max(ha), (b + margin).min(hb));
+        Self { u: grow(self.u, h.u), v: grow(self.v, h.v), w: grow(self.w, h.w) }
+    }
+
+    /// The smallest box holding both.
+    pub fn union(&self, other: &Self) -> Self {
+        let join = |(a, b): (f64, f64), (c, d): (f64, f64)| (a.min(c), b.max(d));
+        Self { u: join(self.u, other.u), v: join(self.v, other.v), w: join(self.w, other.w) }
+    }
+
     /// The box of a set of (u, v, w) points, clipped to the hemisphere's; None for no points.
     pub fn bounding(points: impl IntoIterator<Item = DVec3>) -> Option<Self> {
         let mut lo = DVec3::splat(f64::INFINITY);
@@ -303,7 +319,7 @@ impl TablePlan {
         };
         format!(
             "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]; {}×{} texels of {:.5} ({}{}); \
-             {} path, {}; {} terms in w (measured tail {:.1e}, tolerance {:.0e}); {:.1} MiB",
+             {} path, {}; {} terms in w (tail {:.1e} of the peak, measured; tolerance {:.0e}); {:.1} MiB",
             g.u0,
             g.u0 + g.nu as f64 * g.texel,
             g.v0,

@@ -1,0 +1,20 @@
+#version 460
+// The G-buffer: what each pixel of a scene sees, unshaded — the patch-frame directions, the material and the
+// pixel's footprint in (u, v). It sizes the baked tables to the views a frame shows and gives the profiler's exact
+// CPU reference its inputs. Shares surface.vert and its uniforms (`orientation.z` holds the material's index).
+#include "surface_frame.glsl"
+#include "footprint.glsl"
+
+// 0: (ω_i, material + 1); 1: (ω_r, footprint). Mirrored by `render::gbuffer::PART_ID`.
+layout(constant_id = 0) const uint PART = 0;
+
+layout(location = 0) in vec3 patch_light;
+layout(location = 1) in vec3 patch_view;
+layout(location = 0) out vec4 out_color;
+
+void main() {
+    vec3 omega_i = normalize(patch_light);
+    vec3 omega_r = normalize(patch_view);
+    float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
+    out_color = PART == 0u ? vec4(omega_i, frame.orientation.z + 1.0) : vec4(omega_r, footprint);
+}

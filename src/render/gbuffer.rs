@@ -1,0 +1,193 @@
+//! The G-buffer: per pixel of a scene's frame, what it sees, unshaded — the patch-frame directions ω_i and ω_r,
+//! the material and the pixel's footprint in (u, v) (`glsl/gbuffer.frag.glsl`, drawn with the surface pass's
+//! vertex shader and rasteriser). It sizes each material's baked table to the views the frame shows
+//! ([`GBuffer::reaches`]) and gives the profiler's exact CPU reference its inputs.
+
+use ash::vk;
+use glam::{DVec3, Vec3};
+
+use super::surface::{orientation, ObjectView, SurfaceUniforms, VERTEX_ATTRIBUTES};
+use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::mesh::Vertex;
+use crate::physics::baked::Domain;
+use crate::scene::Scene;
+use crate::shaders;
+use crate::shading::Reach;
+use crate::vk::{
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+};
+
+/// The specialization constant that picks what the G-buffer writes (`PART` in glsl/gbuffer.frag.glsl).
+pub const PART_ID: u32 = 0;
+/// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
+/// seen at a glance, which would size a table for nothing else).
+const FOOTPRINT_PERCENTILE: f64 = 0.05;
+
+/// A pixel that shows a surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seen {
+    /// Patch-frame unit vectors towards the light and the viewer.
+    pub omega_i: DVec3,
+    pub omega_r: DVec3,
+    pub material: usize,
+    /// The pixel's footprint in (u, v) (`pixel_footprint` of glsl/include/footprint.glsl).
+    pub footprint: f64,
+}
+
+/// A frame's G-buffer: rows top first, None where no surface is seen.
+pub struct GBuffer {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Option<Seen>>,
+}
+
+/// The GPU objects of one G-buffer draw, destroyed together.
+#[derive(Default)]
+struct Parts {
+    meshes: Vec<MeshBuffers>,
+    uniforms: Vec<Buffer>,
+    pipelines: Vec<Pipeline>,
+    target: Option<OffscreenTarget>,
+}
+
+impl Parts {
+    /// # Safety
+    /// The GPU must be done with everything.
+    unsafe fn destroy(self, ctx: &Context) {
+        self.meshes.into_iter().for_each(|m| m.destroy(ctx));
+        self.uniforms.into_iter().for_each(|b| b.destroy(ctx));
+        self.pipelines.into_iter().for_each(|p| p.destroy(ctx));
+        if let Some(t) = self.target {
+            t.destroy(ctx);
+        }
+    }
+}
+
+impl GBuffer {
+    /// Draws `scene` from `camera` under `light_dir` (world, towards the light) at `width`×`height`.
+    pub fn draw(
+        ctx: &Context,
+        scene: &Scene,
+        camera: &Camera,
+        light_dir: Vec3,
+        width: u32,
+        height: u32,
+    ) -> Result<Self> {
+        let mut parts = Parts::default();
+        let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), &mut parts);
+        // SAFETY: draw_parts waited for its work (or failed before submitting it).
+        unsafe { parts.destroy(ctx) };
+        let [light, view] = drawn?;
+        let dir = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])).normalize_or_zero();
+        let pixels = light
+            .chunks(4)
+            .zip(view.chunks(4))
+            .map(|(l, v)| {
+                let material = (l[3].round() as usize).checked_sub(1)?;
+                Some(Seen { omega_i: dir(l), omega_r: dir(v), material, footprint: f64::from(v[3]) })
+            })
+            .collect();
+        Ok(Self { width, height, pixels })
+    }
+
+    fn draw_parts(
+        ctx: &Context,
+        scene: &Scene,
+        camera: &Camera,
+        light_dir: Vec3,
+        (width, height): (u32, u32),
+        parts: &mut Parts,
+    ) -> Result<[Vec<f32>; 2]> {
+        let view = ObjectView { camera, aspect: width as f32 / height as f32, light_dir, ambient: scene.ambient };
+        for (i, object) in scene.objects.iter().enumerate() {
+            parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
+            let size = std::mem::size_of::<SurfaceUniforms>() as u64;
+            let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
+            let mut uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms (g-buffer)"))?;
+            let material = &scene.materials[object.material];
+            let u = SurfaceUniforms::new(
+                &view,
+                object.model,
+                orientation(material.orientation_deg),
+                material.pigment,
+                object.material,
+            );
+            let written = uniforms.write(bytemuck::bytes_of(&u));
+            parts.uniforms.push(uniforms);
+            written?;
+        }
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
+        for part in 0..2 {
+            parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: "g-buffer",
+                vertex: shaders::SURFACE_VERT,
+                fragment: Some(shaders::GBUFFER_FRAG),
+                specialization: SpecConstants::default().u32(PART_ID, part),
+                bindings: &bindings,
+                push_constant_size: 0,
+                vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                vertex_attributes: &VERTEX_ATTRIBUTES,
+                color_format: LINEAR_FORMAT,
+                depth: Some((DEPTH_FORMAT, DepthTest::Write)),
+                cull_back_faces: false,
+            })?);
+        }
+        let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
+        let mut out: [Vec<f32>; 2] = [Vec::new(), Vec::new()];
+        for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
+            ctx.one_shot("g-buffer", |cmd| {
+                target.begin(ctx, cmd);
+                begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
+                for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
+                    ctx.bind(cmd, pipeline, &[DescriptorWrite::UniformBuffer(0, uniforms)], &[]);
+                    mesh.draw(ctx, cmd);
+                }
+                end_rendering(ctx, cmd);
+            })?;
+            *out = bytemuck::pod_collect_to_vec(&target.read(ctx)?);
+        }
+        Ok(out)
+    }
+
+    /// Per material (of `count`): the box of (u, v, w) that its pixels lit from above the surface see, widened by
+    /// their median footprint, and their small (5th-percentile) footprint; None for a material no pixel shows lit.
+    pub fn reaches(&self, count: usize) -> Vec<Option<(Domain, f64)>> {
+        (0..count)
+            .map(|m| {
+                let seen: Vec<&Seen> = self
+                    .pixels
+                    .iter()
+                    .flatten()
+                    .filter(|s| s.material == m && s.omega_i.z > 0.0 && s.omega_r.z > 0.0)
+                    .collect();
+                let domain = Domain::bounding(seen.iter().map(|s| -s.omega_i - s.omega_r))?;
+                let mut footprints: Vec<f64> = seen.iter().map(|s| s.footprint).filter(|f| f.is_finite()).collect();
+                let small = crate::profile::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
+                let margin = crate::profile::percentile(&mut footprints, 0.5).max(0.0);
+                Some((domain.widened(margin), small))
+            })
+            .collect()
+    }
+}
+
+/// The reaches of one or more frames' G-buffers merged, per material: the union of the boxes and the smallest
+/// footprint; a material no frame shows lit gets the smallest table (any will do).
+pub fn merge_reaches(frames: &[Vec<Option<(Domain, f64)>>], count: usize) -> Vec<Reach> {
+    (0..count)
+        .map(|m| {
+            let seen: Vec<(Domain, f64)> = frames.iter().filter_map(|f| f.get(m).copied().flatten()).collect();
+            let Some(&(first, _)) = seen.first() else {
+                return Reach::Seen { domain: Domain::POINT, footprint: crate::render::gbuffer::UNSEEN_FOOTPRINT };
+            };
+            let domain = seen.iter().fold(first, |d, (e, _)| d.union(e));
+            let footprint = seen.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+            Reach::Seen { domain, footprint }
+        })
+        .collect()
+}
+
+/// The footprint a table for an unseen material is sized with (a coarse one: nothing reads it).
+pub const UNSEEN_FOOTPRINT: f64 = 0.05;
