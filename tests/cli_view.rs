@@ -93,6 +93,7 @@ fn view_renders_frames_survives_a_resize_and_writes_a_screenshot() {
         .args(["--screenshot", shot.to_str().unwrap(), "--resize-after", "10", "--validation", "--device", "llvmpipe"])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
+        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);

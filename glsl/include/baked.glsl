@@ -8,11 +8,17 @@ const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
 // Texels a trilinear sample reads (`shading::TRILINEAR_TEXELS`): what the counting variant adds per fetch.
 const uint TRILINEAR_TEXELS = 8u;
 
-// The mip level whose texels are `footprint` wide in (u, v), clamped to the levels there are (`BakedTable::lod`).
+// How much finer than a pixel's footprint the mip level is chosen (`baked::FOOTPRINT_LOD_BIAS`): a trilinear fetch
+// averages a level's texels (a box, variance T²/12) and interpolates between them (a tent, T²/6); their sum matches
+// the pixel's box of width F (F²/12) for texels T = F/√3, one log2(√3) below the level whose texels are F wide.
+const float FOOTPRINT_LOD_BIAS = 0.7924812503605781;
+
+// The mip level for a pixel whose footprint in (u, v) is `footprint`, clamped to the levels there are
+// (`BakedTable::lod`).
 float table_lod(float footprint) {
     float texel = params.table_w.z;
     if (!(footprint > texel)) return 0.0;
-    return clamp(log2(footprint / texel), 0.0, params.table_w.w);
+    return clamp(log2(footprint / texel) - FOOTPRINT_LOD_BIAS, 0.0, params.table_w.w);
 }
 
 // XYZ relative to a D65 mirror, before the gain and the shadowing, at `uvw` and mip level `lod`

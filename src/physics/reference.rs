@@ -196,7 +196,14 @@ impl Reference {
         if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
             return DVec3::ZERO;
         }
-        let uvw = optics::uvw(omega_i, omega_r);
+        self.spectral_xyz(optics::uvw(omega_i, omega_r), sampling)
+            * optics::gain_factor(omega_i, omega_r)
+            * optics::shadow_mask(omega_i, omega_r)
+    }
+
+    /// Σ_λ |P(u/λ, v/λ; k·w)|² weighted into XYZ relative to a D65 mirror, before the gain and the shadowing:
+    /// the quantity the baked table stores (`BakedTable::xyz`), at any (u, v, w).
+    pub fn spectral_xyz(&self, uvw: DVec3, sampling: &super::spectrum::Sampling) -> DVec3 {
         let intensity = |lambda_nm: f64| {
             let lambda_um = lambda_nm * 1e-3;
             let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
@@ -206,8 +213,6 @@ impl Reference {
             self.amplitude(at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
         };
         super::spectrum::reflectance_to_xyz(sampling, intensity)
-            * optics::gain_factor(omega_i, omega_r)
-            * optics::shadow_mask(omega_i, omega_r)
     }
 
     fn sample(&self, q: &Query) -> Sample {

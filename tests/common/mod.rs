@@ -6,11 +6,13 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-/// Runs the `diffract` binary (without DIFFRACT_VALIDATION from the environment).
+/// Runs the `diffract` binary (without DIFFRACT_VALIDATION from the environment; baked tables and references
+/// cached under the target folder, not in the user's cache).
 pub fn diffract(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_diffract"))
         .args(args)
         .env_remove("DIFFRACT_VALIDATION")
+        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
         .output()
         .expect("run diffract")
 }

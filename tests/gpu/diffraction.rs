@@ -1,6 +1,6 @@
 //! Diffraction shading on the GPU against the CPU reference and against closed forms.
 
-use diffract::physics::optics::direction;
+use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
 use diffract::render::diffraction::{evaluate_brdf, render_map, MapImage};
@@ -83,7 +83,7 @@ fn gpu_power_matches_the_cpu_taylor_sum() {
 fn flat_patch_map_is_white_at_specular_and_black_elsewhere() {
     let size = 65;
     let centre = size / 2;
-    for approach in [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem] {
+    for approach in Approach::ALL {
         let (_, image) = map(&flat(64, 0.1), Settings { approach, ..Settings::default() }, size, DVec3::Z);
         let white = image.pixel(centre, centre);
         let mean = (white.x + white.y + white.z) / 3.0;
@@ -130,7 +130,7 @@ fn first_order_peaks(image: &MapImage, side: f64) -> (f64, f64) {
 #[test]
 fn blazed_map_shows_the_first_order_spectrum_in_order() {
     let hf = blazed(50, 26, 4, 0.05, 0.25);
-    for approach in [Approach::Flss, Approach::Nmm, Approach::Pq] {
+    for approach in [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Baked] {
         let settings = Settings { approach, lambda_step_nm: 5.0, ..Settings::default() };
         let (_, image) = map(&hf, settings, 129, DVec3::Z);
         let row_energy = |side: f64| {
@@ -150,6 +150,44 @@ fn blazed_map_shows_the_first_order_spectrum_in_order() {
             let p = image.pixel(64, y);
             assert!(p.max_element() < limit, "{approach:?}: light along y at row {y}: {p}");
         }
+    }
+}
+
+#[test]
+fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
+    // The GPU's trilinear reads, LOD and Chebyshev sum against `BakedTable::xyz` (the shader's CPU twin), at the
+    // table's finest level (pixel centres are texel centres) and filtered over each pixel's footprint.
+    let hf = elaphe(3);
+    let light = direction(20.0, 0.0);
+    let size = 49;
+    for footprint in [false, true] {
+        let settings = Settings { approach: Approach::Baked, ..Settings::default() };
+        let material = Material::prepare(&hf, settings, &Reach::Map { light, size }).unwrap();
+        let image = gpu_test(|ctx| render_map(ctx, &material, size, light, footprint).unwrap());
+        let table = material.table.as_ref().unwrap();
+        let lod = if footprint { table.lod(2.0 / f64::from(size)) } else { 0.0 };
+        assert!(!footprint || lod > 0.5, "the footprint of a {size}² map spans several texels: lod {lod}");
+        let mut compared = 0;
+        for y in 0..size {
+            for x in 0..size {
+                let Some(omega_r) = map_direction(size, x, y) else { continue };
+                let g = gain_factor(light, omega_r) * shadow_mask(light, omega_r);
+                let cpu = xyz_to_linear_srgb(table.xyz(-light - omega_r, lod) * g);
+                let gpu = image.pixel(x, y);
+                let scale = cpu.abs().max_element();
+                // Lavapipe weights bilinear taps in steps of 1/256 of a texel, so filtered reads carry up to a
+                // few 1e-3 of the local contrast.
+                let allowed = if footprint { 2e-2 } else { 2e-3 };
+                if scale > 1e-4 {
+                    compared += 1;
+                    let err = (gpu - cpu).abs().max_element() / scale;
+                    assert!(err < allowed, "footprint {footprint}, pixel ({x}, {y}): GPU {gpu} vs CPU {cpu}");
+                } else {
+                    assert!(gpu.abs().max_element() < 2e-4, "pixel ({x}, {y}): GPU {gpu} vs CPU {cpu}");
+                }
+            }
+        }
+        assert!(compared > 30, "{compared}");
     }
 }
 

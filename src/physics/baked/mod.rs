@@ -29,6 +29,8 @@ pub mod build;
 pub mod cache;
 pub mod sample;
 
+pub use sample::FOOTPRINT_LOD_BIAS;
+
 use glam::DVec3;
 
 use super::heightfield::HeightField;
@@ -245,10 +247,13 @@ impl TablePlan {
     }
 
     /// The finest grid the request can use within [`MAX_TABLE_BYTES`]. Texels finer than the narrowest lobe
-    /// gain nothing (a texel one standard deviation wide averages a lobe's peak down by 4 %), coarser than the
-    /// footprint would blur what a pixel resolves. A map's texels are an odd fraction of its pixels.
+    /// gain nothing (a texel one standard deviation wide averages a lobe's peak down by 4 %); texels wider than
+    /// F/√3 would blur what a pixel of footprint F resolves (the level it reads is that much finer than F,
+    /// [`FOOTPRINT_LOD_BIAS`]). A map's texels are an odd fraction of its pixels, so that its pixel centres are
+    /// texel centres.
     fn size_grid(&mut self, request: &TableRequest) {
-        let (d, footprint, finest) = (request.domain, request.footprint, self.lobe_width.0);
+        let (d, finest) = (request.domain, self.lobe_width.0);
+        let footprint = if request.aligned { request.footprint } else { request.footprint / 3f64.sqrt() };
         let fits = |g: &Grid| g.bytes(self.terms) <= MAX_TABLE_BYTES;
         let mut grid;
         if request.aligned {

@@ -5,6 +5,12 @@
 use glam::DVec3;
 
 use super::{BakedTable, TableLevel, LAYER_CHANNELS};
+
+/// How much finer than a pixel's footprint F the mip level is chosen, log2 √3: a trilinear fetch averages a
+/// level's texels (a box of variance T²/12) and interpolates bilinearly between them (a tent, T²/6); together they
+/// match the pixel's box (F²/12) for T = F/√3. Without it the filter spans about twice the footprint (measured on a
+/// 16² map against a 3×3-sampled reference: mean ΔE00 6.3 unbiased, 1.1 biased, 2.6 for point sampling).
+pub const FOOTPRINT_LOD_BIAS: f64 = 0.792_481_250_360_578_1;
 use crate::physics::chebyshev;
 
 impl BakedTable {
@@ -14,12 +20,15 @@ impl BakedTable {
         ((u - g.u0) / g.texel, (v - g.v0) / g.texel)
     }
 
-    /// The mip level whose texels are `footprint` wide (in u, v), clamped to the levels there are.
+    /// The mip level for a pixel whose footprint in (u, v) is `footprint` (see [`FOOTPRINT_LOD_BIAS`]), clamped
+    /// to the levels there are.
     pub fn lod(&self, footprint: f64) -> f64 {
         let levels = (self.levels.len() - 1) as f64;
         // NaN and footprints within a texel read level 0.
         match footprint.partial_cmp(&self.grid.texel) {
-            Some(std::cmp::Ordering::Greater) => (footprint / self.grid.texel).log2().clamp(0.0, levels),
+            Some(std::cmp::Ordering::Greater) => {
+                ((footprint / self.grid.texel).log2() - FOOTPRINT_LOD_BIAS).clamp(0.0, levels)
+            }
             _ => 0.0,
         }
     }
