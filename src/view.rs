@@ -108,6 +108,10 @@ struct State {
     needs_resize: bool,
     frame: u32,
     gpu_ms: Option<f64>,
+    /// GPU ms of every frame after the first (the first includes the driver's shader compilation).
+    frame_times: Vec<f64>,
+    /// When the scripted frames started (after the first).
+    timed_since: Option<Instant>,
     last_title: Instant,
     fps_frames: u32,
     fps: f64,
@@ -257,6 +261,8 @@ impl State {
             needs_resize: false,
             frame: 0,
             gpu_ms: None,
+            frame_times: Vec::new(),
+            timed_since: None,
             last_title: Instant::now(),
             fps_frames: 0,
             fps: 0.0,
@@ -445,9 +451,27 @@ impl State {
             if let Some(path) = &options.screenshot {
                 self.save_screenshot(path)?;
             }
+            self.print_frame_times();
             event_loop.exit();
         }
         Ok(())
+    }
+
+    /// The scripted frames' cost, after the first: GPU ms (median, p10, p90) and the frame rate of the window.
+    fn print_frame_times(&self) {
+        let size = self.window.inner_size();
+        let Some(spread) = crate::profile::Spread::of(&self.frame_times) else { return };
+        let fps = self.timed_since.map(|t| (self.frame_times.len() + 1) as f64 / t.elapsed().as_secs_f64());
+        println!(
+            "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",
+            self.frame_times.len(),
+            size.width,
+            size.height,
+            spread.median,
+            spread.p10,
+            spread.p90,
+            fps.map(|f| format!(", {f:.1} fps in the window")).unwrap_or_default()
+        );
     }
 
     /// Draws one frame; with `copy`, also copies it into the screenshot buffer.
@@ -465,6 +489,11 @@ impl State {
         if self.frame > 0 {
             if let Some(r) = &self.ring {
                 self.gpu_ms = r.read(&self.ctx, 0)?.first().map(|s| s.ms);
+                if self.frame > 1 {
+                    self.frame_times.extend(self.gpu_ms);
+                } else {
+                    self.timed_since = Some(Instant::now());
+                }
             }
         }
         let index = match swapchain.acquire(sync.image_available)? {

@@ -102,6 +102,9 @@ pub struct ProfileArgs {
     /// pixel's footprint too
     #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
     pub reference_samples: u32,
+    /// Time only: no exact reference and no error columns (an exact 800² snake costs CPU-hours)
+    #[arg(long, conflicts_with_all = ["plot", "reference_samples"])]
+    pub no_reference: bool,
 }
 
 /// What is profiled.
@@ -213,7 +216,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
             }
             eprintln!("[{}/{}] {line}", i + 1, configs.len());
         }
-        if !references.iter().any(|(s, _)| *s == size) {
+        if !args.no_reference && !references.iter().any(|(s, _)| *s == size) {
             let start = Instant::now();
             let image = reference_for(&ctx, &subject, size, args.reference_samples, cache.as_deref())?;
             eprintln!(
@@ -225,7 +228,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
             );
             references.push((size, image));
         }
-        let reference = &references.iter().find(|(s, _)| *s == size).expect("computed above").1;
+        let reference = references.iter().find(|(s, _)| *s == size).map(|r| &r.1);
         let measured = Measured { materials: &materials, precompute_ms, reference, probe: probe.as_ref(), exposure };
         let row = profile_one(&ctx, &subject, args, config, size, &measured, &progress)
             .with_context(|| format!("configuration {}", config.label()))?;
@@ -233,12 +236,12 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
             eprint!("\r{:100}\r", "");
         }
         eprintln!(
-            "[{}/{}] {}: GPU {} ms, ΔE00 mean {:.3}",
+            "[{}/{}] {}: GPU {} ms{}",
             i + 1,
             configs.len(),
             config.label(),
             row.gpu_ms.map_or("n/a".into(), |s| prof::ms(s.median)),
-            row.error.mean_de
+            row.error.map(|e| format!(", ΔE00 mean {:.3}", e.mean_de)).unwrap_or_default()
         );
         rows.push(row);
     }
@@ -424,7 +427,7 @@ fn settings_of(config: &Config, args: &ProfileArgs) -> Settings {
 struct Measured<'a> {
     materials: &'a [Material],
     precompute_ms: f64,
-    reference: &'a ReferenceImage,
+    reference: Option<&'a ReferenceImage>,
     probe: Option<&'a ProbeResult>,
     exposure: f64,
 }
@@ -449,7 +452,7 @@ fn profile_one(
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);
     let result = measured.and_then(|(samples, image, fetches)| {
-        let error = reference::image_error(reference, &image, exposure)?;
+        let error = reference.map(|r| reference::image_error(r, &image, exposure)).transpose()?;
         Ok((samples, error, fetches))
     });
     // SAFETY: every frame was waited for.
@@ -459,8 +462,9 @@ fn profile_one(
     let gpu_ms = (gpu.len() == samples.len()).then(|| Spread::of(&gpu)).flatten();
     let cpu_ms = Spread::of(&samples.iter().map(|s| s.cpu_ms).collect::<Vec<_>>()).expect("at least one frame");
     let total_fetches: u64 = fetches.iter().map(|c| u64::from(c.fetches)).sum();
-    let covered = reference.mask.iter().filter(|&&m| m).count();
-    let shaded: u64 = fetches.iter().zip(&reference.mask).filter(|(_, &m)| m).map(|(c, _)| u64::from(c.shaded)).sum();
+    // Covered pixels are those shaded at least once (the counting shaders run only where the surface is seen).
+    let covered = fetches.iter().filter(|c| c.shaded > 0).count();
+    let shaded: u64 = fetches.iter().map(|c| u64::from(c.shaded)).sum();
     let fetches_per_s = gpu_ms.filter(|s| s.median > 0.0).map(|s| total_fetches as f64 / (s.median * 1e-3));
     let m = &materials[0];
     Ok(Row {

@@ -35,6 +35,8 @@ pub const MAX_ORDER: usize = 200;
 pub const MAX_TERMS_BYTES: u64 = 8 << 30;
 /// The unit roundoff of f32.
 pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
+/// The unit roundoff of f64.
+pub const F64_UNIT_ROUNDOFF: f64 = 1.110_223_024_625_156_5e-16;
 
 /// The bound on |Σ_{n>N} (i·x)^n/n!| for |x| ≤ `x`.
 pub fn truncation_tail(x: f64, order: usize) -> f64 {
@@ -105,6 +107,8 @@ pub struct TaylorPlan {
     pub truncation_bound: f64,
     /// Estimated amplitude error of the same sum in f32.
     pub f32_error: f64,
+    /// The same estimate for f64 (the CPU's Taylor sums cancel too, far less: it matters for deep structures).
+    pub f64_error: f64,
     pub tolerance: f64,
 }
 
@@ -141,9 +145,9 @@ impl TaylorPlan {
             }
         };
         let truncation_bound = window_gain * truncation_tail(x_max, order);
-        let f32_error =
-            2.0 * F32_UNIT_ROUNDOFF * ((order + 1) as f64).sqrt() * window_gain * heights.largest_term(kappa, order);
-        Ok(Self { x_max, order, truncation_bound, f32_error, tolerance })
+        let rounding = ((order + 1) as f64).sqrt() * window_gain * heights.largest_term(kappa, order);
+        let (f32_error, f64_error) = (2.0 * F32_UNIT_ROUNDOFF * rounding, 2.0 * F64_UNIT_ROUNDOFF * rounding);
+        Ok(Self { x_max, order, truncation_bound, f32_error, f64_error, tolerance })
     }
 
     /// Whether an f32 sum (the GPU's) can reach the tolerance.
@@ -154,11 +158,13 @@ impl TaylorPlan {
     /// A one-line account for users.
     pub fn describe(&self) -> String {
         format!(
-            "Taylor order N = {} for x_max = {:.3}: truncation bound {:.2e}, f32 rounding about {:.2e} (tolerance {:.1e}{})",
+            "Taylor order N = {} for x_max = {:.3}: truncation bound {:.2e}, f32 rounding about {:.2e}, f64 about \
+             {:.0e} (tolerance {:.1e}{})",
             self.order,
             self.x_max,
             self.truncation_bound,
             self.f32_error,
+            self.f64_error,
             self.tolerance,
             if self.f32_suffices() { "" } else { "; NOT reachable in f32" }
         )

@@ -217,7 +217,8 @@ pub struct Row {
     pub fetches_per_s: Option<f64>,
     /// `fetches_per_s` over the probe's peak (with `--roofline`).
     pub roofline_fraction: Option<f64>,
-    pub error: reference::ImageError,
+    /// Against the exact reference (None with `--no-reference`).
+    pub error: Option<reference::ImageError>,
     /// The baked approach's table (of the first material).
     pub table: Option<TableSummary>,
 }
@@ -305,9 +306,9 @@ impl Row {
             format!("{:.1}", self.fetches_per_pixel),
             opt(self.fetches_per_s.map(|v| format!("{v:.4e}"))),
             opt(self.roofline_fraction.map(|v| format!("{v:.4}"))),
-            format!("{:.5}", self.error.mean_de),
-            format!("{:.5}", self.error.p99_de),
-            format!("{:.5e}", self.error.rel_rmse),
+            opt(self.error.map(|e| format!("{:.5}", e.mean_de))),
+            opt(self.error.map(|e| format!("{:.5}", e.p99_de))),
+            opt(self.error.map(|e| format!("{:.5e}", e.rel_rmse))),
             opt(self.table.map(|t| t.terms)),
             opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
             opt(self.table.map(|t| format!("{:.2}", t.mib))),
@@ -361,7 +362,7 @@ pub fn markdown(rows: &[Row]) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {}×{} | {} | {} | {} | {} | {:.3} | {:.3} | {:.2e} |",
+            "| {} | {} | {} | {} | {}×{} | {} | {} | {} | {} | {} | {} | {} |",
             c.approach.name(),
             order,
             lambda,
@@ -372,9 +373,9 @@ pub fn markdown(rows: &[Row]) -> String {
             ms(r.cpu_ms.median),
             si(r.fetches_per_pixel),
             r.roofline_fraction.map_or("–".to_string(), |f| format!("{:.0} %", 100.0 * f)),
-            r.error.mean_de,
-            r.error.p99_de,
-            r.error.rel_rmse
+            r.error.map_or("–".into(), |e| format!("{:.3}", e.mean_de)),
+            r.error.map_or("–".into(), |e| format!("{:.3}", e.p99_de)),
+            r.error.map_or("–".into(), |e| format!("{:.2e}", e.rel_rmse))
         );
     }
     out

@@ -8,6 +8,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+use super::reference::ImageError;
 use super::Row;
 use crate::error::{Error, Result};
 use crate::shading::Approach;
@@ -70,7 +71,7 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
     let time = |r: &Row| if gpu { r.gpu_ms.map_or(r.cpu_ms.median, |s| s.median) } else { r.cpu_ms.median };
     let (t_min, t_max) = bounds(rows.iter().map(time));
     let (e_min, e_max) =
-        bounds(rows.iter().flat_map(|r| [r.error.mean_de, r.error.p99_de]).map(|e| e.max(ERROR_FLOOR)));
+        bounds(rows.iter().flat_map(|r| r.error.map(|e| [e.mean_de, e.p99_de])).flatten().map(|e| e.max(ERROR_FLOOR)));
     let drawn = (|| -> std::result::Result<(), Box<dyn std::error::Error>> {
         let root = BitMapBackend::with_buffer(&mut buffer, (w, h)).into_drawing_area();
         root.fill(&WHITE)?;
@@ -88,20 +89,22 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
             .axis_desc_style(("sans-serif", 17))
             .draw()?;
         for approach in Approach::ALL {
-            let mine: Vec<&Row> = rows.iter().filter(|r| r.config.approach == approach).collect();
+            // Rows without a reference (`--no-reference`) have no error to plot.
+            let mine: Vec<(&Row, ImageError)> =
+                rows.iter().filter(|r| r.config.approach == approach).filter_map(|r| Some((r, r.error?))).collect();
             if mine.is_empty() {
                 continue;
             }
             let c = colour(approach);
-            for r in &mine {
-                let (t, mean, p99) = (time(r), r.error.mean_de.max(ERROR_FLOOR), r.error.p99_de.max(ERROR_FLOOR));
+            for &(r, e) in &mine {
+                let (t, mean, p99) = (time(r), e.mean_de.max(ERROR_FLOOR), e.p99_de.max(ERROR_FLOOR));
                 chart.draw_series(LineSeries::new([(t, mean), (t, p99)], c.stroke_width(2)))?;
                 let label = point_label(r, rows);
                 chart.draw_series(std::iter::once(Text::new(label, (t, mean), ("sans-serif", 13).into_font())))?;
             }
             chart
                 .draw_series(
-                    mine.iter().map(|r| Circle::new((time(r), r.error.mean_de.max(ERROR_FLOOR)), 6, c.filled())),
+                    mine.iter().map(|&(r, e)| Circle::new((time(r), e.mean_de.max(ERROR_FLOOR)), 6, c.filled())),
                 )?
                 .label(approach.name())
                 .legend(move |(x, y)| Circle::new((x, y), 6, c.filled()));

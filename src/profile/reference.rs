@@ -28,6 +28,9 @@ use crate::physics::HeightField;
 
 /// The reference's bound on the Taylor amplitude error |P − P_N| (a flat mirror has |P| = 1 at specular).
 pub const REFERENCE_TOLERANCE: f64 = 1e-10;
+/// The largest f64 rounding estimate (amplitude) the reference accepts: below one part in 10⁶ of a mirror's
+/// amplitude, far under what a colour difference can show.
+pub const MAX_REFERENCE_ROUNDING: f64 = 1e-6;
 /// The reference's wavelength step, nm.
 pub const REFERENCE_STEP_NM: f64 = 1.0;
 /// The finer step its quadrature error is estimated against, nm.
@@ -158,11 +161,22 @@ impl ReferenceJob<'_> {
                 REFERENCE_TOLERANCE,
                 None,
             )?;
+            // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too
+            // would lose the digits the comparison needs.
+            if plan.f64_error > MAX_REFERENCE_ROUNDING {
+                return Err(Error::Invalid(format!(
+                    "the exact reference's f64 Taylor sum would round by about {:.1e} for material {i} (x_max = {:.1}): \
+                     the structure is too deep to serve as a reference this way",
+                    plan.f64_error, plan.x_max
+                )));
+            }
             references.push(Reference::new(hf, window, Method::Taylor, Some(plan))?);
             descriptions.push(format!(
-                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}), full window {}×{} taps (weights ≥ 1e-17)",
+                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), full window {}×{} taps \
+                 (weights ≥ 1e-17)",
                 plan.order,
                 REFERENCE_TOLERANCE,
+                plan.f64_error,
                 2 * window.radius_x + 1,
                 2 * window.radius_y + 1
             ));
