@@ -605,17 +605,21 @@ impl State {
         self.last_title = Instant::now();
         let Some(gpu) = &self.gpu else { return };
         let m = &gpu.materials[0];
-        let terms = match (&m.table, m.plan) {
+        // What the approach's accuracy is made of: the baked table's texels and terms in w, or the Taylor order,
+        // wavelength step and window radius.
+        let settings = match (&m.table, m.plan) {
             (Some(t), _) => format!("table {}×{} w:{}", t.grid.nu, t.grid.nv, t.terms),
-            (None, Some(p)) => format!("N={}", p.order),
-            (None, None) => "no terms".into(),
+            (None, plan) => format!(
+                "{} Δλ={} nm r={}",
+                plan.map_or("no terms".into(), |p| format!("N={}", p.order)),
+                m.sampling.step_nm,
+                m.window.radius_x
+            ),
         };
         let gpu_ms = self.gpu_ms.map(|ms| format!("GPU {ms:.1} ms")).unwrap_or_else(|| "GPU –".into());
         self.window.set_title(&format!(
-            "diffract — {} {terms} Δλ={} nm r={} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
+            "diffract — {} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
             m.settings.approach.name(),
-            m.sampling.step_nm,
-            m.window.radius_x,
             self.live.exposure_ev,
             if self.live.map_mode { "BRDF map" } else { "geometry" },
             self.fps

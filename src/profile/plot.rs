@@ -126,6 +126,10 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
 
 /// The settings that tell the points apart (those that vary across `rows`).
 fn point_label(r: &Row, rows: &[Row]) -> String {
+    // A baked row's settings are its table's: its terms in w (the Taylor order and Δλ are not its own).
+    if let Some(t) = &r.table {
+        return format!(" w:{}", t.terms);
+    }
     let varies = |f: &dyn Fn(&Row) -> String| rows.iter().any(|o| f(o) != f(r));
     let mut parts = vec![String::new()];
     if let Some(n) = r.order.filter(|_| varies(&|o| format!("{:?}", o.order))) {

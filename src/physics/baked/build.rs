@@ -1,12 +1,12 @@
 //! The exact build of a baked table, in f64 (the module overview in `mod.rs` says what is built and why).
 //!
 //! For each wavelength λ (1 nm steps over 380–780 nm) and each Chebyshev node w_c in w, the amplitudes
-//! A_k = DFT(exp(i·κ·h))[k] with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
+//! A_k = DFT(exp(i·κ·h))(k) with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
 //! spectrum is its cell's spectrum on every T-th bin). Then, per texel:
 //!
 //! - lattice path (the tiling stride is ≥ [`super::INDEPENDENT_STRIDE`] window widths, so lobes do not
 //!   interfere): |P(s)|² = Σ_k |A_k|²·exp(−|T·k − s|²/σ²), and a texel's average of each lobe is exactly
-//!   (σ_u√π/2)·[erf]_{edges}/texel per axis (or its value at the texel's centre, for point tables). These
+//!   (σ_u√π/2)·Δerf(edges)/texel per axis (or its value at the texel's centre, for point tables). These
 //!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`super::INVISIBLE`], and
 //!   their tails beyond it, are left out. The lobes' intensities are computed first (the FFTs, in parallel over
 //!   λ); then bands of texel rows, small enough to stay in cache, gather every lobe that reaches them, for all
@@ -528,7 +528,7 @@ fn to_coefficients(values: &NodeValues) -> Vec<f64> {
 
 /// The fewest terms whose tail is within the tolerance × the texel's brightest node value (+ INVISIBLE) in
 /// every texel and channel of the probe, and the largest relative tail left at that degree among texels bright
-/// enough for the relative bound to govern (peak ≥ 100·INVISIBLE/tolerance).
+/// enough for the relative bound to govern (peak ≥ 100·INVISIBLE/tolerance; any visible one where none is).
 fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
     let (nodes, n) = (values.nodes, values.texels);
     let coef = to_coefficients(values);
@@ -550,11 +550,14 @@ fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
             needed = needed.max(degree.max(1));
         }
     }
+    // Where no probe texel is that bright (narrow lobes between coarse probe texels), every visible one counts.
+    let bright = 100.0 * INVISIBLE / tolerance;
+    let floor = if (0..n).any(|t| (0..3).any(|ch| peak(t, ch) >= bright)) { bright } else { INVISIBLE };
     let mut worst = 0.0f64;
     for t in 0..n {
         for ch in 0..3 {
             let p = peak(t, ch);
-            if p >= 100.0 * INVISIBLE / tolerance {
+            if p >= floor {
                 let tail: f64 = (needed..nodes).map(|d| coef[(d * 3 + ch) * n + t].abs()).sum();
                 worst = worst.max(tail / p);
             }

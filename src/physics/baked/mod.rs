@@ -324,7 +324,7 @@ impl TablePlan {
         };
         format!(
             "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]; {}×{} texels of {:.5} ({}{}); \
-             {} path, {}; {} terms in w (tail {:.1e} of the peak, measured; tolerance {:.0e}); {:.1} MiB",
+             {} path, {}; {} terms in w (tail {:.1e} of the peak, measured; tolerance {:.0e} of it + 1e-10); {:.1} MiB",
             g.u0,
             g.u0 + g.nu as f64 * g.texel,
             g.v0,
