@@ -54,3 +54,14 @@ impl<T> VkResultExt<T> for std::result::Result<T, vk::Result> {
         self.map_err(|result| Error::Vulkan { call, result })
     }
 }
+
+/// Shortest round-trip text of `x` for messages and CSV: plain for ordinary magnitudes, scientific for tiny or
+/// huge ones (a hostile 1e300 stays one short line); −0 is 0.
+pub fn number(x: f64) -> String {
+    let x = x + 0.0;
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}

@@ -88,7 +88,10 @@ pub fn generate(spec: &PatchSpec) -> Result<HeightField> {
         ("period", spec.period_um),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(Error::Invalid(format!("the {name} must be a positive number of µm, got {v}")));
+            return Err(Error::Invalid(format!(
+                "the {name} must be a positive number of µm, got {}",
+                crate::error::number(v)
+            )));
         }
     }
     if !(spec.depth_um.is_finite() && spec.depth_um >= 0.0) {
@@ -100,7 +103,8 @@ pub fn generate(spec: &PatchSpec) -> Result<HeightField> {
     if spec.period_um < 2.0 * spec.pixel_um && spec.kind != PatchKind::Flat {
         return Err(Error::Invalid(format!(
             "a {} µm period is not resolved by {} µm pixels (at least two pixels per period)",
-            spec.period_um, spec.pixel_um
+            crate::error::number(spec.period_um),
+            crate::error::number(spec.pixel_um)
         )));
     }
     let (nx, ny) = (nx as usize, ny as usize);

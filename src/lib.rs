@@ -23,6 +23,7 @@ pub mod camera;
 pub mod cli;
 pub mod error;
 pub mod generate;
+pub mod input;
 pub mod mesh;
 pub mod output;
 pub mod physics;

@@ -237,7 +237,8 @@ impl Locator<'_> {
 impl Scene {
     /// Loads a scene file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::input(path, format!("cannot read: {e}")))?;
+        let bytes = crate::input::read(path, crate::input::MAX_SCENE_BYTES, "scene")?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::input(path, "is not UTF-8 text (a TOML scene)"))?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         Self::parse(&text, &path.display().to_string(), base)
     }
@@ -258,6 +259,14 @@ impl Scene {
             }
         })?;
         let c = &file.camera;
+        let cam_span = c.position.span();
+        check_coords(&loc, cam_span.clone(), "[camera] position", c.position.get_ref())?;
+        check_coords(&loc, cam_span.clone(), "[camera] target", &c.target)?;
+        check_coords(&loc, cam_span.clone(), "[camera] up", &c.up)?;
+        let forward = Vec3::from(c.target) - Vec3::from(*c.position.get_ref());
+        if forward.length() > 0.0 && forward.normalize().cross(Vec3::from(c.up)).length() < 1e-6 {
+            return Err(loc.at(cam_span.clone(), "[camera] up is parallel to the line of sight (or zero)"));
+        }
         if c.position.get3() == c.target {
             return Err(loc.at(c.position.span(), "the camera position equals its target"));
         }
@@ -268,8 +277,8 @@ impl Scene {
                 format!("fov_y_deg = {fov}: expected a field of view between 0 and 180 degrees"),
             ));
         }
-        if !(c.near > 0.0 && c.far > c.near) {
-            return Err(loc.whole("the camera needs 0 < near < far"));
+        if !(c.near > 0.0 && c.far > c.near && c.far.is_finite() && c.far / c.near <= 1e7) {
+            return Err(loc.whole("the camera needs 0 < near < far, finite, with far/near at most 1e7"));
         }
         let camera = Camera {
             position: Vec3::from(*c.position.get_ref()),
@@ -307,6 +316,12 @@ impl Scene {
             exposure_ev: r.exposure_ev.unwrap_or(0.0),
             background: r.background.unwrap_or([0.0; 3]),
         };
+        if !render.exposure_ev.is_finite() || render.exposure_ev.abs() > 100.0 {
+            return Err(loc.whole("[render] exposure_ev must be a number of stops within ±100"));
+        }
+        if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+            return Err(loc.whole("[render] background is a linear RGB colour: three non-negative numbers"));
+        }
         if render.width == 0 || render.height == 0 || render.width > 16384 || render.height > 16384 {
             return Err(loc.whole("[render] width and height must lie in 1..=16384"));
         }
@@ -316,6 +331,18 @@ impl Scene {
         }
         Ok(Self { name: name.to_string(), camera, light_dir, ambient, objects, materials, render })
     }
+}
+
+/// The largest coordinate, scale or angle a scene may give (world units are arbitrary, but f32 transforms of
+/// larger values lose the mesh or overflow).
+const MAX_COORDINATE: f32 = 1e6;
+
+/// Three finite numbers of at most [`MAX_COORDINATE`] in magnitude.
+fn check_coords(loc: &Locator<'_>, span: std::ops::Range<usize>, what: &str, v: &[f32; 3]) -> Result<()> {
+    if v.iter().all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE) {
+        return Ok(());
+    }
+    Err(loc.at(span, format!("{what} = {v:?}: expected three finite numbers within ±{MAX_COORDINATE:e}")))
 }
 
 trait Get3 {
@@ -369,6 +396,19 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
         Some(TileDef::Both(n)) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
         Some(TileDef::Each([x, y])) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
     };
+    let numbers = [
+        ("tolerance", d.tolerance),
+        ("lambda_step_nm", d.lambda_step_nm),
+        ("coherence_um", d.coherence_um),
+        ("table_tolerance", d.table_tolerance),
+        ("orientation_deg", Some(f64::from(d.orientation_deg))),
+    ];
+    if let Some((key, v)) = numbers.iter().find(|(_, v)| v.is_some_and(|v| !v.is_finite())) {
+        return Err(at(format!("{key} = {}: expected a finite number", v.unwrap_or_default())));
+    }
+    if d.window_radius.is_some_and(|r| r > crate::shading::MAX_WINDOW_RADIUS) {
+        return Err(at(format!("window_radius is at most {}", crate::shading::MAX_WINDOW_RADIUS)));
+    }
     let defaults = Settings::default();
     let settings = Settings {
         approach: d.approach.unwrap_or(DEFAULT_APPROACH),
@@ -418,9 +458,14 @@ fn object(
         )
     })?;
     let scale = d.scale.as_ref().map(|s| *s.get_ref()).unwrap_or(1.0);
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(loc.at(d.scale.as_ref().map(|s| s.span()).unwrap_or(span), "scale must be positive"));
+    if !(scale.is_finite() && scale > 0.0 && scale <= MAX_COORDINATE) {
+        return Err(loc.at(
+            d.scale.as_ref().map(|s| s.span()).unwrap_or(span),
+            format!("scale must be positive and at most {MAX_COORDINATE:e}"),
+        ));
     }
+    check_coords(loc, span.clone(), "translate", &d.translate)?;
+    check_coords(loc, span.clone(), "rotate_deg", &d.rotate_deg)?;
     let [rx, ry, rz] = d.rotate_deg.map(f32::to_radians);
     let model = Mat4::from_scale_rotation_translation(
         Vec3::splat(scale),
@@ -483,6 +528,12 @@ tile = [2, 3]
             .starts_with("s.toml:12: unknown variant `torus`"));
         assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"A\"")).contains("only \"D65\""));
         assert!(error_of(&GOOD.replace("[camera]", "[camera\n")).starts_with("s.toml:2:"));
+        assert!(error_of(&GOOD.replace("scale = 0.5", "scale = 0.5\ntranslate = [nan, 0.0, 0.0]"))
+            .starts_with("s.toml:11: translate"));
+        assert!(error_of(&GOOD.replace("target = [0.0, 0.0, 0.0]", "target = [0.0, 0.0, 0.0]\nup = [0.0, 0.5, 3.0]"))
+            .contains("parallel"));
+        assert!(error_of(&GOOD.replace("size_um = 6.5", "size_um = 6.5\ncoherence_um = inf")).contains("coherence_um"));
+        assert!(error_of(&format!("{GOOD}\n[render]\nexposure_ev = nan\n")).contains("exposure_ev"));
         for e in [error_of("x = 1"), error_of(&GOOD.replace("scale = 0.5", "scale = -1.0"))] {
             assert_eq!(e.lines().count(), 1, "{e}");
         }

@@ -203,7 +203,10 @@ impl Material {
         let s = settings;
         let w_max = reach.w_max();
         if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
-            return Err(Error::Invalid(format!("the wavelength step must be positive, got {} nm", s.lambda_step_nm)));
+            return Err(Error::Invalid(format!(
+                "the wavelength step must be positive, got {} nm",
+                crate::error::number(s.lambda_step_nm)
+            )));
         }
         let sampling = Sampling::visible(s.lambda_step_nm);
         if sampling.count > MAX_LAMBDA_COUNT {
@@ -352,6 +355,8 @@ const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
 /// The strongest non-DC frequency of the heights (largest |DFT(h)| bin): gem's grating direction (unit) and
 /// spacing in µm. A flat patch has none (spacing 0).
 pub fn dominant_grating(hf: &HeightField) -> (f64, f64, f64) {
+    // A tiling's spectrum is its cell's on every T-th bin: the same frequencies, for the cost of one tile.
+    let hf = &*hf.tiling_cell();
     let Ok(terms) = TaylorTerms::compute(hf, 1, None) else { return (1.0, 0.0, 0.0) };
     let f1 = &terms.layers[1];
     let (hx, hy) = ((hf.nx / 2) as i64, (hf.ny / 2) as i64);

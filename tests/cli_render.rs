@@ -135,7 +135,7 @@ fn a_broken_scene_names_its_line() {
     }
     assert_one_line_error(
         &diffract(&["render", "/no/such/scene.toml", "--out", s(&scratch("never.png"))]),
-        "cannot read",
+        "cannot open",
     );
 }
 

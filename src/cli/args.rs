@@ -20,10 +20,10 @@ pub struct HeightFieldArgs {
     #[arg(long, value_name = "FILE")]
     pub heightfield: PathBuf,
     /// PNG only: pixel size in µm
-    #[arg(long, value_name = "P")]
+    #[arg(value_parser = parse::finite, long, value_name = "P")]
     pub pixel_size_um: Option<f64>,
     /// PNG only: height in µm of the brightest grey value (255 or 65535); black is 0
-    #[arg(long, value_name = "H")]
+    #[arg(value_parser = parse::finite, long, value_name = "H")]
     pub height_um: Option<f64>,
     /// Repeat the patch periodically NX times along x and NY along y
     #[arg(long, value_name = "NX[,NY]", value_parser = parse::tile)]
@@ -52,14 +52,14 @@ pub struct AccuracyArgs {
     #[arg(long, value_name = "N")]
     pub terms: Option<usize>,
     /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
-    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
+    #[arg(value_parser = parse::finite, long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
     /// Coherence length in µm (the Gaussian window has σ_s = L/4)
-    #[arg(long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
+    #[arg(value_parser = parse::finite, long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
     pub coherence_um: f64,
-    /// Window taps either side of the nearest bin (default: brdf and terms the full window, weights ≥ 1e-17;
-    /// map and render down to a weight of 1e-3)
-    #[arg(long, value_name = "R")]
+    /// Window taps either side of the nearest bin, at most 16 (default: brdf and terms the full window, weights
+    /// ≥ 1e-17; map and render down to a weight of 1e-3)
+    #[arg(long, value_name = "R", value_parser = parse::window_radius)]
     pub window_radius: Option<u32>,
 }
 
@@ -72,16 +72,16 @@ pub struct ShadingArgs {
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
     /// Wavelength step in nm over 380–780 nm (FLSS, PQ)
-    #[arg(long, value_name = "NM", default_value_t = 5.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "NM", default_value_t = 5.0)]
     pub lambda_step: f64,
     /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
-    #[arg(long, value_name = "EV", default_value_t = 0.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "EV", default_value_t = 0.0)]
     pub exposure: f64,
     /// Render even where f32 sums cannot reach --tolerance (the plan's estimate)
     #[arg(long)]
     pub accept_f32_error: bool,
     /// Baked: tolerance on the table's Chebyshev tail in w, relative to each texel's brightest value
-    #[arg(long, value_name = "T", default_value_t = DEFAULT_TABLE_TOLERANCE)]
+    #[arg(value_parser = parse::finite, long, value_name = "T", default_value_t = DEFAULT_TABLE_TOLERANCE)]
     pub table_tolerance: f64,
 }
 
@@ -105,10 +105,10 @@ impl ShadingArgs {
 #[derive(Args, Debug, Clone)]
 pub struct LightArgs {
     /// Light inclination θ_i in degrees (0 = normal incidence)
-    #[arg(long, value_name = "DEG")]
+    #[arg(value_parser = parse::finite, long, value_name = "DEG")]
     pub light_theta: f64,
     /// Light azimuth φ_i in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
 }
 
@@ -119,16 +119,16 @@ pub struct SceneOverrideArgs {
     #[arg(long, value_enum)]
     pub approach: Option<Approach>,
     /// Exposure in stops (default: the scene's)
-    #[arg(long, value_name = "EV")]
+    #[arg(value_parser = parse::finite, long, value_name = "EV")]
     pub exposure: Option<f64>,
     /// Taylor order N for every material (default: from each material's tolerance)
     #[arg(long, value_name = "N")]
     pub terms: Option<usize>,
     /// Wavelength step in nm for every material
-    #[arg(long, value_name = "NM")]
+    #[arg(value_parser = parse::finite, long, value_name = "NM")]
     pub lambda_step: Option<f64>,
-    /// Window radius for every material
-    #[arg(long, value_name = "R")]
+    /// Window radius for every material (at most 16)
+    #[arg(long, value_name = "R", value_parser = parse::window_radius)]
     pub window_radius: Option<u32>,
     /// Render even where f32 cannot reach the tolerance
     #[arg(long)]

@@ -32,7 +32,7 @@ pub struct BrdfArgs {
     #[arg(long, value_name = "FROM:TO:STEP")]
     pub view_theta: Option<String>,
     /// View azimuth for --view-theta, degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0, requires = "view_theta")]
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0, requires = "view_theta")]
     pub view_phi: f64,
     /// Wavelengths in nm: NM, NM,NM,... or FROM:TO:STEP
     #[arg(long, value_name = "NM")]
@@ -43,6 +43,9 @@ pub struct BrdfArgs {
     /// Evaluate the Taylor sum on the GPU with the shaders' code (f32), printing the same CSV
     #[arg(long)]
     pub gpu: bool,
+    /// With --gpu or --method taylor-f32: evaluate even where f32 cannot reach --tolerance (the note's estimate)
+    #[arg(long)]
+    pub accept_f32_error: bool,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
 }
@@ -92,8 +95,12 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         MethodArg::Exact => (Method::Exact, None),
         MethodArg::Taylor | MethodArg::TaylorF32 => {
             let plan = Reference::plan_for(&hf, &window, &queries, acc.tolerance, acc.terms)?;
-            eprintln!("note: {}", plan.describe());
             let method = if matches!(method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
+            match method {
+                Method::Taylor => refuse_unless_f64_suffices(&plan)?,
+                _ => refuse_unless_f32_suffices(&plan, args.accept_f32_error)?,
+            }
+            eprintln!("note: {}", plan.describe());
             (method, Some(plan))
         }
     };
@@ -113,8 +120,17 @@ fn brdf_gpu(
 ) -> anyhow::Result<std::process::ExitCode> {
     let acc = &args.accuracy;
     let plan = Reference::plan_for(hf, &window, queries, acc.tolerance, acc.terms)?;
+    refuse_unless_f32_suffices(&plan, args.accept_f32_error)?;
+    let radius = window.radius_x.max(window.radius_y);
+    let limit = crate::shading::MAX_WINDOW_RADIUS;
+    if radius > i64::from(limit) {
+        bail!(
+            "--gpu: this patch's full window has {radius} taps either side of the nearest bin and the shaders take \
+             at most {limit}; pass --window-radius R (R ≤ {limit}) to evaluate a truncated window"
+        );
+    }
+    let radius = radius as u32;
     eprintln!("note: {}", plan.describe());
-    let radius = window.radius_x.max(window.radius_y) as u32;
     let settings = crate::shading::Settings {
         order: Some(plan.order),
         tolerance: acc.tolerance,
@@ -146,7 +162,49 @@ fn brdf_gpu(
     Ok(super::validation_status(&log))
 }
 
+/// The f64 Taylor method where its own rounding stays below the tolerance; otherwise a refusal that names the
+/// method that can (exact: no series, no cancellation).
+fn refuse_unless_f64_suffices(plan: &crate::physics::TaylorPlan) -> anyhow::Result<()> {
+    if !plan.f64_suffices() {
+        bail!(
+            "the f64 Taylor sum cannot reach the tolerance here: at N = {} for x_max = {:.1} its terms grow to about \
+             {:.0e} before they cancel (f64 rounding about {:.0e} > {:.0e}); use --method exact, which sums \
+             exp(i·k·w·h) itself",
+            plan.order,
+            plan.x_max,
+            plan.f64_error / (2.0 * crate::physics::taylor::F64_UNIT_ROUNDOFF),
+            plan.f64_error,
+            plan.tolerance
+        );
+    }
+    Ok(())
+}
+
+/// The f32 sums (GPU and its CPU emulation) as `map` treats them: refused where f32 cannot reach the tolerance,
+/// unless the user asks for the error.
+fn refuse_unless_f32_suffices(plan: &crate::physics::TaylorPlan, accept: bool) -> anyhow::Result<()> {
+    if !plan.f32_suffices() && !accept {
+        bail!(
+            "f32 sums cannot reach the tolerance for this patch (N = {} for x_max = {:.1}: f32 rounding about {:.1e} \
+             > {:.0e}); use --method exact or taylor (f64), raise --tolerance, or pass --accept-f32-error",
+            plan.order,
+            plan.x_max,
+            plan.f32_error,
+            plan.tolerance
+        );
+    }
+    Ok(())
+}
+
 fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Result<()> {
+    let bad = samples.iter().filter(|s| !(s.power.is_finite() && s.reflectance.is_finite())).count();
+    if bad > 0 {
+        bail!(
+            "{bad} of {} rows are not finite numbers (an f32 sum overflowed); nothing was printed — use --method \
+             exact",
+            samples.len()
+        );
+    }
     let out_of_band = samples.iter().filter(|s| !s.in_band).count();
     if out_of_band > 0 {
         eprintln!(
@@ -165,21 +223,11 @@ fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Re
         let q = &s.query;
         let fields =
             [q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance];
-        let line: Vec<String> = fields.iter().map(|&x| number(x)).collect();
+        let line: Vec<String> = fields.iter().map(|&x| crate::error::number(x)).collect();
         writeln!(out, "{}", line.join(","))?;
     }
     out.flush().context("writing the CSV")?;
     Ok(())
-}
-
-/// Shortest round-trip text of `x`: plain for ordinary magnitudes, scientific for tiny or huge ones; −0 is 0.
-fn number(x: f64) -> String {
-    let x = x + 0.0;
-    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
 }
 
 #[derive(Args, Debug)]
@@ -187,10 +235,10 @@ pub struct TermsArgs {
     #[command(flatten)]
     pub heightfield: HeightFieldArgs,
     /// Shortest wavelength in use, nm
-    #[arg(long, default_value_t = 380.0)]
+    #[arg(value_parser = parse::finite, long, default_value_t = 380.0)]
     pub lambda_min: f64,
     /// Largest |w| in use (2 covers every pair of directions)
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(value_parser = parse::finite, long, default_value_t = 2.0)]
     pub w_max: f64,
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
@@ -198,7 +246,7 @@ pub struct TermsArgs {
     #[arg(long)]
     pub compute: bool,
     /// Baked table: tolerance on its Chebyshev tail in w, relative to each texel's brightest value
-    #[arg(long, value_name = "T", default_value_t = crate::physics::baked::DEFAULT_TABLE_TOLERANCE)]
+    #[arg(value_parser = parse::finite, long, value_name = "T", default_value_t = crate::physics::baked::DEFAULT_TABLE_TOLERANCE)]
     pub table_tolerance: f64,
 }
 

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, Subcommand};
 
+use super::parse;
 use crate::generate::{generate, PatchKind, PatchSpec};
 use crate::physics::gsf;
 
@@ -54,16 +55,16 @@ pub struct PatchArgs {
     #[arg(long, value_name = "FILE.gsf")]
     pub out: PathBuf,
     /// Edge length of the square patch, µm (65 µm is the coherence length of sunlight)
-    #[arg(long, default_value_t = 65.0)]
+    #[arg(value_parser = parse::finite, long, default_value_t = 65.0)]
     pub size_um: f64,
     /// Pixel size, µm (≤ 0.095 µm samples every direction at 380 nm)
-    #[arg(long, default_value_t = 0.065)]
+    #[arg(value_parser = parse::finite, long, default_value_t = 0.065)]
     pub pixel_um: f64,
     /// Period, µm (default per kind: sinusoidal 2, blazed 2.5, cd 1.6, elaphe 1.14, xenopeltis 1.55)
-    #[arg(long)]
+    #[arg(value_parser = parse::finite, long)]
     pub period_um: Option<f64>,
     /// Peak-to-valley height, µm (default per kind: 0.2, 0.25, 0.12, 0.375, 0.44)
-    #[arg(long)]
+    #[arg(value_parser = parse::finite, long)]
     pub height_um: Option<f64>,
     /// Seed of the random structures (cd, elaphe, xenopeltis)
     #[arg(long, default_value_t = 1)]
@@ -80,12 +81,20 @@ pub fn run(command: &GenCommand) -> anyhow::Result<()> {
     }
 }
 
+/// The most scales a generated snake may have (each is a few dozen vertices: 10⁶ scales are ~400 MB).
+const MAX_SCALES: u64 = 1_000_000;
+
 fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
-    if args.out.extension().and_then(|e| e.to_str()) != Some("obj") {
-        bail!("cannot write {}: the output must be a .obj file", args.out.display());
-    }
-    if !(args.length.is_finite() && args.length > 0.0) || args.scale_rows > 10_000 || args.scales_around > 1000 {
-        bail!("--length must be positive, --scale-rows at most 10000 and --scales-around at most 1000");
+    crate::output::check_path(&args.out, "obj")?;
+    if !(args.length.is_finite() && args.length > 0.0 && args.length <= 1e6)
+        || args.scale_rows > 10_000
+        || args.scales_around > 1000
+        || u64::from(args.scale_rows) * u64::from(args.scales_around) > MAX_SCALES
+    {
+        bail!(
+            "--length must lie in (0, 1e6], --scale-rows at most 10000, --scales-around at most 1000 and their \
+             product (the number of scales) at most {MAX_SCALES}"
+        );
     }
     let mut spec = crate::mesh::shapes::SnakeSpec { length: args.length, seed: args.seed, ..Default::default() };
     spec.scale_rows = if args.smooth { 0 } else { args.scale_rows };
@@ -97,9 +106,7 @@ fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
 }
 
 fn patch(args: &PatchArgs) -> anyhow::Result<()> {
-    if args.out.extension().and_then(|e| e.to_str()) != Some("gsf") {
-        bail!("cannot write {}: the output must be a .gsf file", args.out.display());
-    }
+    crate::output::check_path(&args.out, "gsf")?;
     if let Some(p) = &args.preview {
         crate::output::check_png_path(p)?;
     }
@@ -112,10 +119,8 @@ fn patch(args: &PatchArgs) -> anyhow::Result<()> {
     if let Some(p) = &args.preview {
         let (lo, hi) = hf.range();
         let span = (hi - lo).max(1e-12);
-        let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(hf.nx as u32, hf.ny as u32, |x, y| {
-            image::Luma([((hf.heights_um[y as usize * hf.nx + x as usize] - lo) / span * 65535.0).round() as u16])
-        });
-        img.save(p).map_err(|e| crate::Error::output(p, e))?;
+        let grey = hf.heights_um.iter().map(|h| ((h - lo) / span * 65535.0).round() as u16).collect();
+        crate::output::write_png_gray16(p, hf.nx as u32, hf.ny as u32, grey)?;
     }
     let (lo, hi) = hf.range();
     println!(

@@ -135,8 +135,14 @@ Examples:
 
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
-    let matches = Cli::command().get_matches();
-    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let matches = match Cli::command().try_get_matches() {
+        Ok(m) => m,
+        Err(e) => return usage_error(e),
+    };
+    let mut cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     // A sweep is one --sweep flag's items: clap's derive merges the flags, its occurrences keep them apart.
     if let (Command::Profile(args), Some(("profile", m))) = (&mut cli.command, matches.subcommand()) {
         args.sweep_groups = m
@@ -151,6 +157,27 @@ pub fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own
+/// first line, which names the argument and the reason) and exit status 2.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        e.exit();
+    }
+    if matches!(e.kind(), ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
+        let text = e.render().to_string();
+        eprint!("{text}");
+        return ExitCode::from(2);
+    }
+    // Clap's first paragraph is the error (a missing argument's name is on the lines after the first).
+    let text = e.render().to_string();
+    let paragraph: Vec<&str> =
+        text.lines().skip_while(|l| l.trim().is_empty()).take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
+    let line = if paragraph.is_empty() { "error: invalid arguments".to_string() } else { paragraph.join(" ") };
+    eprintln!("{line} (diffract --help)");
+    ExitCode::from(2)
 }
 
 fn run(cli: &Cli) -> anyhow::Result<ExitCode> {

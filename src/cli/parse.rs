@@ -17,13 +17,30 @@ pub fn values(text: &str) -> Result<Vec<f64>, String> {
         if to < from {
             return Err(format!("{text:?}: TO is below FROM"));
         }
-        let count = ((to - from) / step + 1e-6).floor() as usize + 1;
-        if count > MAX_VALUES {
-            return Err(format!("{text:?} expands to {count} values (at most {MAX_VALUES})"));
+        // Counted in f64: a huge span must be refused, not wrap to an empty list.
+        let count = ((to - from) / step + 1e-6).floor() + 1.0;
+        if count.is_nan() || count > MAX_VALUES as f64 {
+            return Err(format!("{text:?} expands to {} values (at most {MAX_VALUES})", crate::error::number(count)));
         }
+        let count = count as usize;
         return Ok((0..count).map(|i| from + i as f64 * step).collect());
     }
     text.split(',').map(num).collect()
+}
+
+/// A finite number (clap's own f64 parser takes "nan" and "inf").
+pub fn finite(text: &str) -> Result<f64, String> {
+    text.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{text:?} is not a finite number"))
+}
+
+/// A window radius in taps, within the shaders' limit (every command takes the same).
+pub fn window_radius(text: &str) -> Result<u32, String> {
+    let limit = crate::shading::MAX_WINDOW_RADIUS;
+    text.trim()
+        .parse::<u32>()
+        .ok()
+        .filter(|&r| r <= limit)
+        .ok_or_else(|| format!("{text:?}: the window radius is a whole number of taps from 0 to {limit}"))
 }
 
 /// `THETA,PHI`.
@@ -55,7 +72,9 @@ mod tests {
         assert_eq!(values("500").unwrap(), vec![500.0]);
         assert_eq!(values("450,550").unwrap(), vec![450.0, 550.0]);
         assert!(values("1:0:1").is_err() && values("0:1:0").is_err() && values("0:1e9:1e-3").is_err());
+        assert!(values("1:1e300:1").is_err(), "a count beyond usize must not wrap to an empty list");
         assert!(values("abc").is_err() && values("nan").is_err());
+        assert!(finite("inf").is_err() && finite("NaN").is_err() && finite("-1e300").is_ok());
         assert_eq!(pair("10,180").unwrap(), (10.0, 180.0));
         assert!(pair("10").is_err());
         assert_eq!(tile("3").unwrap(), (3, 3));

@@ -10,7 +10,7 @@ use clap::Args;
 use glam::DVec3;
 
 use super::args::{AccuracyArgs, HeightFieldArgs};
-use super::GpuArgs;
+use super::{parse, GpuArgs};
 use crate::physics::{optics, spectrum};
 use crate::profile::reference::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::profile::{self as prof, Config, Row, Spread, Sweep};
@@ -32,19 +32,19 @@ pub struct ProfileArgs {
     #[arg(long, value_name = "FILE")]
     pub heightfield: Option<PathBuf>,
     /// PNG only: pixel size in µm
-    #[arg(long, value_name = "P", requires = "heightfield")]
+    #[arg(value_parser = parse::finite, long, value_name = "P", requires = "heightfield")]
     pub pixel_size_um: Option<f64>,
     /// PNG only: height in µm of the brightest grey value
-    #[arg(long, value_name = "H", requires = "heightfield")]
+    #[arg(value_parser = parse::finite, long, value_name = "H", requires = "heightfield")]
     pub height_um: Option<f64>,
     /// Repeat the patch NX times along x and NY along y
     #[arg(long, value_name = "NX[,NY]", value_parser = super::parse::tile, requires = "heightfield")]
     pub tile: Option<(usize, usize)>,
     /// BRDF map: light inclination θ_i in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_theta: f64,
     /// BRDF map: light azimuth φ_i in degrees
-    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
     /// Image width in pixels (a BRDF map is square: its side)
     #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=prof::MAX_SIZE as i64))]
@@ -83,10 +83,10 @@ pub struct ProfileArgs {
     #[command(flatten)]
     pub accuracy: AccuracyArgs,
     /// Base wavelength step in nm
-    #[arg(long, value_name = "NM", default_value_t = 5.0)]
+    #[arg(value_parser = parse::finite, long, value_name = "NM", default_value_t = 5.0)]
     pub lambda_step: f64,
     /// Exposure in stops at which ΔE is measured (the image as displayed; default: the scene's, maps 0)
-    #[arg(long, value_name = "EV")]
+    #[arg(value_parser = parse::finite, long, value_name = "EV")]
     pub exposure: Option<f64>,
     /// Profile even where f32 sums cannot reach --tolerance
     #[arg(long)]
@@ -159,8 +159,8 @@ impl Subject {
 }
 
 pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process::ExitCode> {
-    if let Some(path) = args.csv.as_ref().filter(|p| p.is_dir()) {
-        bail!("--csv {} is a folder", path.display());
+    if let Some(path) = &args.csv {
+        crate::output::check_path(path, "csv")?;
     }
     if let Some(p) = &args.plot {
         crate::output::check_png_path(p)?;
@@ -267,7 +267,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     if let Some(path) = &args.csv {
         let mut all = comments.clone();
         all.push(format!("command: diffract {}", std::env::args().skip(1).collect::<Vec<_>>().join(" ")));
-        std::fs::write(path, prof::csv(&all, &rows)).with_context(|| format!("writing {}", path.display()))?;
+        crate::output::write_file(path, prof::csv(&all, &rows).as_bytes())?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &args.plot {

@@ -13,8 +13,11 @@ pub const MAX_VERTICES: usize = 20_000_000;
 /// Loads an OBJ file.
 pub fn load(path: &Path) -> Result<Mesh> {
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    let bytes = crate::input::read(path, crate::input::MAX_OBJ_BYTES, "mesh")?;
+    // Materials are not used (a scene names its own): a `mtllib` line is not followed.
     let (models, _materials) =
-        tobj::load_obj(path, &options).map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
+        tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
+            .map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
     let mut mesh = Mesh::default();
     let (mut has_normals, mut has_uvs) = (true, true);
     for model in &models {
@@ -79,7 +82,7 @@ pub fn save(path: &Path, mesh: &Mesh, comment: &str) -> Result<()> {
         let [a, b, c] = [tri[0] + 1, tri[1] + 1, tri[2] + 1];
         writeln!(text, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}").unwrap();
     }
-    std::fs::write(path, text).map_err(|e| Error::output(path, e))
+    crate::output::write_file(path, text.as_bytes())
 }
 
 #[cfg(test)]

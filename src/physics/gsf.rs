@@ -32,6 +32,7 @@ fn um_per_unit(unit: &str) -> Option<f64> {
 /// Reads a `.gsf` height field; heights and pixel size come out in µm.
 pub fn read(path: &Path) -> Result<HeightField> {
     let bad = |m: String| Error::input(path, m);
+    crate::input::check_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot open: {e}")))?;
     let file_len = file.metadata().map_err(|e| bad(format!("cannot read: {e}")))?.len();
     let mut header = Vec::new();
@@ -131,7 +132,7 @@ pub fn write(path: &Path, hf: &HeightField, title: &str) -> Result<()> {
     for h in &hf.heights_um {
         header.extend_from_slice(&((h * 1e-6) as f32).to_le_bytes());
     }
-    std::fs::write(path, header).map_err(|e| Error::output(path, e))
+    crate::output::write_file(path, &header)
 }
 
 #[cfg(test)]

@@ -14,6 +14,12 @@ use crate::error::{Error, Result};
 pub const MAX_PIXELS: u64 = 8192 * 8192;
 /// The longest edge a height field may have.
 pub const MAX_EDGE: u32 = 65536;
+/// The pixel sizes accepted, µm: 0.1 nm (an atom) to 100 µm (beyond it no visible wavelength sees structure;
+/// the AFM scans have 0.065 µm). Anything outside is a unit mistake (metres for µm) or a hostile header.
+pub const PIXEL_UM_RANGE: (f64, f64) = (1e-4, 100.0);
+/// The largest height deviation |h − mean| accepted, µm: a height field of nanostructures 1 mm deep is a unit
+/// mistake, and the phase k·w·h (10⁴ rad at 1 mm) leaves the scalar model's domain long before.
+pub const MAX_DEVIATION_UM: f64 = 1000.0;
 
 /// A measured or generated surface: heights in µm on a regular grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,15 +50,27 @@ impl HeightField {
         if heights_um.len() != nx * ny {
             return Err(Error::Invalid(format!("{} heights given for {nx}×{ny} pixels", heights_um.len())));
         }
+        let (lo, hi) = PIXEL_UM_RANGE;
         for (name, d) in [("x", dx_um), ("y", dy_um)] {
-            if !(d.is_finite() && d > 0.0) {
-                return Err(Error::Invalid(format!("the pixel size along {name} must be positive, got {d} µm")));
+            if !(lo..=hi).contains(&d) {
+                return Err(Error::Invalid(format!(
+                    "the pixel size along {name} is {} µm; diffract accepts {lo:e} to {hi} µm",
+                    crate::error::number(d)
+                )));
             }
         }
         if let Some(i) = heights_um.iter().position(|h| !h.is_finite()) {
             return Err(Error::Invalid(format!("height at column {}, row {} is {}", i % nx, i / nx, heights_um[i])));
         }
-        Ok(Self { nx, ny, dx_um, dy_um, heights_um })
+        let hf = Self { nx, ny, dx_um, dy_um, heights_um };
+        let deviation = hf.max_deviation();
+        if deviation.is_nan() || deviation > MAX_DEVIATION_UM {
+            return Err(Error::Invalid(format!(
+                "heights vary by up to {deviation:.3e} µm about their mean; diffract models nanostructures up to \
+                 {MAX_DEVIATION_UM} µm deep (heights are in µm: were metres or nm given?)"
+            )));
+        }
+        Ok(hf)
     }
 
     /// Loads a `.gsf` (units from the file) or a greyscale `.png` (units from `png`).
@@ -97,6 +115,18 @@ impl HeightField {
         self.heights_um.iter().fold(0.0f64, |m, h| m.max((h - mean).abs()))
     }
 
+    /// The smallest cell of which this field is an exact periodic tiling, as a height field (the field itself
+    /// when it has none). Means over the patch — height moments, the dominant spacing — are the cell's, so a
+    /// report on a 10×10 tiling does the work of one tile.
+    pub fn tiling_cell(&self) -> std::borrow::Cow<'_, HeightField> {
+        let (px, py) = super::baked::period_cell(self);
+        if (px, py) == (self.nx, self.ny) {
+            return std::borrow::Cow::Borrowed(self);
+        }
+        let heights_um = (0..py).flat_map(|r| self.heights_um[r * self.nx..][..px].iter().copied()).collect();
+        std::borrow::Cow::Owned(Self { nx: px, ny: py, dx_um: self.dx_um, dy_um: self.dy_um, heights_um })
+    }
+
     /// Repeats the patch `tx` times along x and `ty` times along y (periodic tiling).
     pub fn tiled(&self, tx: usize, ty: usize) -> Result<Self> {
         if tx == 0 || ty == 0 {
@@ -130,6 +160,7 @@ pub fn check_dims(nx: u64, ny: u64) -> Result<()> {
 }
 
 fn read_png(path: &Path, scale: PngScale) -> Result<HeightField> {
+    crate::input::check_file(path)?;
     decode_png(path, scale, || {
         let file = std::fs::File::open(path).map_err(|e| Error::input(path, format!("cannot open: {e}")))?;
         Ok(std::io::BufReader::new(file))

@@ -59,7 +59,10 @@ impl Query {
             return Err(Error::Invalid("azimuths must be finite".into()));
         }
         if !(self.lambda_nm.is_finite() && (100.0..=10_000.0).contains(&self.lambda_nm)) {
-            return Err(Error::Invalid(format!("λ = {} nm is outside 100 nm–10 µm", self.lambda_nm)));
+            return Err(Error::Invalid(format!(
+                "λ = {} nm is outside 100 nm–10 µm",
+                crate::error::number(self.lambda_nm)
+            )));
         }
         Ok(())
     }

@@ -65,6 +65,8 @@ pub struct HeightStats {
 
 impl HeightStats {
     pub fn of(hf: &HeightField) -> Self {
+        // Moments are means over the patch: a tiling's are its cell's.
+        let hf = hf.tiling_cell();
         let h: Vec<f64> = hf.centred().iter().map(|x| x.abs()).collect();
         let mut powers = vec![1.0; h.len()];
         let mut moments = Vec::with_capacity(MAX_ORDER + 1);
@@ -155,6 +157,12 @@ impl TaylorPlan {
         self.f32_error <= self.tolerance
     }
 
+    /// Whether an f64 sum (the CPU's Taylor method) can reach the tolerance: deep structures make the terms
+    /// grow to κ^n·m_n/n! before they cancel, and f64 loses what lies below its unit roundoff of the largest.
+    pub fn f64_suffices(&self) -> bool {
+        self.f64_error <= self.tolerance
+    }
+
     /// A one-line account for users.
     pub fn describe(&self) -> String {
         format!(
@@ -166,7 +174,11 @@ impl TaylorPlan {
             self.f32_error,
             self.f64_error,
             self.tolerance,
-            if self.f32_suffices() { "" } else { "; NOT reachable in f32" }
+            match (self.f32_suffices(), self.f64_suffices()) {
+                (true, _) => "",
+                (false, true) => "; NOT reachable in f32",
+                (false, false) => "; NOT reachable in f32 nor in f64",
+            }
         )
     }
 }

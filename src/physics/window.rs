@@ -16,6 +16,11 @@ pub const DEFAULT_COHERENCE_UM: f64 = 65.0;
 /// The reference window reaches out to where the Gaussian weight falls below this: beyond it the taps change
 /// no f64 sum.
 pub const FULL_WINDOW_CUTOFF: f64 = 1e-17;
+/// The shortest coherence length accepted, µm: below a couple of wavelengths the Gaussian window no longer
+/// models partial coherence (white light's temporal coherence is about 1 µm, filtered sunlight's spatial 65 µm).
+pub const MIN_COHERENCE_UM: f64 = 1.0;
+/// The longest, µm (1 m, a laser's): beyond it the window is one bin wide whatever the patch.
+pub const MAX_COHERENCE_UM: f64 = 1e6;
 
 /// The window for one patch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,13 +57,16 @@ impl Window {
     /// The window of a patch `lx_um`×`ly_um` for a coherence length in µm; `radius` taps either side of the
     /// nearest bin, or `None` for the full window (every tap heavier than [`FULL_WINDOW_CUTOFF`]).
     pub fn new(lx_um: f64, ly_um: f64, coherence_um: f64, radius: Option<u32>) -> Result<Self> {
-        if !(coherence_um.is_finite() && coherence_um > 0.0) {
-            return Err(Error::Invalid(format!("the coherence length must be positive, got {coherence_um} µm")));
+        if !(MIN_COHERENCE_UM..=MAX_COHERENCE_UM).contains(&coherence_um) {
+            return Err(Error::Invalid(format!(
+                "the coherence length must lie between {MIN_COHERENCE_UM} and {MAX_COHERENCE_UM:e} µm, got {} µm",
+                crate::error::number(coherence_um)
+            )));
         }
         let sigma_s = coherence_um / 4.0;
         let sigma_x = lx_um / (2.0 * std::f64::consts::PI * sigma_s);
         let sigma_y = ly_um / (2.0 * std::f64::consts::PI * sigma_s);
-        let full = |sigma: f64| ((-2.0 * FULL_WINDOW_CUTOFF.ln()).sqrt() * sigma).ceil().max(1.0) as i64;
+        let full = |sigma: f64| ((-2.0 * FULL_WINDOW_CUTOFF.ln()).sqrt() * sigma).ceil().clamp(1.0, 1e9) as i64;
         let (radius_x, radius_y) = match radius {
             Some(r) => (i64::from(r), i64::from(r)),
             None => (full(sigma_x), full(sigma_y)),
@@ -66,13 +74,16 @@ impl Window {
         Ok(Self { sigma_x, sigma_y, radius_x, radius_y })
     }
 
-    /// Taps along one axis for a patch of `n` bins: (array index in the centred spectrum, weight).
+    /// Taps along one axis for a patch of `n` bins: (array index in the centred spectrum, weight). Only bins
+    /// the patch has are visited, so a window wider than the spectrum costs what the spectrum has, no more.
     pub fn axis_taps(s: f64, sigma: f64, radius: i64, n: usize) -> impl Iterator<Item = (usize, f64)> {
         let half = (n / 2) as i64;
         let (lo, hi) = (-half, n as i64 - 1 - half);
-        // floor(s + 0.5), as the shaders round (GLSL's round() may go either way at .5).
+        // floor(s + 0.5), as the shaders round (GLSL's round() may go either way at .5); `as` saturates.
         let nearest = (s + 0.5).floor() as i64;
-        (nearest - radius..=nearest + radius).filter(move |j| (lo..=hi).contains(j)).map(move |j| {
+        let first = nearest.saturating_sub(radius).max(lo);
+        let last = nearest.saturating_add(radius).min(hi);
+        (first..=last).map(move |j| {
             let d = (j as f64 - s) / sigma;
             ((j + half) as usize, (-0.5 * d * d).exp())
         })
@@ -81,7 +92,7 @@ impl Window {
     /// All taps of a lookup: (column, row, weight) in the centred spectrum of an `nx`×`ny` patch.
     pub fn taps(&self, at: Lookup, nx: usize, ny: usize) -> Vec<(usize, usize, f64)> {
         let xs: Vec<_> = Self::axis_taps(at.sx, self.sigma_x, self.radius_x, nx).collect();
-        let mut out = Vec::with_capacity(xs.len() * (2 * self.radius_y as usize + 1));
+        let mut out = Vec::with_capacity(xs.len() * (2 * self.radius_y as usize + 1).min(ny));
         for (iy, wy) in Self::axis_taps(at.sy, self.sigma_y, self.radius_y, ny) {
             for &(ix, wx) in &xs {
                 out.push((ix, iy, wx * wy));
