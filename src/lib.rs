@@ -22,6 +22,7 @@ pub mod cache;
 pub mod camera;
 pub mod cli;
 pub mod error;
+pub mod fuzz;
 pub mod generate;
 pub mod input;
 pub mod mesh;

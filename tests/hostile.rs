@@ -193,26 +193,27 @@ fn run(c: &Case) -> Result<(), String> {
 fn run_all(cases: &[Case]) {
     let failures: Vec<String> =
         cases.iter().filter_map(|c| run(c).err().map(|e| format!("{} ({}): {e}", c.name, c.args.join(" ")))).collect();
+    println!("{} hostile cases, {} failed", cases.len(), failures.len());
     assert!(failures.is_empty(), "{} of {} cases failed:\n{}", failures.len(), cases.len(), failures.join("\n"));
 }
 
 const VIEW: [&str; 6] = ["--light-theta", "0", "--view", "10,0", "--lambda", "500"];
 
+/// `brdf` of the small good patch with the usual view and `extra` flags.
 fn brdf(name: &'static str, extra: &[&str], needle: &'static str) -> Case {
-    let mut args = vec!["brdf", "--heightfield", "good.gsf"];
-    args.extend(VIEW);
-    args.extend(extra);
-    case(name, &args, needle)
+    brdf_of(name, "good.gsf", &[&VIEW[..], extra].concat(), needle)
+}
+
+/// `brdf --heightfield FILE` with `rest`, to build the cases that vary the views themselves.
+fn brdf_of(name: &'static str, file: &str, rest: &[&str], needle: &'static str) -> Case {
+    case(name, &[&["brdf", "--heightfield", file][..], rest].concat(), needle)
 }
 
 #[test]
 fn hostile_height_field_files() {
     let png = ["--pixel-size-um", "0.065", "--height-um", "0.3"];
     let hf = |name: &'static str, file: &'static str, extra: &[&str], needle: &'static str| {
-        let mut args = vec!["brdf", "--heightfield", file];
-        args.extend(VIEW);
-        args.extend(extra);
-        case(name, &args, needle)
+        brdf_of(name, file, &[&VIEW[..], extra].concat(), needle)
     };
     run_all(&[
         hf("missing file", "nope.gsf", &[], "cannot open"),
@@ -299,46 +300,35 @@ fn hostile_flags() {
         brdf("brdf window radius 4e9", &["--window-radius", "4000000000"], "window radius"),
         brdf("tolerance 0", &["--tolerance", "0", "--method", "taylor"], "tolerance"),
         brdf("10^5 Taylor terms", &["--terms", "100000", "--method", "taylor"], "terms"),
-        case(
+        brdf_of(
             "10^300 wavelengths",
-            &["brdf", "--heightfield", "good.gsf", "--light-theta", "0", "--view", "10,0", "--lambda", "1:1e300:1"],
+            "good.gsf",
+            &["--light-theta", "0", "--view", "10,0", "--lambda", "1:1e300:1"],
             "at most",
         ),
-        case(
-            "λ 1e300 nm",
-            &["brdf", "--heightfield", "good.gsf", "--light-theta", "0", "--view", "10,0", "--lambda", "1e300"],
-            "outside",
-        ),
-        case(
+        brdf_of("λ 1e300 nm", "good.gsf", &["--light-theta", "0", "--view", "10,0", "--lambda", "1e300"], "outside"),
+        brdf_of(
             "light at the horizon",
-            &["brdf", "--heightfield", "good.gsf", "--light-theta", "90", "--view", "10,0", "--lambda", "500"],
+            "good.gsf",
+            &["--light-theta", "90", "--view", "10,0", "--lambda", "500"],
             "horizon",
         ),
-        case(
+        brdf_of(
             "a zero view step",
-            &["brdf", "--heightfield", "good.gsf", "--light-theta", "0", "--view-theta", "0:80:0", "--lambda", "500"],
+            "good.gsf",
+            &["--light-theta", "0", "--view-theta", "0:80:0", "--lambda", "500"],
             "step",
         ),
-        case(
+        brdf_of(
             "f64 Taylor on a deep grating",
-            &[
-                "brdf",
-                "--heightfield",
-                "deep.gsf",
-                "--light-theta",
-                "0",
-                "--view",
-                "10,0",
-                "--lambda",
-                "380",
-                "--method",
-                "taylor",
-            ],
+            "deep.gsf",
+            &["--light-theta", "0", "--view", "10,0", "--lambda", "380", "--method", "taylor"],
             "use --method exact",
         ),
-        case(
+        brdf_of(
             "GPU on a deep grating",
-            &["brdf", "--heightfield", "deep.gsf", "--light-theta", "0", "--view", "10,0", "--lambda", "380", "--gpu"],
+            "deep.gsf",
+            &["--light-theta", "0", "--view", "10,0", "--lambda", "380", "--gpu"],
             "f32",
         ),
         case(

@@ -6,7 +6,6 @@
 //!
 //! Every size is checked against the file's length before anything is allocated.
 
-use std::io::Read;
 use std::path::Path;
 
 use super::heightfield::{check_dims, HeightField};
@@ -31,12 +30,16 @@ fn um_per_unit(unit: &str) -> Option<f64> {
 
 /// Reads a `.gsf` height field; heights and pixel size come out in µm.
 pub fn read(path: &Path) -> Result<HeightField> {
+    let limit = MAX_HEADER as u64 + 4 * super::heightfield::MAX_PIXELS;
+    let bytes = crate::input::read(path, limit, "GSF")?;
+    parse(path, &bytes)
+}
+
+/// Parses the bytes of a `.gsf` file (`path` names it in messages).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<HeightField> {
     let bad = |m: String| Error::input(path, m);
-    crate::input::check_file(path)?;
-    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot open: {e}")))?;
-    let file_len = file.metadata().map_err(|e| bad(format!("cannot read: {e}")))?.len();
-    let mut header = Vec::new();
-    file.take(MAX_HEADER as u64).read_to_end(&mut header).map_err(|e| bad(format!("cannot read: {e}")))?;
+    let file_len = bytes.len() as u64;
+    let header = &bytes[..bytes.len().min(MAX_HEADER)];
     if !header.starts_with(MAGIC.as_bytes()) {
         return Err(bad(format!("not a Gwyddion Simple Field (the first line must be {MAGIC:?})")));
     }
@@ -97,10 +100,6 @@ pub fn read(path: &Path) -> Result<HeightField> {
             4 * nx * ny,
             file_len.saturating_sub(data_start as u64)
         )));
-    }
-    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read: {e}")))?;
-    if bytes.len() as u64 != expected {
-        return Err(bad("the file changed while it was read".into()));
     }
     let heights: Vec<f64> = bytes[data_start..]
         .chunks_exact(4)
