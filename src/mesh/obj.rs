@@ -13,11 +13,11 @@ pub const MAX_VERTICES: usize = 20_000_000;
 /// Loads an OBJ file.
 pub fn load(path: &Path) -> Result<Mesh> {
     let bytes = crate::input::read(path, crate::input::MAX_OBJ_BYTES, "mesh")?;
-    parse(path, bytes)
+    parse(path, &bytes)
 }
 
 /// Parses the bytes of an OBJ file (`path` names it in messages).
-pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<Mesh> {
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
     // Materials are not used (a scene names its own): a `mtllib` line is not followed.
     let (models, _materials) =

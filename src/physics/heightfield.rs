@@ -119,12 +119,31 @@ impl HeightField {
     /// when it has none). Means over the patch — height moments, the dominant spacing — are the cell's, so a
     /// report on a 10×10 tiling does the work of one tile.
     pub fn tiling_cell(&self) -> std::borrow::Cow<'_, HeightField> {
-        let (px, py) = super::baked::period_cell(self);
+        let (px, py) = self.period_cell();
         if (px, py) == (self.nx, self.ny) {
             return std::borrow::Cow::Borrowed(self);
         }
+        std::borrow::Cow::Owned(self.corner(px, py))
+    }
+
+    /// The smallest cell (px, py) of which the height field is an exact periodic tiling (its own size if none).
+    pub fn period_cell(&self) -> (usize, usize) {
+        let h = &self.heights_um;
+        let (nx, ny) = (self.nx, self.ny);
+        let divisors = |n: usize| (1..=n).filter(move |p| n % p == 0);
+        let px =
+            divisors(nx).find(|&p| (0..ny).all(|r| (p..nx).all(|c| h[r * nx + c] == h[r * nx + c - p]))).unwrap_or(nx);
+        let py = divisors(ny)
+            .find(|&p| (p..ny).all(|r| (0..nx).all(|c| h[r * nx + c] == h[(r - p) * nx + c])))
+            .unwrap_or(ny);
+        (px, py)
+    }
+
+    /// The top-left `px`×`py` pixels as a height field of their own (at most the field's size).
+    pub fn corner(&self, px: usize, py: usize) -> HeightField {
+        let (px, py) = (px.min(self.nx), py.min(self.ny));
         let heights_um = (0..py).flat_map(|r| self.heights_um[r * self.nx..][..px].iter().copied()).collect();
-        std::borrow::Cow::Owned(Self { nx: px, ny: py, dx_um: self.dx_um, dy_um: self.dy_um, heights_um })
+        Self { nx: px, ny: py, dx_um: self.dx_um, dy_um: self.dy_um, heights_um }
     }
 
     /// Repeats the patch `tx` times along x and `ty` times along y (periodic tiling).
@@ -247,6 +266,16 @@ mod tests {
         assert!(HeightField::new(1, 1, 0.0, 0.1, vec![0.0]).is_err());
         let hf = HeightField::new(1, 1, 0.1, 0.1, vec![0.0]).unwrap();
         assert!(hf.tiled(1 << 16, 1 << 16).is_err());
+    }
+
+    #[test]
+    fn a_tiling_is_found_and_a_random_patch_is_its_own_cell() {
+        let cell: Vec<f64> = (0..12).map(|i| ((i * 7919) % 13) as f64 * 0.01).collect();
+        let hf = HeightField::new(4, 3, 0.1, 0.1, cell).unwrap();
+        assert_eq!(hf.period_cell(), (4, 3));
+        assert_eq!(hf.tiled(5, 2).unwrap().period_cell(), (4, 3));
+        let rows = HeightField::new(6, 5, 0.1, 0.1, (0..30).map(|i| (i % 6) as f64).collect()).unwrap();
+        assert_eq!(rows.period_cell(), (6, 1), "constant along y: a cell one row tall");
     }
 
     #[test]

@@ -82,8 +82,9 @@ struct Cell {
 
 impl Cell {
     fn new(hf: &HeightField, (px, py): (usize, usize)) -> Self {
-        let centred = hf.centred();
-        let heights: Vec<f64> = (0..px * py).map(|i| centred[(i / px) * hf.nx + i % px]).collect();
+        // Centred on the whole patch's mean, as the reference centres it.
+        let mean = hf.mean();
+        let heights: Vec<f64> = hf.corner(px, py).heights_um.iter().map(|h| h - mean).collect();
         let mut values = heights.clone();
         values.sort_by(f64::total_cmp);
         values.dedup();

@@ -223,7 +223,7 @@ impl TablePlan {
         // A lobe's intensity |A|²·exp(−d²/σ²) has the standard deviation σ/√2 bins, λ/L in u per bin.
         let lobe = |nm: f64| (window.sigma_x / lx).min(window.sigma_y / ly) * nm * 1e-3 / std::f64::consts::SQRT_2;
         let lobe_width = (lobe(super::spectrum::VISIBLE_MIN_NM), lobe(super::spectrum::VISIBLE_MAX_NM));
-        let cell = period_cell(hf);
+        let cell = hf.period_cell();
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
         let probe_terms = Self::probe_terms(hf, &window, d.w, tolerance)?;
@@ -376,17 +376,6 @@ fn probe_grid(d: Domain) -> Grid {
     Grid { u0: d.u.0, v0: d.v.0, texel, nu: n(eu), nv: n(ev), w: d.w }
 }
 
-/// The smallest cell (px, py) of which the height field is an exact periodic tiling (its own size if none).
-pub fn period_cell(hf: &HeightField) -> (usize, usize) {
-    let h = &hf.heights_um;
-    let (nx, ny) = (hf.nx, hf.ny);
-    let divisors = |n: usize| (1..=n).filter(move |p| n % p == 0);
-    let px = divisors(nx).find(|&p| (0..ny).all(|r| (p..nx).all(|c| h[r * nx + c] == h[r * nx + c - p]))).unwrap_or(nx);
-    let py =
-        divisors(ny).find(|&p| (p..ny).all(|r| (0..nx).all(|c| h[r * nx + c] == h[(r - p) * nx + c]))).unwrap_or(ny);
-    (px, py)
-}
-
 /// One mip level: RGBA32F texels, layer after layer, rows top (v0) first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableLevel {
@@ -481,16 +470,6 @@ fn downsample(fine: &TableLevel, w: usize, h: usize, layers: usize) -> TableLeve
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_tiling_is_found_and_a_random_patch_is_its_own_cell() {
-        let cell: Vec<f64> = (0..12).map(|i| ((i * 7919) % 13) as f64 * 0.01).collect();
-        let hf = HeightField::new(4, 3, 0.1, 0.1, cell).unwrap();
-        assert_eq!(period_cell(&hf), (4, 3));
-        assert_eq!(period_cell(&hf.tiled(5, 2).unwrap()), (4, 3));
-        let rows = HeightField::new(6, 5, 0.1, 0.1, (0..30).map(|i| (i % 6) as f64).collect()).unwrap();
-        assert_eq!(period_cell(&rows), (6, 1), "constant along y: a cell one row tall");
-    }
 
     #[test]
     fn mip_levels_keep_the_mean_and_end_in_one_texel() {
