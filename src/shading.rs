@@ -147,6 +147,11 @@ pub const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
 pub const MAX_LAMBDA_COUNT: usize = 4001;
 /// Largest window radius (taps (2r+1)² per term and wavelength).
 pub const MAX_WINDOW_RADIUS: u32 = 16;
+/// The widest coherence window (σ in DFT bins) under which NMM, PQ and gem stay approximations of a few ΔE00: they
+/// assume light coherent across the patch (one wavelength per bin crossed, an exact periodic tiling, sharp orders).
+/// Measured on the Elaphe scan's 24² map against the exact reference: at σ = 1 bin mean ΔE00 1.0 (NMM), 4.0 (PQ),
+/// 4.6 (gem); at σ = 4 bins (1 µm coherence) 9, 28 and 22 (`tests/extremes.rs`).
+pub const APPROXIMATION_MAX_SIGMA_BINS: f64 = 1.0;
 /// Efficiency of each non-zero order in Stam's analytic grating (his GPU Gems shader scales orders by 0.1).
 pub const GEM_ORDER_EFFICIENCY: f32 = 0.1;
 
@@ -284,7 +289,7 @@ impl Material {
             table_uv,
             table_w,
         };
-        Ok(Self {
+        let material = Self {
             settings,
             nx: hf.nx,
             ny: hf.ny,
@@ -298,6 +303,30 @@ impl Material {
             table_plan,
             table_ms,
             table_cached,
+        };
+        if let Some(caveat) = material.caveat() {
+            eprintln!("warning: {caveat}");
+        }
+        Ok(material)
+    }
+
+    /// Where the approach's own assumption fails for this patch and coherence length (so that its colours are off
+    /// by more than its usual error), the reason in one line; None where it holds. FLSS and baked model partial
+    /// coherence and carry no such caveat.
+    pub fn caveat(&self) -> Option<String> {
+        let approach = self.settings.approach;
+        if !matches!(approach, Approach::Nmm | Approach::Pq | Approach::Gem) {
+            return None;
+        }
+        let sigma = self.window.sigma_x.max(self.window.sigma_y);
+        (sigma > APPROXIMATION_MAX_SIGMA_BINS).then(|| {
+            format!(
+                "{} assumes light coherent across the patch, but a coherence length of {} µm blurs its spectrum over \
+                 σ = {sigma:.1} DFT bins (its assumption holds to about {APPROXIMATION_MAX_SIGMA_BINS}): expect colour \
+                 errors of several ΔE00 (up to ~25 at σ = 4); flss and baked model partial coherence",
+                approach.name(),
+                crate::error::number(self.settings.coherence_um)
+            )
         })
     }
 

@@ -7,7 +7,8 @@ use clap::{Args, ValueEnum};
 
 use super::args::{AccuracyArgs, HeightFieldArgs, LightArgs};
 use super::parse;
-use crate::physics::{HeightField, Method, Query, Reference, Window};
+use crate::brdf::{Accuracy, Evaluator};
+use crate::physics::{HeightField, Method, Query, Window};
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
 pub enum MethodArg {
@@ -78,133 +79,45 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
             })
         })
         .collect();
-    for q in &queries {
-        q.check()?;
-    }
-    let (lx, ly) = hf.size_um();
     let acc = &args.accuracy;
-    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
     let method = args.method.unwrap_or(if args.gpu { MethodArg::Taylor } else { MethodArg::Exact });
-    if args.gpu && !matches!(method, MethodArg::Taylor) {
-        bail!("--gpu evaluates the Taylor sum; use --method taylor (or leave --method out)");
-    }
-    if args.gpu {
-        return brdf_gpu(gpu, args, &hf, window, &queries);
-    }
-    let (method, plan) = match method {
-        MethodArg::Exact => (Method::Exact, None),
-        MethodArg::Taylor | MethodArg::TaylorF32 => {
-            let plan = Reference::plan_for(&hf, &window, &queries, acc.tolerance, acc.terms)?;
-            let method = if matches!(method, MethodArg::Taylor) { Method::Taylor } else { Method::TaylorF32 };
-            match method {
-                Method::Taylor => refuse_unless_f64_suffices(&plan)?,
-                _ => refuse_unless_f32_suffices(&plan, args.accept_f32_error)?,
-            }
-            eprintln!("note: {}", plan.describe());
-            (method, Some(plan))
-        }
+    let evaluator = match (args.gpu, method) {
+        (true, MethodArg::Taylor) => Evaluator::Gpu,
+        (true, _) => bail!("--gpu evaluates the Taylor sum; use --method taylor (or leave --method out)"),
+        (false, MethodArg::Exact) => Evaluator::Cpu(Method::Exact),
+        (false, MethodArg::Taylor) => Evaluator::Cpu(Method::Taylor),
+        (false, MethodArg::TaylorF32) => Evaluator::Cpu(Method::TaylorF32),
     };
-    let reference = Reference::new(&hf, window, method, plan)?;
-    let samples = reference.evaluate(&queries)?;
-    write_csv(&hf, &samples)?;
-    Ok(std::process::ExitCode::SUCCESS)
-}
-
-/// `brdf --gpu`: the same rows from the compute shader.
-fn brdf_gpu(
-    gpu: &super::GpuArgs,
-    args: &BrdfArgs,
-    hf: &HeightField,
-    window: Window,
-    queries: &[Query],
-) -> anyhow::Result<std::process::ExitCode> {
-    let acc = &args.accuracy;
-    let plan = Reference::plan_for(hf, &window, queries, acc.tolerance, acc.terms)?;
-    refuse_unless_f32_suffices(&plan, args.accept_f32_error)?;
-    let radius = window.radius_x.max(window.radius_y);
-    let limit = crate::shading::MAX_WINDOW_RADIUS;
-    if radius > i64::from(limit) {
-        bail!(
-            "--gpu: this patch's full window has {radius} taps either side of the nearest bin and the shaders take \
-             at most {limit}; pass --window-radius R (R ≤ {limit}) to evaluate a truncated window"
-        );
-    }
-    let radius = radius as u32;
-    eprintln!("note: {}", plan.describe());
-    let settings = crate::shading::Settings {
-        order: Some(plan.order),
+    let accuracy = Accuracy {
         tolerance: acc.tolerance,
-        window_radius: Some(radius),
+        order: acc.terms,
         coherence_um: acc.coherence_um,
-        accept_f32_error: true,
-        ..Default::default()
+        window_radius: acc.window_radius,
+        accept_f32_error: args.accept_f32_error,
     };
-    if !plan.f32_suffices() {
-        eprintln!("warning: f32 cannot reach the tolerance here (see the note); the GPU's rows carry that error");
+    let ctx = match evaluator {
+        Evaluator::Gpu => Some(crate::vk::Context::new(&gpu.context_desc())?),
+        Evaluator::Cpu(_) => None,
+    };
+    let evaluation = crate::brdf::evaluate(&hf, &queries, evaluator, &accuracy, ctx.as_ref())?;
+    if let Some(plan) = &evaluation.plan {
+        eprintln!("note: {}", plan.describe());
+        if !plan.f32_suffices() && matches!(evaluator, Evaluator::Gpu | Evaluator::Cpu(Method::TaylorF32)) {
+            eprintln!("warning: f32 cannot reach the tolerance here (see the note); these rows carry that error");
+        }
     }
-    let material =
-        crate::shading::Material::prepare(hf, settings, &crate::shading::Reach::Hemisphere { footprint: 0.0 })?;
-    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
-    let values = crate::render::diffraction::evaluate_brdf(&ctx, &material, queries)?;
-    let samples: Vec<crate::physics::Sample> = queries
-        .iter()
-        .zip(values)
-        .map(|(q, (power, reflectance))| {
-            let uvw = q.uvw();
-            let (lx, ly) = hf.size_um();
-            let in_band = crate::physics::Lookup::new(uvw.x, uvw.y, q.lambda_nm * 1e-3, lx, ly).in_band(hf.nx, hf.ny);
-            crate::physics::Sample { query: *q, uvw, power, reflectance, in_band }
-        })
-        .collect();
-    write_csv(hf, &samples)?;
-    let log = ctx.validation();
-    drop(ctx);
-    Ok(super::validation_status(&log))
-}
-
-/// The f64 Taylor method where its own rounding stays below the tolerance; otherwise a refusal that names the
-/// method that can (exact: no series, no cancellation).
-fn refuse_unless_f64_suffices(plan: &crate::physics::TaylorPlan) -> anyhow::Result<()> {
-    if !plan.f64_suffices() {
-        bail!(
-            "the f64 Taylor sum cannot reach the tolerance here: at N = {} for x_max = {:.1} its terms grow to about \
-             {:.0e} before they cancel (f64 rounding about {:.0e} > {:.0e}); use --method exact, which sums \
-             exp(i·k·w·h) itself",
-            plan.order,
-            plan.x_max,
-            plan.f64_error / (2.0 * crate::physics::taylor::F64_UNIT_ROUNDOFF),
-            plan.f64_error,
-            plan.tolerance
-        );
+    write_csv(&hf, &evaluation.samples)?;
+    match ctx {
+        Some(ctx) => {
+            let log = ctx.validation();
+            drop(ctx);
+            Ok(super::validation_status(&log))
+        }
+        None => Ok(std::process::ExitCode::SUCCESS),
     }
-    Ok(())
-}
-
-/// The f32 sums (GPU and its CPU emulation) as `map` treats them: refused where f32 cannot reach the tolerance,
-/// unless the user asks for the error.
-fn refuse_unless_f32_suffices(plan: &crate::physics::TaylorPlan, accept: bool) -> anyhow::Result<()> {
-    if !plan.f32_suffices() && !accept {
-        bail!(
-            "f32 sums cannot reach the tolerance for this patch (N = {} for x_max = {:.1}: f32 rounding about {:.1e} \
-             > {:.0e}); use --method exact or taylor (f64), raise --tolerance, or pass --accept-f32-error",
-            plan.order,
-            plan.x_max,
-            plan.f32_error,
-            plan.tolerance
-        );
-    }
-    Ok(())
 }
 
 fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Result<()> {
-    let bad = samples.iter().filter(|s| !(s.power.is_finite() && s.reflectance.is_finite())).count();
-    if bad > 0 {
-        bail!(
-            "{bad} of {} rows are not finite numbers (an f32 sum overflowed); nothing was printed — use --method \
-             exact",
-            samples.len()
-        );
-    }
     let out_of_band = samples.iter().filter(|s| !s.in_band).count();
     if out_of_band > 0 {
         eprintln!(

@@ -2,7 +2,8 @@
 //!
 //! The reference evaluates the same BRDF as the shaders' FLSS (`Reference::flss_xyz`) on the CPU in f64, with
 //! every accuracy setting pushed to a stated bound: the Taylor order N for which the truncation bound on
-//! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`], the full Gaussian window (every tap weighing
+//! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`] (or, for structures so deep that the f64
+//! series would round by more than [`MAX_REFERENCE_ROUNDING`], the exact DFT of exp(i·k·w·h)), the full Gaussian window (every tap weighing
 //! more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature error of the 1 nm steps is estimated
 //! in the same run by comparing with 0.5 nm steps on a grid of pixels ([`ReferenceImage::quadrature`]).
 //!
@@ -160,25 +161,32 @@ impl ReferenceJob<'_> {
                 window_gain(&window, hf),
                 REFERENCE_TOLERANCE,
                 None,
-            )?;
+            );
+            let taps =
+                format!("full window {}×{} taps (weights ≥ 1e-17)", 2 * window.radius_x + 1, 2 * window.radius_y + 1);
             // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too
-            // would lose the digits the comparison needs.
-            if plan.f64_error > MAX_REFERENCE_ROUNDING {
-                return Err(Error::Invalid(format!(
-                    "the exact reference's f64 Taylor sum would round by about {:.1e} for material {i} (x_max = {:.1}): \
-                     the structure is too deep to serve as a reference this way",
-                    plan.f64_error, plan.x_max
-                )));
-            }
+            // would lose the digits the comparison needs, or need more terms than a plan allows. There the
+            // reference sums exp(i·k·w·h) itself (the exact method: no series, slower by about the patch's pixel
+            // count over the terms' texel reads).
+            let plan = match plan {
+                Ok(plan) if plan.f64_error <= MAX_REFERENCE_ROUNDING => plan,
+                deep => {
+                    let why = match deep {
+                        Ok(plan) => format!(
+                            "an f64 Taylor sum would round by about {:.0e} at x_max = {:.1}",
+                            plan.f64_error, plan.x_max
+                        ),
+                        Err(e) => e.to_string(),
+                    };
+                    references.push(Reference::new(hf, window, Method::Exact, None)?);
+                    descriptions.push(format!("exact DFT of exp(i·k·w·h) (no series: {why}), {taps}"));
+                    continue;
+                }
+            };
             references.push(Reference::new(hf, window, Method::Taylor, Some(plan))?);
             descriptions.push(format!(
-                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), full window {}×{} taps \
-                 (weights ≥ 1e-17)",
-                plan.order,
-                REFERENCE_TOLERANCE,
-                plan.f64_error,
-                2 * window.radius_x + 1,
-                2 * window.radius_y + 1
+                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), {taps}",
+                plan.order, REFERENCE_TOLERANCE, plan.f64_error
             ));
         }
         let sampling = Sampling::visible(REFERENCE_STEP_NM);

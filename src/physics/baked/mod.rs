@@ -303,7 +303,8 @@ impl TablePlan {
             .ok_or_else(|| {
                 Error::Invalid(format!(
                     "the baked table cannot follow this structure in w: heights spanning {:.3} µm at 380 nm need \
-                     more than {MAX_TERMS} Chebyshev terms over w ∈ [{:.2}, {:.2}]; check the heights or use flss",
+                     more than {MAX_TERMS} Chebyshev terms over w ∈ [{:.2}, {:.2}]; check the heights, raise \
+                     --table-tolerance, or evaluate single directions with `diffract brdf --method exact`",
                     h1 - h0,
                     w.0,
                     w.1
