@@ -49,6 +49,33 @@ pub struct ViewOptions {
     pub screenshot: Option<PathBuf>,
     /// Ask the window to shrink after this many frames (tests that a resize is survived).
     pub resize_after: Option<u32>,
+    /// Every [`SOAK_PERIOD`] frames: a new window size and the next approach; resident memory printed.
+    pub soak: bool,
+}
+
+/// Frames between the soak's resizes and approach switches.
+pub const SOAK_PERIOD: u32 = 50;
+/// The soak's window sizes, as fractions (numerator, denominator) of the requested size, in turn.
+const SOAK_SIZES: [(u32, u32); 4] = [(3, 4), (1, 2), (5, 4), (1, 1)];
+
+/// What the soak saw: resizes and switches made, resident memory (MiB) after the first frame, after the first
+/// round of every approach, and at the end.
+#[derive(Default)]
+struct Soak {
+    resizes: u32,
+    switches: u32,
+    rss_first: Option<f64>,
+    rss_round: Option<f64>,
+    /// The frame of the last step (a frame that is not presented, e.g. out of date, keeps the count).
+    stepped_at: u32,
+}
+
+/// This process's resident memory in MiB (Linux: /proc/self/status), or None elsewhere.
+fn resident_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: f64 =
+        status.lines().find_map(|l| l.strip_prefix("VmRSS:"))?.trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kib / 1024.0)
 }
 
 /// Opens the window and runs until it is closed (or the scripted frames are done); returns the number of
@@ -119,6 +146,7 @@ struct State {
     dragging: Option<MouseButton>,
     modifiers: winit::keyboard::ModifiersState,
     screenshots_taken: u32,
+    soak: Soak,
 }
 
 impl Live {
@@ -229,7 +257,17 @@ impl ApplicationHandler for App {
 
     fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
         if let Some(state) = self.state.take() {
-            state.destroy();
+            let live = state.destroy();
+            if self.options.soak {
+                println!("soak: {} GPU allocations live at teardown", live.len());
+            }
+            if !live.is_empty() && self.error.is_none() {
+                self.error = Some(Error::Invalid(format!(
+                    "a bug in diffract: {} GPU allocations still live when the window closed ({})",
+                    live.len(),
+                    live.join(", ")
+                )));
+            }
         }
     }
 }
@@ -270,6 +308,7 @@ impl State {
             dragging: None,
             modifiers: Default::default(),
             screenshots_taken: 0,
+            soak: Soak::default(),
         };
         let built = (|| {
             state.sync = Some(state.ctx.create_frame_sync()?);
@@ -280,7 +319,7 @@ impl State {
         match built {
             Ok(()) => Ok(state),
             Err(e) => {
-                state.destroy();
+                let _ = state.destroy();
                 Err(e)
             }
         }
@@ -447,6 +486,9 @@ impl State {
                 let _ = self.window.request_inner_size(PhysicalSize::new(size.width * 3 / 4, size.height * 3 / 4));
             }
         }
+        if options.soak {
+            self.soak_step(options, last)?;
+        }
         if last {
             if let Some(path) = &options.screenshot {
                 self.save_screenshot(path)?;
@@ -454,6 +496,49 @@ impl State {
             self.print_frame_times();
             event_loop.exit();
         }
+        Ok(())
+    }
+
+    /// The soak: after every [`SOAK_PERIOD`] frames a new window size and the next approach (rebuilt as a key
+    /// press would); resident memory noted after the first frame and after the first round of approaches, and
+    /// printed with the end's on the last frame.
+    fn soak_step(&mut self, options: &ViewOptions, last: bool) -> Result<()> {
+        let approaches = Approach::ALL.len() as u32;
+        if self.frame == 1 {
+            self.soak.rss_first = resident_mib();
+        }
+        if self.frame == SOAK_PERIOD * (approaches + 1) {
+            self.soak.rss_round = resident_mib();
+        }
+        if last {
+            let mib = |m: Option<f64>| m.map_or("n/a".to_string(), |m| format!("{m:.1} MiB"));
+            println!(
+                "soak: {} frames, {} resizes, {} approach switches; resident memory {} after the first frame, {} \
+                 after the first round of approaches, {} at the end",
+                self.frame,
+                self.soak.resizes,
+                self.soak.switches,
+                mib(self.soak.rss_first),
+                mib(self.soak.rss_round),
+                mib(resident_mib())
+            );
+            return Ok(());
+        }
+        if self.frame % SOAK_PERIOD != 0 || self.frame == self.soak.stepped_at {
+            return Ok(());
+        }
+        self.soak.stepped_at = self.frame;
+        let step = self.frame / SOAK_PERIOD;
+        let (num, den) = SOAK_SIZES[(step as usize - 1) % SOAK_SIZES.len()];
+        let size = PhysicalSize::new((options.width * num / den).max(16), (options.height * num / den).max(16));
+        let _ = self.window.request_inner_size(size);
+        self.soak.resizes += 1;
+        let current = self.gpu.as_ref().map_or(Approach::Baked, |g| g.materials[0].settings.approach);
+        let next = Approach::ALL.iter().position(|&a| a == current).map_or(0, |i| (i + 1) % Approach::ALL.len());
+        self.live.overrides.approach = Some(Approach::ALL[next]);
+        self.live.overrides.accept_f32_error = true;
+        self.rebuild(options)?;
+        self.soak.switches += 1;
         Ok(())
     }
 
@@ -626,7 +711,9 @@ impl State {
         ));
     }
 
-    fn destroy(mut self) {
+    /// Destroys everything the window made; returns the names of allocations still live after it (none
+    /// unless something leaked).
+    fn destroy(mut self) -> Vec<String> {
         let _ = self.ctx.wait_idle();
         // SAFETY: the device is idle; everything is destroyed once, children before their parents, the surface
         // before the window (dropped last with `self`).
@@ -652,5 +739,6 @@ impl State {
                 s.destroy();
             }
         }
+        self.ctx.live_allocations()
     }
 }

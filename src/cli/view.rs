@@ -42,6 +42,10 @@ pub struct ViewArgs {
     /// Ask the window to shrink to 3/4 after N frames (tests that a resize is survived)
     #[arg(long, hide = true, value_name = "N")]
     pub resize_after: Option<u32>,
+    /// With --frames: every 50 frames resize the window and switch to the next approach, and print resident
+    /// memory (a soak test of the swapchain, the pipelines and the tables; `scripts/soak-view.sh`)
+    #[arg(long, hide = true, requires = "frames")]
+    pub soak: bool,
 }
 
 pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
@@ -69,6 +73,7 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         resize_after: args.resize_after,
+        soak: args.soak,
     };
     Ok(super::validation_count_status(view::run(options)?))
 }
