@@ -3,8 +3,9 @@
 # unless given), the window resized and the approach switched every 50 frames (flss → nmm → pq → gem → baked →
 # …). Fails on any validation message, on a GPU allocation live at teardown, or on any error; prints resident
 # memory after the first frame, after the first round of approaches and at the end. Output in docs/soak-view.txt.
-# Usage: scripts/soak-view.sh [FRAMES] [WIDTH HEIGHT]     (default 1000 frames at 64×48: FLSS, NMM and PQ cost
-# about half a second a frame on lavapipe at that size; the soak takes about 5 minutes on 2 cores)
+# Usage: scripts/soak-view.sh [FRAMES] [WIDTH HEIGHT]     (default 1000 frames at 64×48. FLSS, NMM and PQ frames
+# of the default scene cost about a second or more each on lavapipe even at that size: the soak takes tens of
+# minutes on 2 cores. CARGO_TARGET_DIR picks the build folder.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 frames=${1:-1000}
