@@ -74,75 +74,98 @@ pub fn evaluate(
     accuracy: &Accuracy,
     gpu: Option<&crate::vk::Context>,
 ) -> Result<Evaluation> {
+    prepare(hf, queries, evaluator, accuracy)?.run(gpu)
+}
+
+/// An evaluation that passed every check: what [`Prepared::run`] needs, nothing computed yet.
+pub struct Prepared<'a> {
+    hf: &'a HeightField,
+    queries: &'a [Query],
+    evaluator: Evaluator,
+    accuracy: Accuracy,
+    window: Window,
+    /// The Taylor plan (None for exact).
+    plan: Option<TaylorPlan>,
+}
+
+/// Checks an evaluation before any work (or device) is spent on it: the queries, the window, and for the Taylor
+/// evaluators the plan and its refusals (f64 or f32 rounding; the GPU's window limit).
+pub fn prepare<'a>(
+    hf: &'a HeightField,
+    queries: &'a [Query],
+    evaluator: Evaluator,
+    accuracy: &Accuracy,
+) -> Result<Prepared<'a>> {
     for q in queries {
         q.check()?;
     }
     let (lx, ly) = hf.size_um();
     let window = Window::new(lx, ly, accuracy.coherence_um, accuracy.window_radius)?;
-    let evaluation = match evaluator {
-        Evaluator::Cpu(Method::Exact) => {
-            let reference = Reference::new(hf, window, Method::Exact, None)?;
-            Evaluation { samples: reference.evaluate(queries)?, plan: None }
-        }
-        Evaluator::Cpu(method) => {
-            let plan = Reference::plan_for(hf, &window, queries, accuracy.tolerance, accuracy.order)?;
-            match method {
-                Method::Taylor => refuse_unless_f64_suffices(&plan)?,
-                _ => refuse_unless_f32_suffices(&plan, accuracy.accept_f32_error)?,
-            }
-            let reference = Reference::new(hf, window, method, Some(plan))?;
-            Evaluation { samples: reference.evaluate(queries)?, plan: Some(plan) }
-        }
-        Evaluator::Gpu => {
-            let ctx = gpu.ok_or_else(|| Error::Invalid("the GPU evaluation needs a Vulkan device".into()))?;
-            evaluate_gpu(ctx, hf, queries, window, accuracy)?
-        }
+    let plan = match evaluator {
+        Evaluator::Cpu(Method::Exact) => None,
+        _ => Some(Reference::plan_for(hf, &window, queries, accuracy.tolerance, accuracy.order)?),
     };
-    refuse_non_finite(&evaluation.samples)?;
-    Ok(evaluation)
-}
-
-/// The compute shader's Taylor sum, with the window the CPU methods use (or a refusal where the shaders cannot
-/// take it).
-fn evaluate_gpu(
-    ctx: &crate::vk::Context,
-    hf: &HeightField,
-    queries: &[Query],
-    window: Window,
-    accuracy: &Accuracy,
-) -> Result<Evaluation> {
-    let plan = Reference::plan_for(hf, &window, queries, accuracy.tolerance, accuracy.order)?;
-    refuse_unless_f32_suffices(&plan, accuracy.accept_f32_error)?;
+    match (evaluator, &plan) {
+        (Evaluator::Cpu(Method::Taylor), Some(plan)) => refuse_unless_f64_suffices(plan)?,
+        (Evaluator::Cpu(Method::TaylorF32) | Evaluator::Gpu, Some(plan)) => {
+            refuse_unless_f32_suffices(plan, accuracy.accept_f32_error)?
+        }
+        _ => {}
+    }
     let radius = window.radius_x.max(window.radius_y);
     let limit = crate::shading::MAX_WINDOW_RADIUS;
-    if radius > i64::from(limit) {
+    if evaluator == Evaluator::Gpu && radius > i64::from(limit) {
         return Err(Error::Invalid(format!(
             "--gpu: this patch's full window has {radius} taps either side of the nearest bin and the shaders take \
              at most {limit}; pass --window-radius R (R ≤ {limit}) to evaluate a truncated window"
         )));
     }
-    let settings = crate::shading::Settings {
-        order: Some(plan.order),
-        tolerance: accuracy.tolerance,
-        window_radius: Some(radius as u32),
-        coherence_um: accuracy.coherence_um,
-        accept_f32_error: true,
-        ..Default::default()
-    };
-    let material =
-        crate::shading::Material::prepare(hf, settings, &crate::shading::Reach::Hemisphere { footprint: 0.0 })?;
-    let values = crate::render::diffraction::evaluate_brdf(ctx, &material, queries)?;
-    let (lx, ly) = hf.size_um();
-    let samples = queries
-        .iter()
-        .zip(values)
-        .map(|(q, (power, reflectance))| {
-            let uvw = q.uvw();
-            let in_band = Lookup::new(uvw.x, uvw.y, q.lambda_nm * 1e-3, lx, ly).in_band(hf.nx, hf.ny);
-            Sample { query: *q, uvw, power, reflectance, in_band }
-        })
-        .collect();
-    Ok(Evaluation { samples, plan: Some(plan) })
+    Ok(Prepared { hf, queries, evaluator, accuracy: *accuracy, window, plan })
+}
+
+impl Prepared<'_> {
+    /// Evaluates; `gpu` is the device for [`Evaluator::Gpu`]. Non-finite values are refused.
+    pub fn run(self, gpu: Option<&crate::vk::Context>) -> Result<Evaluation> {
+        let samples = match self.evaluator {
+            Evaluator::Cpu(method) => {
+                Reference::new(self.hf, self.window, method, self.plan)?.evaluate(self.queries)?
+            }
+            Evaluator::Gpu => {
+                let ctx = gpu.ok_or_else(|| Error::Invalid("the GPU evaluation needs a Vulkan device".into()))?;
+                self.run_gpu(ctx)?
+            }
+        };
+        refuse_non_finite(&samples)?;
+        Ok(Evaluation { samples, plan: self.plan })
+    }
+
+    /// The compute shader's Taylor sum, with the window the CPU methods use.
+    fn run_gpu(&self, ctx: &crate::vk::Context) -> Result<Vec<Sample>> {
+        let (hf, accuracy) = (self.hf, &self.accuracy);
+        let plan = self.plan.ok_or_else(|| Error::Invalid("the GPU evaluation needs a Taylor plan".into()))?;
+        let settings = crate::shading::Settings {
+            order: Some(plan.order),
+            tolerance: accuracy.tolerance,
+            window_radius: Some(self.window.radius_x.max(self.window.radius_y) as u32),
+            coherence_um: accuracy.coherence_um,
+            accept_f32_error: true,
+            ..Default::default()
+        };
+        let material =
+            crate::shading::Material::prepare(hf, settings, &crate::shading::Reach::Hemisphere { footprint: 0.0 })?;
+        let values = crate::render::diffraction::evaluate_brdf(ctx, &material, self.queries)?;
+        let (lx, ly) = hf.size_um();
+        Ok(self
+            .queries
+            .iter()
+            .zip(values)
+            .map(|(q, (power, reflectance))| {
+                let uvw = q.uvw();
+                let in_band = Lookup::new(uvw.x, uvw.y, q.lambda_nm * 1e-3, lx, ly).in_band(hf.nx, hf.ny);
+                Sample { query: *q, uvw, power, reflectance, in_band }
+            })
+            .collect())
+    }
 }
 
 /// The f64 Taylor method where its own rounding stays below the tolerance; otherwise a refusal that names the
@@ -178,13 +201,13 @@ pub fn refuse_unless_f32_suffices(plan: &TaylorPlan, accept: bool) -> Result<()>
 
 /// Non-finite values are refused as a whole: nothing is printed from an overflowed sum.
 fn refuse_non_finite(samples: &[Sample]) -> Result<()> {
-    let bad: Vec<&Sample> = samples.iter().filter(|s| !(s.power.is_finite() && s.reflectance.is_finite())).collect();
-    match bad.first() {
+    let finite = |s: &&Sample| s.power.is_finite() && s.reflectance.is_finite();
+    match samples.iter().find(|s| !finite(s)) {
         None => Ok(()),
         Some(s) => Err(Error::Invalid(format!(
             "{} of {} values are not finite numbers (an f32 sum overflowed; the first at λ = {} nm, θ_r = {}°); \
              nothing was printed — use --method exact",
-            bad.len(),
+            samples.iter().filter(|s| !finite(s)).count(),
             samples.len(),
             number(s.query.lambda_nm),
             number(s.query.theta_r)

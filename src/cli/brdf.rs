@@ -95,11 +95,13 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         window_radius: acc.window_radius,
         accept_f32_error: args.accept_f32_error,
     };
+    // Every refusal comes before the device is opened (a machine without one still hears why).
+    let prepared = crate::brdf::prepare(&hf, &queries, evaluator, &accuracy)?;
     let ctx = match evaluator {
         Evaluator::Gpu => Some(crate::vk::Context::new(&gpu.context_desc())?),
         Evaluator::Cpu(_) => None,
     };
-    let evaluation = crate::brdf::evaluate(&hf, &queries, evaluator, &accuracy, ctx.as_ref())?;
+    let evaluation = prepared.run(ctx.as_ref())?;
     if let Some(plan) = &evaluation.plan {
         eprintln!("note: {}", plan.describe());
         if !plan.f32_suffices() && matches!(evaluator, Evaluator::Gpu | Evaluator::Cpu(Method::TaylorF32)) {

@@ -3,9 +3,10 @@
 //! The reference evaluates the same BRDF as the shaders' FLSS (`Reference::flss_xyz`) on the CPU in f64, with
 //! every accuracy setting pushed to a stated bound: the Taylor order N for which the truncation bound on
 //! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`] (or, for structures so deep that the f64
-//! series would round by more than [`MAX_REFERENCE_ROUNDING`], the exact DFT of exp(i·k·w·h)), the full Gaussian window (every tap weighing
-//! more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature error of the 1 nm steps is estimated
-//! in the same run by comparing with 0.5 nm steps on a grid of pixels ([`ReferenceImage::quadrature`]).
+//! series would round by more than [`MAX_REFERENCE_ROUNDING`], the exact DFT of exp(i·k·w·h)), the full
+//! Gaussian window (every tap weighing more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature
+//! error of the 1 nm steps is estimated in the same run by comparing with 0.5 nm steps on a grid of pixels
+//! ([`ReferenceImage::quadrature`]).
 //!
 //! Errors are measured on the image as displayed: CIE XYZ (relative to a D65 mirror, Y = 1) scaled by 2^EV,
 //! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
