@@ -5,16 +5,25 @@
 #include "surface_frame.glsl"
 #include "footprint.glsl"
 
-// 0: (ω_i, material + 1); 1: (ω_r, footprint). Mirrored by `render::gbuffer::PART_ID`.
+// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up). Mirrored by
+// `render::gbuffer::PART_ID`.
 layout(constant_id = 0) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
+layout(location = 2) in vec3 world_normal;
+layout(location = 3) in vec3 tint;
 layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 omega_i = normalize(patch_light);
     vec3 omega_r = normalize(patch_view);
     float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
-    out_color = PART == 0u ? vec4(omega_i, frame.orientation.z + 1.0) : vec4(omega_r, footprint);
+    if (PART == 0u) {
+        out_color = vec4(omega_i, frame.orientation.z + 1.0);
+    } else if (PART == 1u) {
+        out_color = vec4(omega_r, footprint);
+    } else {
+        out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
+    }
 }

@@ -4,6 +4,7 @@
 layout(location = 0) in vec3 world_pos;
 layout(location = 1) in vec3 world_normal;
 layout(location = 2) in vec3 world_tangent;
+layout(location = 3) in vec3 tint;
 layout(location = 0) out vec4 out_color;
 
 // Anisotropic (Kajiya-Kay style) highlight along the tangent, so the patch orientation is visible even in the
@@ -20,7 +21,7 @@ void main() {
     float diffuse = max(dot(n, l), 0.0);
     float th = dot(t, h);
     float streak = pow(sqrt(max(1.0 - th * th, 0.0)), STREAK_EXPONENT) * step(0.0, dot(n, l));
-    vec3 linear = frame.base_color.rgb * (AMBIENT + diffuse) + vec3(0.35) * streak;
+    vec3 linear = frame.base_color.rgb * tint * (AMBIENT + diffuse) + vec3(0.35) * streak;
     // The target is an sRGB format: the hardware applies the transfer function on store.
     out_color = vec4(linear, 1.0);
 }

@@ -1,7 +1,7 @@
 #version 460
 // The surface pass: diffraction (the thesis's approaches) plus the skin's pigment under the grating, lit by the
 // light the surface transmits (1 − R, Schlick; the thesis's texture blending, model.md §3.8) from the sun's
-// disc and from a uniform sky.
+// disc and from the sky above the horizon.
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
@@ -19,21 +19,36 @@ layout(early_fragment_tests) in;
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
+layout(location = 2) in vec3 world_normal;
+layout(location = 3) in vec3 tint;
 layout(location = 0) out vec4 out_color;
 
 // The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror
 // (`optics::SUN_SOLID_ANGLE`).
 const float SUN_SOLID_ANGLE = 6.8e-5;
 
-// The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
-// profiler's reference adds it on the CPU): the pigment lit through the transmitted share 1 − R (Schlick) by the
-// sun and a uniform sky of radiance `ambient`.
-vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, vec3 pigment, float ambient) {
-    if (omega_r.z <= 0.0) return vec3(0.0);
+// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`optics::transmittance`).
+float transmittance(float cos_theta) {
     float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-    float transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
-    float irradiance = ambient + SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0);
-    return transmitted * pigment * irradiance;
+    return 1.0 - (r0 + (1.0 - r0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0));
+}
+
+// The same averaged over a uniform sky's incidences (cosine-weighted): 1 − (R0 + (1 − R0)/21).
+float sky_transmittance() {
+    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
+    return 1.0 - (r0 + (1.0 - r0) / 21.0);
+}
+
+// The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
+// profiler's reference adds it on the CPU). A Lambertian `albedo` under the skin's surface, lit through that
+// surface by the sun's disc (cos θ_i) and by a sky of radiance `ambient` above the horizon with dark ground below
+// (a surface whose normal makes cos = `normal_up` with the world's up sees (1 + normal_up)/2 of it), and seen
+// through it.
+vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float ambient) {
+    if (omega_r.z <= 0.0) return vec3(0.0);
+    float sun = SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0) * transmittance(omega_i.z);
+    float sky = ambient * 0.5 * (1.0 + normal_up) * sky_transmittance();
+    return albedo * (transmittance(omega_r.z) * (sun + sky));
 }
 
 void main() {
@@ -45,7 +60,8 @@ void main() {
 #else
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif
-    rgb += pigment_rgb(omega_i, omega_r, frame.pigment.rgb, frame.pigment.w);
+    float normal_up = normalize(world_normal).y;
+    rgb += pigment_rgb(omega_i, omega_r, normal_up, frame.pigment.rgb * tint, frame.pigment.w);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

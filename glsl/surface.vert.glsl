@@ -9,9 +9,13 @@
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec4 in_tangent;
+layout(location = 3) in vec3 in_pigment;
 
 layout(location = 0) out vec3 patch_light;
 layout(location = 1) out vec3 patch_view;
+// The shading normal in the world (the sky lights what faces up) and the vertex's tint of the material's pigment.
+layout(location = 2) out vec3 world_normal;
+layout(location = 3) out vec3 tint;
 
 void main() {
     // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
@@ -32,6 +36,8 @@ void main() {
     patch_light = vec3(dot(l, t), dot(l, b), dot(l, n));
     vec3 v = frame.camera_pos.xyz - p.xyz;
     patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
+    world_normal = n;
+    tint = in_pigment;
     precise vec4 clip = frame.view_proj * p;
     gl_Position = clip;
 }

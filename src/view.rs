@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use ash::vk;
 use glam::Vec3;
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
@@ -51,7 +52,16 @@ pub struct ViewOptions {
     pub resize_after: Option<u32>,
     /// Every [`SOAK_PERIOD`] frames: a new window size and the next approach; resident memory printed.
     pub soak: bool,
+    /// Samples per pixel of the scene's frames (multisample anti-aliasing; 1: none); None: the scene's, except
+    /// on a CPU implementation (see [`CPU_MSAA_NOTE`]).
+    pub samples: Option<u32>,
 }
+
+/// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe shades every sample, so
+/// 4× multisampling costs about 5× the frame time there (`diffract render --samples 1|4` on the default scene:
+/// 96 → 525 ms per 800² frame).
+pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 5× the frame time: \
+                                 edges are not anti-aliased (--samples 4 turns it on)";
 
 /// Frames between the soak's resizes and approach switches.
 pub const SOAK_PERIOD: u32 = 50;
@@ -147,6 +157,8 @@ struct State {
     modifiers: winit::keyboard::ModifiersState,
     screenshots_taken: u32,
     soak: Soak,
+    /// Samples per pixel of the scene's frames (the window's multisampled image and depth).
+    samples: u32,
 }
 
 impl Live {
@@ -286,6 +298,15 @@ impl State {
         let ctx = Context::with_instance_extensions(&desc, &extensions)?;
         let surface = ctx.create_surface(display, handle)?;
         let live = Live::from_scene(&options.scene, options);
+        let samples = options.samples.unwrap_or_else(|| {
+            let wanted = options.scene.render.samples;
+            if ctx.info.kind == vk::PhysicalDeviceType::CPU && wanted > 1 {
+                eprintln!("view: {} {CPU_MSAA_NOTE}", ctx.info.name);
+                1
+            } else {
+                wanted
+            }
+        });
         let mut state = Self {
             window,
             ctx,
@@ -309,6 +330,7 @@ impl State {
             modifiers: Default::default(),
             screenshots_taken: 0,
             soak: Soak::default(),
+            samples,
         };
         let built = (|| {
             state.sync = Some(state.ctx.create_frame_sync()?);
@@ -327,7 +349,11 @@ impl State {
 
     /// (Re)prepares the materials and pipelines for the live settings.
     fn rebuild(&mut self, options: &ViewOptions) -> Result<()> {
-        let format = self.swapchain.as_ref().map(|s| s.format).ok_or_else(|| Error::Invalid("no swapchain".into()))?;
+        let (format, samples) = self
+            .swapchain
+            .as_ref()
+            .map(|s| (s.format, s.samples))
+            .ok_or_else(|| Error::Invalid("no swapchain".into()))?;
         // The frame in flight must finish before its resources go.
         let _ = self.ctx.wait_idle();
         if let Some(gpu) = self.gpu.take() {
@@ -344,7 +370,7 @@ impl State {
             m.params.display[0] = self.live.exposure_ev.exp2() as f32;
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
-        let renderer = SceneRenderer::new(&self.ctx, &inputs, &objects, format, true)?;
+        let renderer = SceneRenderer::new(&self.ctx, &inputs, &objects, format, true, samples)?;
         let first = &materials[scene.objects[0].material];
         let map = match MapPass::new(&self.ctx, first, format, true, false) {
             Ok(m) => m,
@@ -378,7 +404,8 @@ impl State {
         let _ = self.ctx.wait_idle();
         let surface = self.surface.as_ref().ok_or_else(|| Error::Invalid("no surface".into()))?;
         let old = self.swapchain.take();
-        let swapchain = self.ctx.create_swapchain(surface, size.width, size.height, options.vsync, old)?;
+        let swapchain =
+            self.ctx.create_swapchain(surface, (size.width, size.height), options.vsync, self.samples, old)?;
         if let Some(b) = self.screenshot.take() {
             // SAFETY: the device is idle.
             unsafe { b.destroy(&self.ctx) };
@@ -607,10 +634,31 @@ impl State {
         sync.begin(&self.ctx)?;
         let cmd = sync.cmd;
         let image = swapchain.images[index as usize];
-        let target = TargetView {
-            color: swapchain.views[index as usize],
-            depth: Some(swapchain.depth.view),
-            extent: swapchain.extent,
+        let presented = swapchain.views[index as usize];
+        // The scene is drawn into the multisampled image (if any) and resolved into the presented one; the map is
+        // a full-screen pass drawn straight into it.
+        let target = match (&swapchain.msaa, self.live.map_mode) {
+            (Some(msaa), false) => TargetView {
+                color: msaa.view,
+                resolve: Some(presented),
+                depth: Some(swapchain.depth.view),
+                extent: swapchain.extent,
+                samples: swapchain.samples,
+            },
+            (Some(_), true) => TargetView {
+                color: presented,
+                resolve: None,
+                depth: None,
+                extent: swapchain.extent,
+                samples: vk::SampleCountFlags::TYPE_1,
+            },
+            (None, _) => TargetView {
+                color: presented,
+                resolve: None,
+                depth: Some(swapchain.depth.view),
+                extent: swapchain.extent,
+                samples: vk::SampleCountFlags::TYPE_1,
+            },
         };
         self.ctx.barrier_raw_image(
             cmd,
@@ -619,7 +667,7 @@ impl State {
             ImageState::UNDEFINED,
             ImageState::COLOR_ATTACHMENT,
         );
-        self.ctx.barrier_image(cmd, &swapchain.depth, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        swapchain.begin_attachments(&self.ctx, cmd);
         let mut ring = self.ring.take();
         let scope = ring.as_mut().map(|r| {
             r.begin_frame(&self.ctx, cmd, 0);

@@ -187,6 +187,10 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
         "0",
         "--sweep",
         "approach=flss,nmm,baked",
+        // One sample per pixel, one reference position: FLSS must then match the reference pixel by pixel (with
+        // 4× multisampling the frame and the 2×2-averaged reference sample each pixel at different positions).
+        "--samples",
+        "1",
         "--validation",
         "--no-reference-cache",
         "--csv",

@@ -133,9 +133,23 @@ pub struct SceneOverrideArgs {
     /// Render even where f32 cannot reach the tolerance
     #[arg(long)]
     pub accept_f32_error: bool,
+    /// Samples per pixel: multisample anti-aliasing of edges, 1 for none (default: the scene's, else 4)
+    #[arg(long, value_name = "N", value_parser = parse::samples)]
+    pub samples: Option<u32>,
 }
 
 impl SceneOverrideArgs {
+    /// The sample count for `scene` on `ctx`'s device: the flag, else the scene's; refused (one line) where the
+    /// device cannot.
+    pub fn sample_count(
+        &self,
+        ctx: &crate::vk::Context,
+        scene: &crate::scene::Scene,
+        format: ash::vk::Format,
+    ) -> crate::error::Result<ash::vk::SampleCountFlags> {
+        ctx.sample_count(self.samples.unwrap_or(scene.render.samples), format)
+    }
+
     pub fn overrides(&self) -> crate::render::capture::Overrides {
         crate::render::capture::Overrides {
             approach: self.approach,

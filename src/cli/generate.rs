@@ -7,6 +7,7 @@ use clap::{Args, Subcommand};
 
 use super::parse;
 use crate::generate::{generate, PatchKind, PatchSpec};
+use crate::mesh::snake::{Pattern, SnakeSpec};
 use crate::physics::gsf;
 
 #[derive(Subcommand, Debug)]
@@ -19,7 +20,8 @@ pub enum GenCommand {
     Patch(PatchArgs),
     /// The procedural snake as Wavefront OBJ (UVs run along the body, so readers derive tangents along it)
     #[command(after_help = "Examples:
-  diffract gen snake --out snake.obj                     flat overlapping scales (the default)
+  diffract gen snake --out snake.obj                     domed overlapping scales, a corn snake's pattern
+  diffract gen snake --pattern plain --out plain.obj     one colour (vertex colours untinted)
   diffract gen snake --smooth --out smooth-snake.obj     a smooth body")]
     Snake(SnakeArgs),
 }
@@ -35,13 +37,19 @@ pub struct SnakeArgs {
     /// A smooth body instead of flat scales
     #[arg(long)]
     pub smooth: bool,
-    /// Rows of scales along the body
-    #[arg(long, default_value_t = 110)]
+    /// Rows of scales along the body (neighbouring rows offset by half a scale)
+    #[arg(long, default_value_t = SnakeSpec::default().scale_rows)]
     pub scale_rows: u32,
     /// Scales around the body
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = SnakeSpec::default().scales_around)]
     pub scales_around: u32,
-    /// Seed of the scales' random turns
+    /// Height of each scale's dome relative to its half-width (0: flat scales)
+    #[arg(long, value_parser = parse::finite, default_value_t = f64::from(SnakeSpec::default().scale_dome))]
+    pub dome: f64,
+    /// The skin's pattern, as vertex colours that tint the material's pigment
+    #[arg(long, value_enum, default_value_t = Pattern::Corn)]
+    pub pattern: Pattern,
+    /// Seed of the scales' random turns and of the pattern
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -81,8 +89,8 @@ pub fn run(command: &GenCommand) -> anyhow::Result<()> {
     }
 }
 
-/// The most scales a generated snake may have (each is a few dozen vertices: 10⁶ scales are ~400 MB).
-const MAX_SCALES: u64 = 1_000_000;
+/// The most scales a generated snake may have (each is 25 vertices: 2·10⁵ scales are ~300 MB in memory).
+const MAX_SCALES: u64 = 200_000;
 
 fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
     crate::output::check_path(&args.out, "obj")?;
@@ -96,10 +104,19 @@ fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
              product (the number of scales) at most {MAX_SCALES}"
         );
     }
-    let mut spec = crate::mesh::shapes::SnakeSpec { length: args.length, seed: args.seed, ..Default::default() };
-    spec.scale_rows = if args.smooth { 0 } else { args.scale_rows };
-    spec.scales_around = args.scales_around;
-    let mesh = crate::mesh::shapes::snake(&spec);
+    if !(0.0..=2.0).contains(&args.dome) {
+        bail!("--dome is a height relative to the scale's half-width, from 0 (flat) to 2");
+    }
+    let spec = SnakeSpec {
+        length: args.length,
+        seed: args.seed,
+        scale_rows: if args.smooth { 0 } else { args.scale_rows },
+        scales_around: args.scales_around,
+        scale_dome: args.dome as f32,
+        pattern: args.pattern,
+        ..Default::default()
+    };
+    let mesh = crate::mesh::snake::snake(&spec);
     crate::mesh::obj::save(&args.out, &mesh, "diffract gen snake: tangents along the body follow increasing u")?;
     println!("wrote {} ({} vertices, {} triangles)", args.out.display(), mesh.vertices.len(), mesh.indices.len() / 3);
     Ok(())

@@ -43,6 +43,15 @@ pub fn window_radius(text: &str) -> Result<u32, String> {
         .ok_or_else(|| format!("{text:?}: the window radius is a whole number of taps from 0 to {limit}"))
 }
 
+/// Samples per pixel: a power of two from 1 to 64 (whether the device has that many is checked later).
+pub fn samples(text: &str) -> Result<u32, String> {
+    text.trim()
+        .parse::<u32>()
+        .ok()
+        .filter(|&n| n.is_power_of_two() && n <= 64)
+        .ok_or_else(|| format!("{text:?}: samples per pixel is a power of two: 1 (no anti-aliasing), 2, 4, 8, …"))
+}
+
 /// `THETA,PHI`.
 pub fn pair(text: &str) -> Result<(f64, f64), String> {
     match values(text)?.as_slice() {

@@ -100,8 +100,13 @@ pub struct ProfileArgs {
     /// Evaluate the exact reference at S×S positions inside each pixel and average them (the pixel's area, so
     /// footprint filtering and point-sampling aliasing are both measured); baked maps then filter over each
     /// pixel's footprint too
-    #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
-    pub reference_samples: u32,
+    /// (default: 1 for maps; for scenes the frames' own coverage, 2×2 under 4× anti-aliasing)
+    #[arg(long, value_name = "S", value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub reference_samples: Option<u32>,
+    /// Samples per pixel of a scene's timed frames (multisample anti-aliasing, as `render` and `view` draw
+    /// them; default: the scene's, else 4). Maps have one.
+    #[arg(long, value_name = "N", value_parser = parse::samples)]
+    pub samples: Option<u32>,
     /// Time only: no exact reference and no error columns (an exact 800² snake costs CPU-hours)
     #[arg(long, conflicts_with_all = ["plot", "reference_samples"])]
     pub no_reference: bool,
@@ -150,6 +155,23 @@ impl Subject {
         }
     }
 
+    /// Samples per pixel of the timed frames.
+    fn frame_samples(&self, args: &ProfileArgs) -> anyhow::Result<u32> {
+        match self {
+            Subject::Map { .. } if args.samples.is_some_and(|n| n > 1) => {
+                bail!("--samples is for scenes: a BRDF map's pixels are directions (--reference-samples averages them)")
+            }
+            Subject::Map { .. } => Ok(1),
+            Subject::Scene { scene, .. } => Ok(args.samples.unwrap_or(scene.render.samples)),
+        }
+    }
+
+    /// Positions per pixel axis of the exact reference: as asked, else as many as the frames' multisampling
+    /// covers (its sample count's square root, rounded up), so that both average over the same pixel area.
+    fn reference_samples(&self, args: &ProfileArgs, frame_samples: u32) -> u32 {
+        args.reference_samples.unwrap_or_else(|| (f64::from(frame_samples).sqrt().ceil() as u32).max(1))
+    }
+
     fn exposure(&self) -> f64 {
         match self {
             Subject::Map { .. } => 0.0,
@@ -176,6 +198,8 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
+    let frame_samples = subject.frame_samples(args)?;
+    let reference_samples = subject.reference_samples(args, frame_samples);
     let exposure = args.exposure.unwrap_or(subject.exposure());
     if !exposure.is_finite() {
         bail!("--exposure must be a finite number of stops");
@@ -184,6 +208,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
         if args.no_reference_cache { None } else { args.reference_cache.clone().or_else(reference::default_cache_dir) };
 
     let ctx = Context::new(&gpu.context_desc())?;
+    let samples = ctx.sample_count(frame_samples, crate::render::LINEAR_FORMAT)?;
     let probe = if args.roofline {
         eprintln!("roofline: measuring RG32F texel-fetch throughput …");
         let p = fetch_probe(&ctx, args.frames.max(3) as usize).context("the fetch probe")?;
@@ -218,7 +243,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
         }
         if !args.no_reference && !references.iter().any(|(s, _)| *s == size) {
             let start = Instant::now();
-            let image = reference_for(&ctx, &subject, size, args.reference_samples, cache.as_deref())?;
+            let image = reference_for(&ctx, &subject, size, reference_samples, cache.as_deref())?;
             eprintln!(
                 "reference {}×{} ({:.1} s): {}",
                 size.0,
@@ -229,7 +254,15 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
             references.push((size, image));
         }
         let reference = references.iter().find(|(s, _)| *s == size).map(|r| &r.1);
-        let measured = Measured { materials: &materials, precompute_ms, reference, probe: probe.as_ref(), exposure };
+        let measured = Measured {
+            materials: &materials,
+            precompute_ms,
+            reference,
+            probe: probe.as_ref(),
+            exposure,
+            samples,
+            reference_samples,
+        };
         let row = profile_one(&ctx, &subject, args, config, size, &measured, &progress)
             .with_context(|| format!("configuration {}", config.label()))?;
         if show {
@@ -360,9 +393,9 @@ fn reference_for(
                 .pixels
                 .iter()
                 .map(|seen| {
-                    let Seen { omega_i, omega_r, material, .. } = (*seen)?;
-                    let pigment = DVec3::from(scene.materials.get(material)?.pigment.map(f64::from));
-                    let extra_rgb = optics::pigment_rgb(omega_i, omega_r, pigment, f64::from(scene.ambient));
+                    let Seen { omega_i, omega_r, material, albedo, normal_up, .. } = (*seen)?;
+                    let ambient = f64::from(scene.ambient);
+                    let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient);
                     Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
                 })
                 .collect();
@@ -397,6 +430,7 @@ fn scene_workload<'a>(
     scene: &'a Scene,
     materials: &'a [Material],
     size: (u32, u32),
+    samples: ash::vk::SampleCountFlags,
 ) -> crate::Result<SceneWorkload<'a>> {
     let [r, g, b] = scene.render.background;
     let view = SceneView {
@@ -406,7 +440,7 @@ fn scene_workload<'a>(
         models: scene.objects.iter().map(|o| o.model).collect(),
         background: [r, g, b, 1.0],
     };
-    SceneWorkload::new(ctx, material_inputs(scene, materials), scene_objects(scene), view, size.0, size.1)
+    SceneWorkload::new(ctx, material_inputs(scene, materials), scene_objects(scene), view, size, samples)
 }
 
 fn settings_of(config: &Config, args: &ProfileArgs) -> Settings {
@@ -430,6 +464,9 @@ struct Measured<'a> {
     reference: Option<&'a ReferenceImage>,
     probe: Option<&'a ProbeResult>,
     exposure: f64,
+    /// Samples per pixel of the timed frames, and positions per pixel axis of the reference.
+    samples: ash::vk::SampleCountFlags,
+    reference_samples: u32,
 }
 
 fn profile_one(
@@ -441,14 +478,14 @@ fn profile_one(
     with: &Measured<'_>,
     progress: &dyn Fn(&str),
 ) -> anyhow::Result<Row> {
-    let Measured { materials, precompute_ms, reference, probe, exposure } = *with;
+    let Measured { materials, precompute_ms, reference, probe, exposure, samples, reference_samples } = *with;
     let mut workload: Box<dyn Workload + '_> = match subject {
         Subject::Map { light, .. } => {
             // Against an area-sampled reference a baked map averages over its pixels too.
-            let footprint = args.reference_samples > 1;
+            let footprint = reference_samples > 1;
             Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, footprint)?)
         }
-        Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, materials, size)?),
+        Subject::Scene { scene, .. } => Box::new(scene_workload(ctx, scene, materials, size, samples)?),
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);
     let result = measured.and_then(|(samples, image, fetches)| {

@@ -91,8 +91,10 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     let exposure = args.settings.exposure.unwrap_or(scene.render.exposure_ev);
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     if args.preview {
-        return preview(&ctx, &scene, args, width, height);
+        let samples = args.settings.sample_count(&ctx, &scene, crate::render::COLOR_FORMAT)?;
+        return preview(&ctx, &scene, args, (width, height), samples);
     }
+    let samples = args.settings.sample_count(&ctx, &scene, crate::render::LINEAR_FORMAT)?;
     let start = Instant::now();
     // One frame: each baked table covers what that frame's pixels see (a G-buffer says); a sequence: any view.
     let reaches = if args.frames == 1 {
@@ -107,7 +109,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         }
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height)?;
+    let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
     // SAFETY: every frame was waited for.
     unsafe { capture.destroy(&ctx) };
@@ -118,7 +120,9 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         sorted.get(sorted.len() / 2).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
     let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
     println!(
-        "wrote {what} ({width}×{height}, {} object(s), {} material(s); precompute {prep_ms:.0} ms{median} on {})",
+        "wrote {what} ({width}×{height}, {} sample(s) per pixel, {} object(s), {} material(s); precompute \
+         {prep_ms:.0} ms{median} on {})",
+        samples.as_raw(),
         scene.objects.len(),
         scene.materials.len(),
         ctx.info.name
@@ -166,8 +170,8 @@ fn preview(
     ctx: &crate::vk::Context,
     scene: &Scene,
     args: &RenderArgs,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    samples: ash::vk::SampleCountFlags,
 ) -> anyhow::Result<std::process::ExitCode> {
     let mut mesh = Mesh::default();
     for o in &scene.objects {
@@ -192,7 +196,7 @@ fn preview(
             base_color: Vec3::new(0.18, 0.32, 0.25),
             background: [bg[0], bg[1], bg[2], 1.0],
         };
-        let frame = render_offscreen(ctx, &preview, width, height)?;
+        let frame = render_offscreen(ctx, &preview, width, height, samples)?;
         crate::output::write_png_rgba8(&numbered(&args.out, f, args.frames), width, height, &frame.rgba8)?;
     }
     println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);

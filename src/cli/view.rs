@@ -74,6 +74,7 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         screenshot: args.screenshot.clone(),
         resize_after: args.resize_after,
         soak: args.soak,
+        samples: args.settings.samples,
     };
     Ok(super::validation_count_status(view::run(options)?))
 }

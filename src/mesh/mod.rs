@@ -1,26 +1,46 @@
 //! Triangle meshes with a tangent frame per vertex. The tangent orients a height-field patch on the surface:
 //! its `xyz` is the patch's x axis, `w` the handedness of the bitangent (patch y = w · normal × tangent).
 //!
-//! - [`shapes`]: built-in shapes (plane, disk, sphere, cylinder, cube) and the procedural snake.
+//! - [`shapes`]: built-in shapes (plane, disk, sphere, cylinder, cube).
+//! - [`snake`]: the procedural snake (domed scales in diagonal rows, head, S-curve, a corn snake's pattern).
 //! - [`obj`]: Wavefront OBJ in and out (tobj), with normals computed when missing and tangents from the UVs,
 //!   else from the mesh's long axis ([`Mesh::compute_tangents`]).
 
 pub mod obj;
 pub mod shapes;
+pub mod snake;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 /// One vertex as the shaders read it (binding 0, interleaved).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub tangent: [f32; 4],
     pub uv: [f32; 2],
+    /// The skin's pigment here relative to the material's (linear RGB factors; [`UNTINTED`]: the material's own).
+    /// The procedural snake paints its pattern with it; an OBJ may carry it as vertex colours.
+    pub pigment: [f32; 3],
 }
-const _: () = assert!(std::mem::size_of::<Vertex>() == 48);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 60);
+
+/// A vertex pigment that leaves the material's as it is.
+pub const UNTINTED: [f32; 3] = [1.0; 3];
+
+impl Default for Vertex {
+    fn default() -> Self {
+        Self {
+            position: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+            tangent: [1.0, 0.0, 0.0, 1.0],
+            uv: [0.0; 2],
+            pigment: UNTINTED,
+        }
+    }
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
@@ -45,6 +65,7 @@ impl Mesh {
                     normal: n.to_array(),
                     tangent: [t.x, t.y, t.z, 1.0],
                     uv: [u, v],
+                    pigment: UNTINTED,
                 });
             }
         }
@@ -69,6 +90,7 @@ impl Mesh {
             normal: [0.0, 0.0, 1.0],
             tangent: [1.0, 0.0, 0.0, 1.0],
             uv: [0.5 * (x + 1.0), 0.5 * (1.0 - y)],
+            pigment: UNTINTED,
         };
         Self {
             vertices: vec![corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],

@@ -46,7 +46,18 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
             };
             let uv =
                 if m.texcoords.len() / 2 == count { [m.texcoords[2 * i], m.texcoords[2 * i + 1]] } else { [0.0; 2] };
-            part.vertices.push(Vertex { position: p, normal, tangent: [1.0, 0.0, 0.0, 1.0], uv });
+            // Vertex colours (`v x y z r g b`, as MeshLab writes them) tint the material's pigment.
+            let pigment = match m.vertex_color.get(3 * i..3 * i + 3) {
+                Some(&[r, g, b]) if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => [r, g, b],
+                Some(_) => {
+                    return Err(Error::input(
+                        path,
+                        format!("vertex {} of {:?}: its colour is not three non-negative numbers", i + 1, model.name),
+                    ))
+                }
+                None => super::UNTINTED,
+            };
+            part.vertices.push(Vertex { position: p, normal, tangent: [1.0, 0.0, 0.0, 1.0], uv, pigment });
         }
         part.indices = m.indices.clone();
         if part.indices.iter().any(|&i| i as usize >= count) {
@@ -69,13 +80,21 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
     Ok(mesh)
 }
 
-/// Writes `mesh` as OBJ with positions, UVs and normals (OBJ has no tangents: a reader derives them from the
-/// UVs, which for diffract's shapes run along the tangent).
+/// Writes `mesh` as OBJ with positions, UVs and normals, and vertex colours (`v x y z r g b`) where a vertex's
+/// pigment is tinted (OBJ has no tangents: a reader derives them from the UVs, which for diffract's shapes run
+/// along the tangent).
 pub fn save(path: &Path, mesh: &Mesh, comment: &str) -> Result<()> {
     let mut text = String::with_capacity(mesh.vertices.len() * 96);
     writeln!(text, "# {}", comment.replace('\n', " ")).unwrap();
+    let tinted = mesh.vertices.iter().any(|v| v.pigment != super::UNTINTED);
     for v in &mesh.vertices {
-        writeln!(text, "v {} {} {}", v.position[0], v.position[1], v.position[2]).unwrap();
+        let [x, y, z] = v.position;
+        if tinted {
+            let [r, g, b] = v.pigment;
+            writeln!(text, "v {x} {y} {z} {r} {g} {b}").unwrap();
+        } else {
+            writeln!(text, "v {x} {y} {z}").unwrap();
+        }
     }
     for v in &mesh.vertices {
         writeln!(text, "vt {} {}", v.uv[0], v.uv[1]).unwrap();
@@ -93,7 +112,7 @@ pub fn save(path: &Path, mesh: &Mesh, comment: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::shapes::{snake, SnakeSpec};
+    use crate::mesh::snake::{snake, SnakeSpec};
 
     fn scratch(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("diffract-obj-{}", std::process::id()));
@@ -103,7 +122,7 @@ mod tests {
 
     #[test]
     fn snake_round_trips_with_tangents_from_uvs() {
-        let spec = SnakeSpec { segments: 60, sides: 12, ..SnakeSpec::default() };
+        let spec = SnakeSpec { scale_rows: 0, segments: 60, sides: 12, ..SnakeSpec::default() };
         let m = snake(&spec);
         let p = scratch("snake.obj");
         save(&p, &m, "test").unwrap();
@@ -121,6 +140,21 @@ mod tests {
             "{aligned} of {} tangents survive the round trip",
             m.vertices.len()
         );
+    }
+
+    #[test]
+    fn the_corn_pattern_round_trips_as_vertex_colours() {
+        let spec = SnakeSpec { scale_rows: 12, scales_around: 6, ..SnakeSpec::default() };
+        let m = snake(&spec);
+        assert!(m.vertices.iter().any(|v| v.pigment != crate::mesh::UNTINTED), "the snake is patterned");
+        let p = scratch("corn.obj");
+        save(&p, &m, "test").unwrap();
+        let back = load(&p).unwrap();
+        for (a, b) in m.vertices.iter().zip(&back.vertices) {
+            assert!(a.pigment.iter().zip(&b.pigment).all(|(x, y)| (x - y).abs() < 1e-5), "{a:?} vs {b:?}");
+        }
+        std::fs::write(&p, "v 0 0 0 1 -1 0\nv 1 0 0 1 1 1\nv 0 1 0 1 1 1\nf 1 2 3\n").unwrap();
+        assert!(load(&p).unwrap_err().to_string().contains("colour"), "a negative colour is refused");
     }
 
     #[test]

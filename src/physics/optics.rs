@@ -11,17 +11,32 @@ pub const SKIN_INDEX: f64 = 1.5;
 /// (`SUN_SOLID_ANGLE` in glsl/surface.frag.glsl).
 pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
 
+/// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`transmittance` in
+/// glsl/surface.frag.glsl).
+pub fn transmittance(cos_theta: f64) -> f64 {
+    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
+    1.0 - (r0 + (1.0 - r0) * (1.0 - cos_theta.clamp(0.0, 1.0)).powi(5))
+}
+
+/// [`transmittance`] averaged over a uniform sky's incidences, cosine-weighted: ∫ (1 − R(c)) 2c dc over
+/// c ∈ [0, 1] = 1 − (R0 + (1 − R0)/21).
+pub fn sky_transmittance() -> f64 {
+    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
+    1.0 - (r0 + (1.0 - r0) / 21.0)
+}
+
 /// The light the skin's pigment returns under the grating, linear RGB (the surface pass's non-diffracted term,
-/// `pigment_rgb` in glsl/surface.frag.glsl): the pigment lit through the transmitted share 1 − R (Schlick) by the sun
-/// and a uniform sky of radiance `ambient`.
-pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, pigment: DVec3, ambient: f64) -> DVec3 {
+/// `pigment_rgb` in glsl/surface.frag.glsl). A Lambertian `albedo` under the skin's surface, lit through that
+/// surface by the sun's disc (cos θ_i, the sun's radiance being the mirror glint's 1) and by a sky of radiance
+/// `ambient` above the horizon with dark ground below — a surface whose normal makes cos = `normal_up` with the
+/// world's up sees (1 + normal_up)/2 of it, which is what shades the form of a body — and seen through it.
+pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, normal_up: f64, albedo: DVec3, ambient: f64) -> DVec3 {
     if omega_r.z <= 0.0 {
         return DVec3::ZERO;
     }
-    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
-    let transmitted = 1.0 - r0 * fresnel_ratio(omega_i, omega_r, SKIN_INDEX);
-    let irradiance = ambient + SUN_SOLID_ANGLE / std::f64::consts::PI * omega_i.z.max(0.0);
-    pigment * (transmitted * irradiance)
+    let sun = SUN_SOLID_ANGLE / std::f64::consts::PI * omega_i.z.max(0.0) * transmittance(omega_i.z);
+    let sky = ambient * 0.5 * (1.0 + normal_up) * sky_transmittance();
+    albedo * (transmittance(omega_r.z) * (sun + sky))
 }
 
 /// A unit vector from the surface towards the light or the viewer: (sin θ cos φ, sin θ sin φ, cos θ).

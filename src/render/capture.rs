@@ -87,11 +87,19 @@ pub struct SceneCapture {
 }
 
 impl SceneCapture {
-    /// Uploads `materials` (from [`prepare_materials`]) and `scene`'s meshes, with a `width`×`height` target.
-    pub fn new(ctx: &Context, scene: &Scene, materials: &[Material], width: u32, height: u32) -> Result<Self> {
+    /// Uploads `materials` (from [`prepare_materials`]) and `scene`'s meshes, with a `width`×`height` target of
+    /// `samples` per pixel (see [`Context::sample_count`]).
+    pub fn new(
+        ctx: &Context,
+        scene: &Scene,
+        materials: &[Material],
+        width: u32,
+        height: u32,
+        samples: ash::vk::SampleCountFlags,
+    ) -> Result<Self> {
         let (inputs, objects) = (material_inputs(scene, materials), scene_objects(scene));
-        let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false)?;
-        match OffscreenFrames::new(ctx, width, height, false) {
+        let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false, samples)?;
+        match OffscreenFrames::new(ctx, width, height, false, samples) {
             Ok(frames) => {
                 Ok(Self { renderer, frames, models: scene.objects.iter().map(|o| o.model).collect(), width, height })
             }

@@ -268,6 +268,7 @@ impl MapPass {
             color_format,
             depth: None,
             cull_back_faces: false,
+            samples: vk::SampleCountFlags::TYPE_1,
         })?;
         Ok(Self { pipeline, counting: count_stride.is_some() })
     }

@@ -21,6 +21,8 @@ use crate::vk::{
 
 /// The specialization constant that picks what the G-buffer writes (`PART` in glsl/gbuffer.frag.glsl).
 pub const PART_ID: u32 = 0;
+/// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up).
+const PARTS: u32 = 3;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
 /// seen at a glance, which would size a table for nothing else).
 const FOOTPRINT_PERCENTILE: f64 = 0.05;
@@ -34,6 +36,10 @@ pub struct Seen {
     pub material: usize,
     /// The pixel's footprint in (u, v) (`pixel_footprint` of glsl/include/footprint.glsl).
     pub footprint: f64,
+    /// The pigment's linear RGB albedo here (the material's, tinted by the mesh).
+    pub albedo: DVec3,
+    /// cos of the angle between the shading normal and the world's up (how much of the sky it sees).
+    pub normal_up: f64,
 }
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
@@ -79,14 +85,22 @@ impl GBuffer {
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
-        let [light, view] = drawn?;
-        let dir = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])).normalize_or_zero();
+        let [light, view, skin] = drawn?;
+        let vec = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
         let pixels = light
             .chunks(4)
             .zip(view.chunks(4))
-            .map(|(l, v)| {
+            .zip(skin.chunks(4))
+            .map(|((l, v), p)| {
                 let material = (l[3].round() as usize).checked_sub(1)?;
-                Some(Seen { omega_i: dir(l), omega_r: dir(v), material, footprint: f64::from(v[3]) })
+                Some(Seen {
+                    omega_i: vec(l).normalize_or_zero(),
+                    omega_r: vec(v).normalize_or_zero(),
+                    material,
+                    footprint: f64::from(v[3]),
+                    albedo: vec(p),
+                    normal_up: f64::from(p[3]),
+                })
             })
             .collect();
         Ok(Self { width, height, pixels })
@@ -99,7 +113,7 @@ impl GBuffer {
         light_dir: Vec3,
         (width, height): (u32, u32),
         parts: &mut Parts,
-    ) -> Result<[Vec<f32>; 2]> {
+    ) -> Result<[Vec<f32>; PARTS as usize]> {
         let view = ObjectView { camera, aspect: width as f32 / height as f32, light_dir, ambient: scene.ambient };
         for (i, object) in scene.objects.iter().enumerate() {
             parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
@@ -120,7 +134,7 @@ impl GBuffer {
         }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
-        for part in 0..2 {
+        for part in 0..PARTS {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
                 vertex: shaders::SURFACE_VERT,
@@ -133,10 +147,11 @@ impl GBuffer {
                 color_format: LINEAR_FORMAT,
                 depth: Some((DEPTH_FORMAT, DepthTest::Write)),
                 cull_back_faces: false,
+                samples: vk::SampleCountFlags::TYPE_1,
             })?);
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
-        let mut out: [Vec<f32>; 2] = [Vec::new(), Vec::new()];
+        let mut out: [Vec<f32>; PARTS as usize] = Default::default();
         for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
             ctx.one_shot("g-buffer", |cmd| {
                 target.begin(ctx, cmd);

@@ -30,24 +30,45 @@ pub const LINEAR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// What a pass draws into.
 #[derive(Clone, Copy, Debug)]
 pub struct TargetView {
+    /// The image drawn into: multisampled when `resolve` is set.
     pub color: vk::ImageView,
+    /// The single-sampled image that the multisampled `color` is averaged into at the end of the pass.
+    pub resolve: Option<vk::ImageView>,
     pub depth: Option<vk::ImageView>,
     pub extent: vk::Extent2D,
+    /// Samples per pixel of `color` and `depth` (the pipelines drawing must be built for it).
+    pub samples: vk::SampleCountFlags,
 }
 
-/// A colour and (optionally) a depth image for headless rendering.
+/// A colour and (optionally) a depth image for headless rendering, multisampled or not.
 pub struct OffscreenTarget {
+    /// The single-sampled image read back (the resolve target when multisampled).
     pub color: Image,
+    /// The multisampled image drawn into, resolved into `color`.
+    pub msaa: Option<Image>,
     pub depth: Option<Image>,
 }
 
 impl OffscreenTarget {
-    /// An 8-bit sRGB colour target with depth.
+    /// An 8-bit sRGB colour target with depth, one sample per pixel.
     pub fn new(ctx: &Context, width: u32, height: u32) -> Result<Self> {
         Self::with_format(ctx, width, height, COLOR_FORMAT, true)
     }
 
+    /// One sample per pixel.
     pub fn with_format(ctx: &Context, width: u32, height: u32, format: vk::Format, depth: bool) -> Result<Self> {
+        Self::multisampled(ctx, width, height, format, depth, vk::SampleCountFlags::TYPE_1)
+    }
+
+    /// `samples` per pixel (then resolved into the single-sampled [`Self::color`] by each pass).
+    pub fn multisampled(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        format: vk::Format,
+        depth: bool,
+        samples: vk::SampleCountFlags,
+    ) -> Result<Self> {
         let limit = ctx.info.limits.max_image_dimension2_d;
         if width > limit || height > limit {
             return Err(crate::Error::Invalid(format!(
@@ -55,26 +76,41 @@ impl OffscreenTarget {
             )));
         }
         let color = ctx.create_image(ImageDesc::render_target(width, height, format), "offscreen colour")?;
-        if !depth {
-            return Ok(Self { color, depth: None });
-        }
-        match ctx.create_image(ImageDesc::depth(width, height), "offscreen depth") {
-            Ok(depth) => Ok(Self { color, depth: Some(depth) }),
+        let mut made = Self { color, msaa: None, depth: None };
+        let rest = (|| {
+            if samples != vk::SampleCountFlags::TYPE_1 {
+                let desc = ImageDesc::render_target(width, height, format).multisampled(samples);
+                made.msaa = Some(ctx.create_image(desc, "offscreen colour (multisampled)")?);
+            }
+            if depth {
+                made.depth =
+                    Some(ctx.create_image(ImageDesc::depth(width, height).multisampled(samples), "offscreen depth")?);
+            }
+            Ok(())
+        })();
+        match rest {
+            Ok(()) => Ok(made),
             Err(e) => {
                 // SAFETY: never used.
-                unsafe { color.destroy(ctx) };
+                unsafe { made.destroy(ctx) };
                 Err(e)
             }
         }
     }
 
     pub fn view(&self) -> TargetView {
-        TargetView { color: self.color.view, depth: self.depth.as_ref().map(|d| d.view), extent: self.color.extent() }
+        let (color, resolve, samples) = match &self.msaa {
+            Some(m) => (m.view, Some(self.color.view), m.desc.samples),
+            None => (self.color.view, None, vk::SampleCountFlags::TYPE_1),
+        };
+        TargetView { color, resolve, depth: self.depth.as_ref().map(|d| d.view), extent: self.color.extent(), samples }
     }
 
     /// Puts the images into attachment layouts (their contents are discarded).
     pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        ctx.barrier_image(cmd, &self.color, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
+        for image in std::iter::once(&self.color).chain(&self.msaa) {
+            ctx.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
+        }
         if let Some(depth) = &self.depth {
             ctx.barrier_image(cmd, depth, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
         }
@@ -82,7 +118,9 @@ impl OffscreenTarget {
 
     /// Orders this submission's attachment writes after the previous one's (rendering in bands).
     pub fn continue_rendering(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        ctx.barrier_image(cmd, &self.color, ImageState::COLOR_ATTACHMENT, ImageState::COLOR_ATTACHMENT);
+        for image in std::iter::once(&self.color).chain(&self.msaa) {
+            ctx.barrier_image(cmd, image, ImageState::COLOR_ATTACHMENT, ImageState::COLOR_ATTACHMENT);
+        }
     }
 
     /// Reads the colour image back as tightly packed rows, top row first (RGBA8 sRGB-encoded, or RGBA32F).
@@ -94,6 +132,9 @@ impl OffscreenTarget {
     /// The GPU must be done with the images.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.color.destroy(ctx);
+        if let Some(msaa) = self.msaa {
+            msaa.destroy(ctx);
+        }
         if let Some(depth) = self.depth {
             depth.destroy(ctx);
         }
@@ -109,12 +150,21 @@ pub fn begin_rendering(
     clear: [f32; 4],
     area: Option<vk::Rect2D>,
 ) {
-    let color = [vk::RenderingAttachmentInfo::default()
+    let mut color = vk::RenderingAttachmentInfo::default()
         .image_view(target.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
         .load_op(vk::AttachmentLoadOp::CLEAR)
         .store_op(vk::AttachmentStoreOp::STORE)
-        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } });
+    if let Some(resolve) = target.resolve {
+        // The samples are averaged into the resolve image; they themselves need not be kept.
+        color = color
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+            .resolve_image_view(resolve)
+            .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+    }
+    let color = [color];
     let depth = target.depth.map(|view| {
         vk::RenderingAttachmentInfo::default()
             .image_view(view)

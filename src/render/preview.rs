@@ -70,7 +70,8 @@ pub struct PreviewPass {
 impl PreviewPass {
     pub const NAME: &'static str = "preview";
 
-    pub fn new(ctx: &Context, mesh: &Mesh) -> Result<Self> {
+    /// The pass for targets of `samples` per pixel.
+    pub fn new(ctx: &Context, mesh: &Mesh, samples: vk::SampleCountFlags) -> Result<Self> {
         let bindings = [Binding {
             binding: 0,
             kind: vk::DescriptorType::UNIFORM_BUFFER,
@@ -100,6 +101,7 @@ impl PreviewPass {
             color_format: COLOR_FORMAT,
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: true,
+            samples,
         });
         match pipeline {
             Ok(pipeline) => Ok(Self { pipeline, mesh, uniforms }),
@@ -154,11 +156,17 @@ pub struct Frame {
     pub gpu_ms: Option<f64>,
 }
 
-/// Renders `scene` headless at `width`×`height`.
-pub fn render_offscreen(ctx: &Context, scene: &PreviewScene, width: u32, height: u32) -> Result<Frame> {
-    let mut pass = PreviewPass::new(ctx, &scene.mesh)?;
+/// Renders `scene` headless at `width`×`height`, `samples` per pixel.
+pub fn render_offscreen(
+    ctx: &Context,
+    scene: &PreviewScene,
+    width: u32,
+    height: u32,
+    samples: vk::SampleCountFlags,
+) -> Result<Frame> {
+    let mut pass = PreviewPass::new(ctx, &scene.mesh, samples)?;
     let result = (|| {
-        let target = OffscreenTarget::new(ctx, width, height)?;
+        let target = OffscreenTarget::multisampled(ctx, width, height, COLOR_FORMAT, true, samples)?;
         let frame = (|| {
             pass.update(scene, width as f32 / height as f32)?;
             let gpu_ms = ctx.one_shot_timed(PreviewPass::NAME, |cmd| {

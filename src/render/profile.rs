@@ -216,6 +216,7 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
             color_format: LINEAR_FORMAT,
             depth: None,
             cull_back_faces: false,
+            samples: vk::SampleCountFlags::TYPE_1,
         })?);
         let writes = [DescriptorWrite::SampledImage(2, &texture, sampler)];
         let mut side = 256;
@@ -302,28 +303,22 @@ pub struct SceneWorkload<'a> {
 }
 
 impl<'a> SceneWorkload<'a> {
+    /// Frames of `width`×`height` with `samples` per pixel (as `render` and `view` draw them).
     pub fn new(
         ctx: &Context,
         inputs: Vec<MaterialInput<'a>>,
         objects: Vec<(&'a Mesh, usize)>,
         view: SceneView,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        let renderer = Self::renderer(
-            ctx,
-            &inputs,
-            &objects,
-            &view,
-            SurfaceVariant::Shade { display_output: false },
-            width,
-            height,
-        )?;
-        match OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true) {
-            Ok(target) => Ok(Self { inputs, objects, view, renderer, target, width, height }),
+        let target = OffscreenTarget::multisampled(ctx, width, height, LINEAR_FORMAT, true, samples)?;
+        let shade = SurfaceVariant::Shade { display_output: false };
+        match Self::renderer(ctx, &inputs, &objects, &view, shade, &target) {
+            Ok(renderer) => Ok(Self { inputs, objects, view, renderer, target, width, height }),
             Err(e) => {
                 // SAFETY: nothing was submitted.
-                unsafe { renderer.destroy(ctx) };
+                unsafe { target.destroy(ctx) };
                 Err(e)
             }
         }
@@ -335,11 +330,11 @@ impl<'a> SceneWorkload<'a> {
         objects: &[(&Mesh, usize)],
         view: &SceneView,
         variant: SurfaceVariant,
-        width: u32,
-        height: u32,
+        target: &OffscreenTarget,
     ) -> Result<SceneRenderer> {
-        let mut renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant)?;
-        let aspect = width as f32 / height as f32;
+        let (extent, samples) = (target.color.extent(), target.view().samples);
+        let mut renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
+        let aspect = extent.width as f32 / extent.height as f32;
         if let Err(e) = renderer.update(&view.camera, view.light_dir, view.ambient, &view.models, aspect) {
             // SAFETY: nothing was submitted.
             unsafe { renderer.destroy(ctx) };
@@ -363,7 +358,7 @@ impl Workload for SceneWorkload<'_> {
 
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
         let variant = SurfaceVariant::CountFetches { stride: self.width };
-        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, self.width, self.height)?;
+        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, &self.target)?;
         let (target, background) = (&self.target, self.view.background);
         let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);

@@ -72,13 +72,14 @@ pub fn orientation(degrees: f32) -> [f32; 2] {
     [cos, sin]
 }
 
-/// The attributes of [`Vertex`] the vertex shaders read: position, normal and tangent. The UVs stay on the CPU
-/// (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be stripped by
-/// the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
-pub const VERTEX_ATTRIBUTES: [VertexAttribute; 3] = [
+/// The attributes of [`Vertex`] the vertex shaders read: position, normal, tangent and pigment tint. The UVs stay
+/// on the CPU (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be
+/// stripped by the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
+pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
     VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
     VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
     VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
+    VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: 48 },
 ];
 
 /// One object under a directional light, seen by a camera (the single-object case of a scene).
@@ -134,6 +135,8 @@ pub struct SceneRenderer {
     objects: Vec<ObjectGpu>,
     depth: Option<Pipeline>,
     counting: bool,
+    /// Samples per pixel of the targets it draws into.
+    samples: vk::SampleCountFlags,
 }
 
 impl SceneRenderer {
@@ -147,8 +150,9 @@ impl SceneRenderer {
         objects: &[(&Mesh, usize)],
         color_format: vk::Format,
         display_output: bool,
+        samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        Self::with_variant(ctx, materials, objects, color_format, SurfaceVariant::Shade { display_output })
+        Self::with_variant(ctx, materials, objects, color_format, SurfaceVariant::Shade { display_output }, samples)
     }
 
     /// A renderer with the profiler's variants of the shader (linear float targets).
@@ -158,8 +162,9 @@ impl SceneRenderer {
         objects: &[(&Mesh, usize)],
         color_format: vk::Format,
         variant: SurfaceVariant,
+        samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        let mut made = Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false };
+        let mut made = Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false, samples };
         match made.fill(ctx, materials, objects, color_format, variant) {
             Ok(()) => Ok(made),
             Err(e) => {
@@ -192,6 +197,7 @@ impl SceneRenderer {
             color_format,
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: false,
+            samples: self.samples,
         })?);
         let [p, t, s] = patch_bindings(stages);
         let mut bindings = vec![frame_binding, p, t, s];
@@ -224,6 +230,7 @@ impl SceneRenderer {
                 color_format,
                 depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
                 cull_back_faces: false,
+                samples: self.samples,
             });
             let pipeline = match pipeline {
                 Ok(p) => p,
@@ -322,6 +329,7 @@ impl SceneRenderer {
         statistics: Option<&Statistics<'_>>,
     ) {
         debug_assert_eq!(self.counting, counts.is_some(), "a counting renderer takes counters, and only it");
+        debug_assert_eq!(self.samples, target.samples, "the renderer's pipelines are built for the target's samples");
         begin_rendering(ctx, cmd, target, background, None);
         if let Some(depth) = &self.depth {
             ctx.begin_label(cmd, DEPTH_PASS);
@@ -383,9 +391,17 @@ pub struct OffscreenFrames {
 }
 
 impl OffscreenFrames {
-    pub fn new(ctx: &Context, width: u32, height: u32, display_output: bool) -> Result<Self> {
+    /// Frames of `samples` per pixel, averaged into each pixel (multisample anti-aliasing).
+    pub fn new(
+        ctx: &Context,
+        width: u32,
+        height: u32,
+        display_output: bool,
+        samples: vk::SampleCountFlags,
+    ) -> Result<Self> {
         let format = Self::format(display_output);
-        Ok(Self { target: OffscreenTarget::with_format(ctx, width, height, format, true)?, display_output })
+        let target = OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?;
+        Ok(Self { target, display_output })
     }
 
     /// The colour format a [`SceneRenderer`] drawing into these frames must use.
@@ -417,8 +433,8 @@ impl OffscreenFrames {
     }
 }
 
-/// Renders one object with `material` headless: linear float RGB, or (with `display_output`) 8-bit sRGB from
-/// the shader's own exposure and transfer function.
+/// Renders one object with `material` headless, one sample per pixel: linear float RGB, or (with
+/// `display_output`) 8-bit sRGB from the shader's own exposure and transfer function.
 pub fn render_surface(
     ctx: &Context,
     material: &Material,
@@ -429,9 +445,10 @@ pub fn render_surface(
 ) -> Result<SurfaceFrame> {
     let format = OffscreenFrames::format(display_output);
     let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
-    let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output)?;
+    let one = vk::SampleCountFlags::TYPE_1;
+    let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output, one)?;
     let result = (|| {
-        let frames = OffscreenFrames::new(ctx, width, height, display_output)?;
+        let frames = OffscreenFrames::new(ctx, width, height, display_output, one)?;
         let frame = renderer
             .update(&scene.camera, scene.light_dir, 0.0, &[scene.model], width as f32 / height as f32)
             .and_then(|()| frames.render(ctx, &renderer, scene.background));

@@ -20,25 +20,59 @@ pub struct ImageDesc {
     pub array: bool,
     /// Mip levels (1: none); level l is max(1, width >> l) × max(1, height >> l).
     pub mip_levels: u32,
+    /// Samples per pixel (`TYPE_1` except for multisampled render targets).
+    pub samples: vk::SampleCountFlags,
 }
 
 impl ImageDesc {
     /// A colour target that can be read back.
     pub fn render_target(width: u32, height: u32, format: vk::Format) -> Self {
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers: 1, format, usage, array: false, mip_levels: 1 }
+        Self {
+            width,
+            height,
+            layers: 1,
+            format,
+            usage,
+            array: false,
+            mip_levels: 1,
+            samples: vk::SampleCountFlags::TYPE_1,
+        }
     }
 
     pub fn depth(width: u32, height: u32) -> Self {
         let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
-        Self { width, height, layers: 1, format: vk::Format::D32_SFLOAT, usage, array: false, mip_levels: 1 }
+        Self {
+            width,
+            height,
+            layers: 1,
+            format: vk::Format::D32_SFLOAT,
+            usage,
+            array: false,
+            mip_levels: 1,
+            samples: vk::SampleCountFlags::TYPE_1,
+        }
     }
 
     /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
     pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
         let usage =
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
-        Self { width, height, layers, format, usage, array: true, mip_levels: 1 }
+        Self { width, height, layers, format, usage, array: true, mip_levels: 1, samples: vk::SampleCountFlags::TYPE_1 }
+    }
+
+    /// The same attachment with `samples` per pixel. A multisampled colour image is only rendered into and
+    /// resolved (it is never read back), so it may live in transient memory.
+    pub fn multisampled(self, samples: vk::SampleCountFlags) -> Self {
+        if samples == vk::SampleCountFlags::TYPE_1 {
+            return self;
+        }
+        let usage = if self.format == vk::Format::D32_SFLOAT {
+            self.usage
+        } else {
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+        };
+        Self { samples, usage, ..self }
     }
 
     /// The same with `levels` mip levels (uploaded level by level with [`Context::upload_image`]).
@@ -127,7 +161,7 @@ impl Context {
             .extent(vk::Extent3D { width: desc.width, height: desc.height, depth: 1 })
             .mip_levels(desc.mip_levels)
             .array_layers(desc.layers)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
@@ -269,6 +303,39 @@ impl Context {
         // SAFETY: a query on a live instance and one of its physical devices.
         let props = unsafe { self.instance().get_physical_device_format_properties(self.info.raw, format) };
         props.optimal_tiling_features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR)
+    }
+
+    /// The sample count for `samples` per pixel in colour attachments of `format` with a depth buffer, or why
+    /// the device cannot (the counts it can, in one line).
+    pub fn sample_count(&self, samples: u32, format: vk::Format) -> Result<vk::SampleCountFlags> {
+        let limits = &self.info.limits;
+        let mut supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
+        // SAFETY: a query on a live instance and one of its physical devices.
+        let props = unsafe {
+            self.instance().get_physical_device_image_format_properties(
+                self.info.raw,
+                format,
+                vk::ImageType::TYPE_2D,
+                vk::ImageTiling::OPTIMAL,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                vk::ImageCreateFlags::empty(),
+            )
+        };
+        supported &= props.map_or(vk::SampleCountFlags::TYPE_1, |p| p.sample_counts);
+        let flag = vk::SampleCountFlags::from_raw(samples);
+        if samples.is_power_of_two() && samples <= 64 && supported.contains(flag) {
+            return Ok(flag);
+        }
+        let counts: Vec<String> = (0..7)
+            .map(|b| 1u32 << b)
+            .filter(|&n| supported.contains(vk::SampleCountFlags::from_raw(n)))
+            .map(|n| n.to_string())
+            .collect();
+        Err(Error::Invalid(format!(
+            "{samples} samples per pixel: {} supports {} (--samples)",
+            self.info.name,
+            counts.join(", ")
+        )))
     }
 
     /// A nearest-filtering, edge-clamped sampler (diffract reads exact texels with `texelFetch`).

@@ -93,6 +93,8 @@ pub struct GraphicsPipelineDesc<'a> {
     /// The depth attachment's format and how it is tested, if there is one.
     pub depth: Option<(vk::Format, DepthTest)>,
     pub cull_back_faces: bool,
+    /// Samples per pixel of the attachments it draws into.
+    pub samples: vk::SampleCountFlags,
 }
 
 pub struct ComputePipelineDesc<'a> {
@@ -270,8 +272,7 @@ impl Context {
             .cull_mode(if desc.cull_back_faces { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample =
-            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
         let (depth_format, test) = desc.depth.unzip();
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(test.is_some())

@@ -30,7 +30,8 @@ impl Surface {
     }
 }
 
-/// The images a window presents, with a depth buffer of the same extent.
+/// The images a window presents, with a depth buffer of the same extent and, when multisampled, the image drawn
+/// into and resolved into the presented one.
 pub struct Swapchain {
     pub raw: vk::SwapchainKHR,
     loader: ash::khr::swapchain::Device,
@@ -39,6 +40,10 @@ pub struct Swapchain {
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub depth: Image,
+    /// The multisampled colour image (None with one sample per pixel).
+    pub msaa: Option<Image>,
+    /// Samples per pixel of `depth` and `msaa`.
+    pub samples: vk::SampleCountFlags,
     /// Whether images can be copied out (screenshots).
     pub readable: bool,
     /// One "rendering finished" semaphore per image, signalled by the frame that draws into it.
@@ -75,12 +80,13 @@ impl Context {
 
     /// Creates (or re-creates, retiring `old`) a swapchain of about `width`×`height` with 8-bit UNORM images
     /// (the shaders encode sRGB themselves). `vsync`: FIFO; otherwise MAILBOX or IMMEDIATE where offered.
+    /// `samples` per pixel (refused if the device cannot) are drawn into a multisampled image and depth buffer.
     pub fn create_swapchain(
         &self,
         surface: &Surface,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
         vsync: bool,
+        samples: u32,
         old: Option<Swapchain>,
     ) -> Result<Swapchain> {
         let sl = &surface.loader;
@@ -145,6 +151,18 @@ impl Context {
             unsafe { old.destroy(self) };
         }
         let raw = raw?;
+        let (w, h) = (extent.width.max(1), extent.height.max(1));
+        let attachments = self
+            .sample_count(samples, format.format)
+            .and_then(|n| Ok((n, self.create_image(ImageDesc::depth(w, h).multisampled(n), "window depth")?)));
+        let (samples, depth) = match attachments {
+            Ok(made) => made,
+            Err(e) => {
+                // SAFETY: no image of it was acquired.
+                unsafe { loader.destroy_swapchain(raw, None) };
+                return Err(e);
+            }
+        };
         let mut made = Swapchain {
             raw,
             loader,
@@ -152,7 +170,9 @@ impl Context {
             views: Vec::new(),
             format: format.format,
             extent,
-            depth: self.create_image(ImageDesc::depth(extent.width.max(1), extent.height.max(1)), "window depth")?,
+            depth,
+            msaa: None,
+            samples,
             readable,
             render_finished: Vec::new(),
         };
@@ -165,6 +185,11 @@ impl Context {
     }
 
     fn fill_swapchain(&self, s: &mut Swapchain) -> Result<()> {
+        if s.samples != vk::SampleCountFlags::TYPE_1 {
+            let (w, h) = (s.extent.width.max(1), s.extent.height.max(1));
+            let desc = ImageDesc::render_target(w, h, s.format).multisampled(s.samples);
+            s.msaa = Some(self.create_image(desc, "window colour (multisampled)")?);
+        }
         // SAFETY: plain query on the swapchain just made.
         s.images = unsafe { s.loader.get_swapchain_images(s.raw) }.vk("vkGetSwapchainImagesKHR")?;
         for (i, &image) in s.images.iter().enumerate() {
@@ -189,6 +214,15 @@ impl Context {
 impl Swapchain {
     pub fn color_range() -> vk::ImageSubresourceRange {
         vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1)
+    }
+
+    /// Puts the depth buffer and the multisampled image (if any) into attachment layouts for a new frame (their
+    /// contents are discarded).
+    pub fn begin_attachments(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        ctx.barrier_image(cmd, &self.depth, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        if let Some(msaa) = &self.msaa {
+            ctx.barrier_image(cmd, msaa, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
+        }
     }
 
     /// Records a copy of image `index` (drawn, in the colour-attachment state) into `buffer` (w·h·4 bytes) and
@@ -250,6 +284,9 @@ impl Swapchain {
             ctx.device().destroy_semaphore(s, None);
         }
         self.depth.destroy(ctx);
+        if let Some(msaa) = self.msaa {
+            msaa.destroy(ctx);
+        }
         self.loader.destroy_swapchain(self.raw, None);
     }
 }

@@ -18,7 +18,8 @@ fn every_asset_scene_renders_in_colour() {
             // As `diffract render` does: each baked table covers what this frame shows.
             let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
             let materials = prepare_materials(&scene, &Overrides::default(), &reaches).unwrap();
-            let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h).unwrap();
+            let samples = ctx.sample_count(scene.render.samples, diffract::render::LINEAR_FORMAT).unwrap();
+            let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, samples).unwrap();
             let frame = capture.render(ctx, &scene.camera, scene.light_dir, scene.ambient, scene.render.background);
             // SAFETY: render waited.
             unsafe { capture.destroy(ctx) };

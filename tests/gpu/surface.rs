@@ -10,6 +10,8 @@ use glam::{DVec3, Vec3, Vec4};
 
 use crate::harness::gpu_test;
 
+const ONE: ash::vk::SampleCountFlags = ash::vk::SampleCountFlags::TYPE_1;
+
 const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 const HALF: f32 = 1.0;
 
@@ -117,8 +119,8 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
         gpu_test(|ctx| {
             let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3] }];
             let mut renderer =
-                SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], OffscreenFrames::format(false), false).unwrap();
-            let frames = OffscreenFrames::new(ctx, w, h, false).unwrap();
+                SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
+            let frames = OffscreenFrames::new(ctx, w, h, false, ONE).unwrap();
             renderer.update(&sc.camera, sc.light_dir, 0.0, &[sc.model], w as f32 / h as f32).unwrap();
             let frame = frames.render(ctx, &renderer, sc.background).unwrap();
             // SAFETY: render waited.
@@ -140,4 +142,54 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
         "orientation 30° equals a tangent turned by 30°"
     );
     assert!(diff(&by_tangent, &unrotated) > 1e-3 * peak, "and differs from the unturned patch");
+}
+
+/// A quad of uniform pigment, turned 20° in the image and lit only by the sky, drawn with `samples` per pixel:
+/// linear RGBA rows.
+fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
+    use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+    let (w, h) = (64u32, 64u32);
+    let mut sc = scene(0.0, 1.0);
+    sc.camera.position = Vec3::new(0.0, 0.0, 4.0);
+    sc.model = glam::Mat4::from_rotation_z(20f32.to_radians());
+    sc.light_dir = -Vec3::Z; // the sun behind the quad: no diffraction, no sunlit pigment
+    let linear = gpu_test(|ctx| {
+        let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
+        let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.5, 0.5, 0.5] }];
+        let format = OffscreenFrames::format(false);
+        let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], format, false, samples).unwrap();
+        let frames = OffscreenFrames::new(ctx, w, h, false, samples).unwrap();
+        renderer.update(&sc.camera, sc.light_dir, 1.0, &[sc.model], 1.0).unwrap();
+        let frame = frames.render(ctx, &renderer, sc.background).unwrap();
+        // SAFETY: render waited.
+        unsafe {
+            frames.destroy(ctx);
+            renderer.destroy(ctx);
+        }
+        frame.linear.unwrap()
+    });
+    (linear, w, h)
+}
+
+#[test]
+fn multisampling_gives_silhouette_pixels_intermediate_values() {
+    let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
+    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale)).unwrap();
+    let settings = Settings { lambda_step_nm: 20.0, coherence_um: 6.5, ..Settings::default() };
+    let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
+    // Pixels between the background (0) and the quad's colour: partly covered ones.
+    let partial = |samples: u32| {
+        let (linear, _, _) = silhouette_frame(samples, &material);
+        let green: Vec<f32> = linear.chunks(4).map(|p| p[1]).collect();
+        let inside = green.iter().copied().fold(0.0f32, f32::max);
+        assert!(inside > 0.1, "the quad is drawn ({inside})");
+        let count = green.iter().filter(|&&g| g > 0.1 * inside && g < 0.85 * inside).count();
+        (count, green.iter().filter(|&&g| g >= 0.85 * inside).count())
+    };
+    let (aliased, area_1) = partial(1);
+    let (smoothed, area_4) = partial(4);
+    // The quad's outline crosses about 4 × 30 pixels; with 4 samples most of those are partly covered.
+    assert_eq!(aliased, 0, "one sample per pixel: a pixel is in or out");
+    assert!(smoothed > 60, "4 samples per pixel: {smoothed} silhouette pixels take intermediate values");
+    assert!(area_4.abs_diff(area_1) < smoothed, "the covered area stays ({area_1} vs {area_4})");
 }

@@ -1,0 +1,443 @@
+//! The procedural snake: a tapering body along an S-curve, lying on the ground (y = 0), tail at −x and head at
+//! +x, covered in domed scales that overlap like roof tiles in the staggered (diamond) rows of a colubrid's back,
+//! and painted with a corn snake's pattern. Everything follows from a [`SnakeSpec`] and its seed.
+//!
+//! Frames: the tangent runs along the body (tail to head), u = t along the body, v around it. Each scale is a
+//! small grid whose normals follow its dome, so the patch frame — and with it the diffracted colour — turns
+//! across every scale, as on a real snake's skin. The pattern is carried as vertex pigment tints (relative to
+//! [`CORN_GROUND`], the material's pigment in the default scene).
+
+use glam::{Quat, Vec3};
+
+use super::shapes::grid_indices;
+use super::{Mesh, Vertex, UNTINTED};
+
+/// The skin's colour pattern.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Pattern {
+    /// A corn snake (Pantherophis guttatus): red-orange saddles bordered in black on a lighter orange-tan ground,
+    /// smaller blotches on the flanks, a cream belly, dark eyes.
+    #[default]
+    Corn,
+    /// One colour (the material's pigment), as a sunbeam snake.
+    Plain,
+}
+
+/// The corn snake's ground colour, linear RGB albedo: the material pigment that the pattern's tints are relative
+/// to (the default scene's pigment).
+pub const CORN_GROUND: [f32; 3] = [0.60, 0.22, 0.06];
+/// The saddles' red-orange, their black border and the cream belly (linear RGB albedo).
+const CORN_SADDLE: [f32; 3] = [0.42, 0.045, 0.015];
+const CORN_BORDER: [f32; 3] = [0.025, 0.02, 0.018];
+const CORN_BELLY: [f32; 3] = [0.70, 0.60, 0.42];
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SnakeSpec {
+    /// Spine length (along x before the bends).
+    pub length: f32,
+    /// Body radius at its widest.
+    pub radius: f32,
+    /// Number of S-bends along the body.
+    pub waves: f32,
+    /// Sideways amplitude of the bends.
+    pub amplitude: f32,
+    /// Rings along the body and vertices around it (of the smooth body; scales use their own grid).
+    pub segments: u32,
+    pub sides: u32,
+    /// Rows of scales along the body and scales around it (0 rows: a smooth body). Neighbouring rows are offset
+    /// by half a scale, so the scales sit in diagonal (diamond) rows.
+    pub scale_rows: u32,
+    pub scales_around: u32,
+    /// Each scale rises towards its free, tail-side edge by this much (scales overlap like roof tiles), so its
+    /// normal leans towards the head, degrees.
+    pub scale_tilt_deg: f32,
+    /// How high each scale's dome rises, relative to its half-width (0: flat scales).
+    pub scale_dome: f32,
+    /// Grid cells along each edge of a scale (its dome's resolution).
+    pub scale_cells: u32,
+    /// Each scale is turned about the body's axis by up to this much, at random, degrees.
+    pub scale_jitter_deg: f32,
+    pub pattern: Pattern,
+    pub seed: u64,
+}
+
+impl Default for SnakeSpec {
+    fn default() -> Self {
+        Self {
+            length: 4.0,
+            radius: 0.13,
+            waves: 1.4,
+            amplitude: 0.32,
+            segments: 360,
+            sides: 40,
+            scale_rows: 150,
+            scales_around: 23,
+            scale_tilt_deg: 8.0,
+            scale_dome: 0.35,
+            scale_cells: 4,
+            scale_jitter_deg: 4.0,
+            pattern: Pattern::Corn,
+            seed: 1,
+        }
+    }
+}
+
+/// Half-width and half-height of the cross-section along the body, relative to the radius, t ∈ [0, 1] from tail
+/// to snout: a long taper to the tail tip, a narrow neck, then a head wider than the neck and flatter than the
+/// body (a colubrid's), rounded at the snout.
+fn cross_section(t: f32) -> (f32, f32) {
+    let tail = (t / 0.45).min(1.0).powf(0.75);
+    let neck = 1.0 - 0.28 * (-((t - 0.91) / 0.03).powi(2)).exp();
+    // The head narrows from the jaws to a rounded snout (an elliptical cap, longer than it is wide).
+    let snout = if t > 0.95 { (1.0 - ((t - 0.95) / 0.05).powi(2)).max(0.0).powf(0.4) } else { 1.0 };
+    let jaw = (-((t - 0.945) / 0.022).powi(2)).exp();
+    let width = tail * neck * snout * (1.0 + 0.25 * jaw);
+    // The body's section is flattened underneath like a real snake's belly; the head is flatter still.
+    let height = tail * neck * snout * (0.8 - 0.22 * ((t - 0.9) / (1.0 - 0.9)).clamp(0.0, 1.0));
+    (width, height)
+}
+
+/// The spine point at t (tail 0 to snout 1); the bends fade towards the head so that it points forwards.
+fn spine(spec: &SnakeSpec, t: f32) -> Vec3 {
+    let fade = 1.0 - 0.6 * t;
+    let z = spec.amplitude * fade * (std::f32::consts::TAU * spec.waves * t).sin();
+    Vec3::new((t - 0.5) * spec.length, 0.0, z)
+}
+
+/// The smooth body's surface point, normal and along-body direction at t (tail 0 to snout 1) and angle a around
+/// the body (π/2: the middle of the back, −π/2: the belly).
+fn body_surface(spec: &SnakeSpec, t: f32, a: f32) -> (Vec3, Vec3, Vec3) {
+    let dt = 1.0 / spec.segments.max(2) as f32;
+    let (t0, t1) = ((t - dt).max(0.0), (t + dt).min(1.0));
+    let along = (spine(spec, t1) - spine(spec, t0)).normalize();
+    let side = along.cross(Vec3::Y).normalize();
+    let up = side.cross(along);
+    let (sin, cos) = a.sin_cos();
+    let section = |t: f32| {
+        let (w, h) = cross_section(t);
+        let c = spine(spec, t) + Vec3::Y * (0.8 * spec.radius);
+        c + (side * (w * cos) + up * (h * sin)) * spec.radius
+    };
+    let position = section(t);
+    // The normal from the surface's two directions: around the section, and along the body (the taper tilts it).
+    let (w, h) = cross_section(t);
+    let around = side * (-w * sin) + up * (h * cos);
+    let lengthwise = section(t1) - section(t0);
+    let normal = around.cross(lengthwise).try_normalize().unwrap_or_else(|| (side * cos + up * sin).normalize());
+    let normal = if normal.dot(side * cos + up * sin) < 0.0 { -normal } else { normal };
+    (position, normal, along)
+}
+
+/// A deterministic stream of numbers in [−1, 1) (xorshift).
+struct Random(u64);
+
+impl Random {
+    fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f32 / (1u64 << 53) as f32 * 2.0 - 1.0
+    }
+}
+
+/// Builds the snake: domed scales (or, with `scale_rows` = 0, a smooth body with untinted vertices).
+pub fn snake(spec: &SnakeSpec) -> Mesh {
+    if spec.scale_rows > 0 && spec.scales_around > 0 {
+        return scaled(spec);
+    }
+    let mut m = Mesh::default();
+    for i in 0..=spec.segments {
+        let t = i as f32 / spec.segments as f32;
+        for s in 0..=spec.sides {
+            let v = s as f32 / spec.sides as f32;
+            let (position, normal, along) = body_surface(spec, t, v * std::f32::consts::TAU);
+            let tangent = (along - normal * normal.dot(along)).normalize();
+            m.vertices.push(Vertex {
+                position: position.to_array(),
+                normal: normal.to_array(),
+                tangent: [tangent.x, tangent.y, tangent.z, 1.0],
+                uv: [t, v],
+                pigment: UNTINTED,
+            });
+        }
+    }
+    grid_indices(&mut m, spec.segments, spec.sides, true);
+    m
+}
+
+/// How far a scale reaches from its centre, in rows: back over the row behind it (its free edge) and forwards
+/// under the row ahead; sideways in scales (beyond 0.5 it overlaps its neighbours).
+const REACH_BACK: f32 = 1.1;
+const REACH_FRONT: f32 = 1.6;
+const HALF_WIDTH: f32 = 0.62;
+/// The exponent of the scale's outline |x|^p + |y|^p = 1: 1 is a diamond, 2 an ellipse.
+const OUTLINE_EXPONENT: f32 = 1.6;
+
+/// The point of the rounded-diamond outline's interior for the square grid point (sx, sy) ∈ [−1, 1]²
+/// (concentric squares map to concentric outlines).
+fn rounded_diamond(sx: f32, sy: f32) -> (f32, f32) {
+    let r = sx.abs().max(sy.abs());
+    if r == 0.0 {
+        return (0.0, 0.0);
+    }
+    let (dx, dy) = (sx / r, sy / r);
+    let k = (dx.abs().powf(OUTLINE_EXPONENT) + dy.abs().powf(OUTLINE_EXPONENT)).powf(-1.0 / OUTLINE_EXPONENT);
+    (r * k * dx, r * k * dy)
+}
+
+/// The dome's height at outline point (x, y), 1 at its crest: curved across the scale (a parabola over the
+/// outline's width at x), and along it only where the outline narrows to its ends. A scale's normals thus sweep
+/// around the body — across which the structure diffracts — while its tilt along the body stays that of the
+/// roof-tile lift: a scale that meets the diffraction condition along the body meets it over its length, and its
+/// dome spreads the spectrum across it as a rainbow band.
+fn dome(x: f32, y: f32) -> f32 {
+    let width = (1.0 - x.abs().min(1.0).powf(OUTLINE_EXPONENT)).powf(1.0 / OUTLINE_EXPONENT);
+    if width <= 0.0 {
+        return 0.0;
+    }
+    let across = (y / width).clamp(-1.0, 1.0);
+    width * (1.0 - across * across)
+}
+
+/// The mosaic of domed scales. Row i's scales are centred at t = (i + ½)/rows, offset around the body by half a
+/// scale in odd rows; each reaches [`REACH_BACK`] rows back and [`REACH_FRONT`] forwards, so that the free,
+/// tail-side part of every scale lies over the attached part of the row behind it, lifted along the body's normal
+/// by `scale_tilt_deg` (roof tiles) and domed across. Normals come from the dome's surface; each scale is also
+/// turned at random about the body's axis by up to `scale_jitter_deg`.
+fn scaled(spec: &SnakeSpec) -> Mesh {
+    let mut m = Mesh::default();
+    let mut random = Random::new(spec.seed);
+    let pattern = PatternField::new(spec.pattern, spec.seed);
+    let (rows, around, cells) = (spec.scale_rows, spec.scales_around, spec.scale_cells.max(1));
+    let row = 1.0 / rows as f32;
+    let tilt = spec.scale_tilt_deg.to_radians().tan();
+    for i in 0..rows {
+        let t_centre = (i as f32 + 0.5) * row;
+        let stagger = if i % 2 == 0 { 0.0 } else { 0.5 };
+        for j in 0..around {
+            let v_centre = (j as f32 + 0.5 + stagger) / around as f32;
+            let turn = spec.scale_jitter_deg.to_radians() * random.next();
+            let tint = pattern.tint(t_centre, angle(v_centre));
+            let t_front = (t_centre + REACH_FRONT * row).min(1.0);
+            // The scale's surface at outline point (x, y): x from −1 (free edge) to 1 (attached edge).
+            let surface = |x: f32, y: f32| {
+                let t = (t_centre + x * if x < 0.0 { REACH_BACK * row } else { REACH_FRONT * row }).clamp(0.0, 1.0);
+                let v = v_centre + y * HALF_WIDTH / around as f32;
+                let (p, n, _) = body_surface(spec, t, angle(v));
+                let (w, h) = cross_section(t);
+                let half_width = HALF_WIDTH / around as f32 * std::f32::consts::TAU * spec.radius * 0.5 * (w + h);
+                let lift = tilt * (t_front - t) * spec.length;
+                p + n * (lift + spec.scale_dome * half_width * dome(x, y))
+            };
+            let base = m.vertices.len() as u32;
+            for a in 0..=cells {
+                for b in 0..=cells {
+                    let (sx, sy) = (2.0 * a as f32 / cells as f32 - 1.0, 2.0 * b as f32 / cells as f32 - 1.0);
+                    let (x, y) = rounded_diamond(sx, sy);
+                    m.vertices.push(scale_vertex(spec, &surface, (x, y), (t_centre, v_centre), turn, tint));
+                }
+            }
+            for a in 0..cells {
+                for b in 0..cells {
+                    let k = base + a * (cells + 1) + b;
+                    let next = k + cells + 1;
+                    m.indices.extend_from_slice(&[k, next, k + 1, k + 1, next, next + 1]);
+                }
+            }
+        }
+    }
+    m
+}
+
+/// The angle around the body of v ∈ [0, 1) (v = 0 under the belly, ½ on the back).
+fn angle(v: f32) -> f32 {
+    (v - 0.25) * std::f32::consts::TAU
+}
+
+/// One vertex of a scale: its position on the dome, the dome's normal (turned by `turn` about the body's axis)
+/// and a tangent along the scale, towards the head.
+fn scale_vertex(
+    spec: &SnakeSpec,
+    surface: &impl Fn(f32, f32) -> Vec3,
+    (x, y): (f32, f32),
+    (t_centre, v_centre): (f32, f32),
+    turn: f32,
+    tint: [f32; 3],
+) -> Vertex {
+    const STEP: f32 = 1e-2;
+    let p = surface(x, y);
+    let d_along = surface(x + STEP, y) - surface(x - STEP, y);
+    let d_across = surface(x, y + STEP) - surface(x, y - STEP);
+    let (_, body_normal, along) = body_surface(spec, t_centre, angle(v_centre));
+    let mut n = d_across.cross(d_along).try_normalize().unwrap_or(body_normal);
+    if n.dot(body_normal) < 0.0 {
+        n = -n;
+    }
+    let n = (Quat::from_axis_angle(along, turn) * n).normalize();
+    let lengthwise = d_along.try_normalize().unwrap_or(along);
+    let tangent = (lengthwise - n * n.dot(lengthwise)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+    Vertex {
+        position: p.to_array(),
+        normal: n.to_array(),
+        tangent: [tangent.x, tangent.y, tangent.z, 1.0],
+        uv: [t_centre, v_centre.rem_euclid(1.0)],
+        pigment: tint,
+    }
+}
+
+/// The skin's pattern over the body: per scale, a tint of [`CORN_GROUND`].
+struct PatternField {
+    pattern: Pattern,
+    /// Saddle centres along the body and their sideways wobble (radians).
+    saddles: Vec<(f32, f32)>,
+}
+
+/// Saddles on the body and tail (a corn snake has some 30–45 on a body of ~230 scale rows; this body has fewer
+/// rows, and a saddle must span several of them to read as one).
+const SADDLES: usize = 24;
+/// Where the saddles run along the body (t).
+const SADDLE_SPAN: (f32, f32) = (0.06, 0.9);
+
+impl PatternField {
+    fn new(pattern: Pattern, seed: u64) -> Self {
+        let mut random = Random::new(seed ^ 0x5ADD1E);
+        let spacing = (SADDLE_SPAN.1 - SADDLE_SPAN.0) / SADDLES as f32;
+        let saddles = (0..SADDLES)
+            .map(|k| (SADDLE_SPAN.0 + (k as f32 + 0.5 + 0.15 * random.next()) * spacing, 0.12 * random.next()))
+            .collect();
+        Self { pattern, saddles }
+    }
+
+    /// The tint at t along the body and angle a around it.
+    fn tint(&self, t: f32, a: f32) -> [f32; 3] {
+        if self.pattern == Pattern::Plain {
+            return UNTINTED;
+        }
+        let colour = self.colour(t, a);
+        [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]]
+    }
+
+    fn colour(&self, t: f32, a: f32) -> [f32; 3] {
+        // Angle from the middle of the back, −π..π.
+        let from_top = (a - std::f32::consts::FRAC_PI_2 + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU)
+            - std::f32::consts::PI;
+        if from_top.abs() > 2.3 {
+            return CORN_BELLY;
+        }
+        // The eyes, low on the sides of the head, each with a dark stripe running back from it.
+        let eye = ((t - 0.968) / 0.007).powi(2) + ((from_top.abs() - 0.95) / 0.25).powi(2);
+        let stripe = ((t - 0.945) / 0.025).powi(2) + ((from_top.abs() - 1.15) / 0.18).powi(2);
+        if eye < 1.0 {
+            return CORN_BORDER;
+        }
+        if stripe < 1.0 {
+            return if stripe < 0.45 { CORN_SADDLE } else { CORN_BORDER };
+        }
+        let spacing = (SADDLE_SPAN.1 - SADDLE_SPAN.0) / SADDLES as f32;
+        // The nearest saddle on the back, and the nearest blotch on the flanks (between two saddles).
+        let mut nearest = f32::INFINITY;
+        for &(centre, wobble) in &self.saddles {
+            let dorsal = ((t - centre) / (0.3 * spacing)).powi(2) + ((from_top - wobble) / 0.85).powi(2);
+            let lateral =
+                ((t - centre - 0.5 * spacing) / (0.18 * spacing)).powi(2) + ((from_top.abs() - 1.65) / 0.3).powi(2);
+            nearest = nearest.min(dorsal).min(lateral);
+        }
+        match nearest.sqrt() {
+            d if d < 1.0 => CORN_SADDLE,
+            d if d < 1.3 => CORN_BORDER,
+            _ => CORN_GROUND,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::shapes::tests::check_outward_and_frames;
+
+    #[test]
+    fn smooth_body_tangents_run_along_it_and_normals_outwards() {
+        let spec = SnakeSpec { scale_rows: 0, ..SnakeSpec::default() };
+        let m = snake(&spec);
+        check_outward_and_frames(&m, |p| p, "snake (winding only)");
+        for (k, v) in m.vertices.iter().enumerate() {
+            let t = (k as u32 / (spec.sides + 1)) as f32 / spec.segments as f32;
+            if !(0.05..0.9).contains(&t) {
+                continue;
+            }
+            let along = (spine(&spec, t + 0.001) - spine(&spec, t - 0.001)).normalize();
+            let tangent = Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+            assert!(tangent.dot(along) > 0.95, "tangent along the body at t = {t}");
+            let axis = spine(&spec, t) + Vec3::Y * (0.8 * spec.radius);
+            assert!(Vec3::from(v.normal).dot(Vec3::from(v.position) - axis) > 0.0, "normal outwards at t = {t}");
+        }
+        let (lo, hi) = m.bounds();
+        assert!((hi.x - lo.x - spec.length).abs() < 0.3 && lo.y >= -1e-3, "lies on the ground, {lo} {hi}");
+    }
+
+    #[test]
+    fn the_head_is_wider_than_the_neck_and_flatter_than_the_body() {
+        let (neck, _) = cross_section(0.91);
+        let (head, head_height) = cross_section(0.95);
+        let (body, body_height) = cross_section(0.6);
+        assert!(head > 1.2 * neck, "head {head} vs neck {neck}");
+        assert!(head_height / head < body_height / body, "the head is flatter");
+        assert!(cross_section(1.0).0 < 0.05 && cross_section(0.0).0 < 0.05, "tapers to the snout and the tail");
+    }
+
+    #[test]
+    fn scales_are_domed_lean_towards_the_head_and_face_outwards() {
+        let spec = SnakeSpec::default();
+        let m = snake(&spec);
+        let per_scale = ((spec.scale_cells + 1) * (spec.scale_cells + 1)) as usize;
+        assert_eq!(m.vertices.len(), per_scale * (spec.scale_rows * spec.scales_around) as usize);
+        check_outward_and_frames(&m, |p| p, "scaled snake (winding only)");
+        let (mut leans, mut spreads) = (Vec::new(), Vec::new());
+        for scale in m.vertices.chunks(per_scale) {
+            let t = scale[0].uv[0];
+            if !(0.1..0.8).contains(&t) {
+                continue;
+            }
+            let (_, _, along) = body_surface(&spec, t, angle(scale[0].uv[1]));
+            let normals: Vec<Vec3> = scale.iter().map(|v| Vec3::from(v.normal)).collect();
+            let mean = normals.iter().sum::<Vec3>().normalize();
+            leans.push(-mean.dot(along));
+            // The dome: the normals across one scale spread over several degrees.
+            spreads.push(normals.iter().map(|n| n.angle_between(mean)).fold(0.0f32, f32::max).to_degrees());
+        }
+        let lean = leans.iter().sum::<f32>() / leans.len() as f32;
+        // The lift tilts each scale by scale_tilt_deg; the dome, longer in front than behind, takes some of it back.
+        let tilt = spec.scale_tilt_deg.to_radians().sin();
+        assert!((-1.2 * tilt..-0.4 * tilt).contains(&lean), "scales lean towards the head: {lean} (tilt {tilt})");
+        let spread = spreads.iter().sum::<f32>() / spreads.len() as f32;
+        assert!(spread > 10.0, "each scale's normals follow its dome: {spread}°");
+        let flat = snake(&SnakeSpec { scale_dome: 0.0, scale_jitter_deg: 0.0, ..spec });
+        let flat_spread = flat.vertices[per_scale * 2000..per_scale * 2001]
+            .iter()
+            .map(|v| Vec3::from(v.normal).angle_between(Vec3::from(flat.vertices[per_scale * 2000].normal)))
+            .fold(0.0f32, f32::max)
+            .to_degrees();
+        assert!(flat_spread < spread / 2.0, "without a dome the scale is nearly flat: {flat_spread}°");
+    }
+
+    #[test]
+    fn the_corn_pattern_has_saddles_borders_and_ground_and_is_deterministic() {
+        let m = snake(&SnakeSpec::default());
+        let count = |colour: [f32; 3]| {
+            let tint = [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]];
+            m.vertices.iter().filter(|v| v.pigment == tint).count() as f32 / m.vertices.len() as f32
+        };
+        let (saddle, border, ground) = (count(CORN_SADDLE), count(CORN_BORDER), count(CORN_GROUND));
+        assert!(saddle > 0.1 && border > 0.05 && ground > 0.2, "saddle {saddle}, border {border}, ground {ground}");
+        assert_eq!(m.vertices, snake(&SnakeSpec::default()).vertices, "the same seed gives the same snake");
+        let other = snake(&SnakeSpec { seed: 2, ..SnakeSpec::default() });
+        assert_ne!(m.vertices, other.vertices, "another seed another snake");
+        let plain = snake(&SnakeSpec { pattern: Pattern::Plain, ..SnakeSpec::default() });
+        assert!(plain.vertices.iter().all(|v| v.pigment == UNTINTED));
+    }
+}
