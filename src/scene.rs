@@ -13,6 +13,7 @@
 //!
 //! [[object]]
 //! mesh = "meshes/snake.obj"     # or: shape = "plane" | "disk" | "sphere" | "cylinder" | "cube" | "snake"
+//! # pattern = "corn"           # with shape = "snake": "corn" (default) or "plain"
 //! material = "elaphe"
 //!
 //! [material.elaphe]
