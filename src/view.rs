@@ -637,29 +637,13 @@ impl State {
         let presented = swapchain.views[index as usize];
         // The scene is drawn into the multisampled image (if any) and resolved into the presented one; the map is
         // a full-screen pass drawn straight into it.
-        let target = match (&swapchain.msaa, self.live.map_mode) {
-            (Some(msaa), false) => TargetView {
-                color: msaa.view,
-                resolve: Some(presented),
-                depth: Some(swapchain.depth.view),
-                extent: swapchain.extent,
-                samples: swapchain.samples,
-            },
-            (Some(_), true) => TargetView {
-                color: presented,
-                resolve: None,
-                depth: None,
-                extent: swapchain.extent,
-                samples: vk::SampleCountFlags::TYPE_1,
-            },
-            (None, _) => TargetView {
-                color: presented,
-                resolve: None,
-                depth: Some(swapchain.depth.view),
-                extent: swapchain.extent,
-                samples: vk::SampleCountFlags::TYPE_1,
-            },
+        let (color, resolve, samples, depth) = match (&swapchain.msaa, self.live.map_mode) {
+            (Some(msaa), false) => (msaa.view, Some(presented), swapchain.samples, Some(swapchain.depth.view)),
+            // The map has no depth; a multisampled depth buffer would not match its single-sampled target.
+            (Some(_), true) => (presented, None, vk::SampleCountFlags::TYPE_1, None),
+            (None, _) => (presented, None, vk::SampleCountFlags::TYPE_1, Some(swapchain.depth.view)),
         };
+        let target = TargetView { color, resolve, depth, extent: swapchain.extent, samples };
         self.ctx.barrier_raw_image(
             cmd,
             image,
