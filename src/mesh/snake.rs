@@ -3,7 +3,7 @@
 //! and painted with a corn snake's pattern. Everything follows from a [`SnakeSpec`] and its seed.
 //!
 //! Frames: the tangent runs along the body (tail to head), u = t along the body, v around it. Each scale is a
-//! small grid whose normals follow its dome, so the patch frame — and with it the diffracted colour — turns
+//! fan of triangles whose normals follow its dome, so the patch frame — and with it the diffracted colour — turns
 //! across every scale, as on a real snake's skin. The pattern is carried as vertex pigment tints (relative to
 //! [`CORN_GROUND`], the material's pigment in the default scene).
 
@@ -42,7 +42,7 @@ pub struct SnakeSpec {
     pub waves: f32,
     /// Sideways amplitude of the bends.
     pub amplitude: f32,
-    /// Rings along the body and vertices around it (of the smooth body; scales use their own grid).
+    /// Rings along the body and vertices around it (of the smooth body; scales are fans of their own).
     pub segments: u32,
     pub sides: u32,
     /// Rows of scales along the body and scales around it (0 rows: a smooth body). Neighbouring rows are offset
@@ -54,8 +54,10 @@ pub struct SnakeSpec {
     pub scale_tilt_deg: f32,
     /// How high each scale's dome rises, relative to its half-width (0: flat scales).
     pub scale_dome: f32,
-    /// Grid cells along each edge of a scale (its dome's resolution).
-    pub scale_cells: u32,
+    /// Points around each scale's outline: a scale is a fan of this many triangles from its crest to its edge,
+    /// whose interpolated normals carry the dome (a parabolic dome's slope grows linearly from the crest, so
+    /// interpolating the normal from crest to edge follows it closely).
+    pub scale_outline: u32,
     /// Each scale is turned about the body's axis by up to this much, at random, degrees.
     pub scale_jitter_deg: f32,
     pub pattern: Pattern,
@@ -75,7 +77,7 @@ impl Default for SnakeSpec {
             scales_around: 23,
             scale_tilt_deg: 8.0,
             scale_dome: 0.35,
-            scale_cells: 4,
+            scale_outline: 12,
             scale_jitter_deg: 4.0,
             pattern: Pattern::Corn,
             seed: 1,
@@ -83,19 +85,32 @@ impl Default for SnakeSpec {
     }
 }
 
+/// Where the neck is narrowest, where the head's plates take over from the body's scales, and where the jaws are
+/// widest (t from tail 0 to snout 1).
+const NECK: f32 = 0.9;
+const HEAD_START: f32 = 0.925;
+const JAW: f32 = 0.945;
+
 /// Half-width and half-height of the cross-section along the body, relative to the radius, t ∈ [0, 1] from tail
-/// to snout: a long taper to the tail tip, a narrow neck, then a head wider than the neck and flatter than the
-/// body (a colubrid's), rounded at the snout.
+/// to snout: a long taper to the tail tip, a narrow neck, then a colubrid's head — a little wider than the neck
+/// at the jaws, flatter than the body, narrowing to a blunt, rounded snout (about 1.4 times as long as wide).
 fn cross_section(t: f32) -> (f32, f32) {
     let tail = (t / 0.45).min(1.0).powf(0.75);
-    let neck = 1.0 - 0.28 * (-((t - 0.91) / 0.03).powi(2)).exp();
-    // The head narrows from the jaws to a rounded snout (an elliptical cap, longer than it is wide).
-    let snout = if t > 0.95 { (1.0 - ((t - 0.95) / 0.05).powi(2)).max(0.0).powf(0.4) } else { 1.0 };
-    let jaw = (-((t - 0.945) / 0.022).powi(2)).exp();
-    let width = tail * neck * snout * (1.0 + 0.25 * jaw);
+    let neck = 1.0 - 0.22 * (-((t - NECK) / 0.025).powi(2)).exp();
+    let jaw = 1.0 + 0.12 * (-((t - JAW) / 0.018).powi(2)).exp();
+    // From the jaws the head narrows towards the snout, and its last stretch is rounded off (an elliptical cap).
+    let taper = 1.0 - 0.4 * smoothstep(0.95, 0.99, t);
+    let cap = if t > 0.985 { (1.0 - ((t - 0.985) / 0.015).powi(2)).max(0.0).sqrt() } else { 1.0 };
+    let width = tail * neck * jaw * taper * cap;
     // The body's section is flattened underneath like a real snake's belly; the head is flatter still.
-    let height = tail * neck * snout * (0.8 - 0.22 * ((t - 0.9) / (1.0 - 0.9)).clamp(0.0, 1.0));
+    let flat = 0.8 - 0.3 * smoothstep(NECK, JAW, t);
+    let height = tail * neck * flat * (1.0 - 0.25 * smoothstep(0.95, 0.99, t)) * cap;
     (width, height)
+}
+
+fn smoothstep(edge0: f32, edge1: f32, x: f32) -> f32 {
+    let u = ((x - edge0) / (edge1 - edge0)).clamp(0.0, 1.0);
+    u * u * (3.0 - 2.0 * u)
 }
 
 /// The spine point at t (tail 0 to snout 1); the bends fade towards the head so that it points forwards.
@@ -145,29 +160,47 @@ impl Random {
     }
 }
 
-/// Builds the snake: domed scales (or, with `scale_rows` = 0, a smooth body with untinted vertices).
+/// Builds the snake: domed scales and a head of smooth plates (or, with `scale_rows` = 0, a smooth body with
+/// untinted vertices).
 pub fn snake(spec: &SnakeSpec) -> Mesh {
     if spec.scale_rows > 0 && spec.scales_around > 0 {
         return scaled(spec);
     }
     let mut m = Mesh::default();
-    for i in 0..=spec.segments {
-        let t = i as f32 / spec.segments as f32;
-        for s in 0..=spec.sides {
-            let v = s as f32 / spec.sides as f32;
-            let (position, normal, along) = body_surface(spec, t, v * std::f32::consts::TAU);
-            let tangent = (along - normal * normal.dot(along)).normalize();
-            m.vertices.push(Vertex {
+    smooth_part(spec, &mut m, (0.0, 1.0), (spec.segments, spec.sides), None);
+    m
+}
+
+/// Appends the smooth body surface between t0 and t1 (tail 0 to snout 1) as a grid of `segments` rings of `sides`
+/// quads, tinted by `pattern` if given.
+fn smooth_part(
+    spec: &SnakeSpec,
+    m: &mut Mesh,
+    (t0, t1): (f32, f32),
+    (segments, sides): (u32, u32),
+    pattern: Option<&PatternField>,
+) {
+    let mut part = Mesh::default();
+    for i in 0..=segments {
+        let t = t0 + (t1 - t0) * i as f32 / segments as f32;
+        for s in 0..=sides {
+            let v = s as f32 / sides as f32;
+            let a = v * std::f32::consts::TAU;
+            let (position, normal, along) = body_surface(spec, t, a);
+            let tangent = (along - normal * normal.dot(along)).try_normalize().unwrap_or(along);
+            part.vertices.push(Vertex {
                 position: position.to_array(),
                 normal: normal.to_array(),
                 tangent: [tangent.x, tangent.y, tangent.z, 1.0],
                 uv: [t, v],
-                pigment: UNTINTED,
+                pigment: pattern.map_or(UNTINTED, |p| p.tint(t, a)),
             });
         }
     }
-    grid_indices(&mut m, spec.segments, spec.sides, true);
-    m
+    grid_indices(&mut part, segments, sides, true);
+    let base = m.vertices.len() as u32;
+    m.vertices.extend(part.vertices);
+    m.indices.extend(part.indices.into_iter().map(|i| base + i));
 }
 
 /// How far a scale reaches from its centre, in rows: back over the row behind it (its free edge) and forwards
@@ -175,6 +208,8 @@ pub fn snake(spec: &SnakeSpec) -> Mesh {
 const REACH_BACK: f32 = 1.1;
 const REACH_FRONT: f32 = 1.6;
 const HALF_WIDTH: f32 = 0.62;
+/// Rings and vertices around of the head's smooth surface (fine enough to draw its eyes).
+const HEAD_GRID: (u32, u32) = (64, 72);
 /// The exponent of the scale's outline |x|^p + |y|^p = 1: 1 is a diamond, 2 an ellipse.
 const OUTLINE_EXPONENT: f32 = 1.6;
 
@@ -213,11 +248,15 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
     let mut m = Mesh::default();
     let mut random = Random::new(spec.seed);
     let pattern = PatternField::new(spec.pattern, spec.seed);
-    let (rows, around, cells) = (spec.scale_rows, spec.scales_around, spec.scale_cells.max(1));
+    let (rows, around, outline) = (spec.scale_rows, spec.scales_around, spec.scale_outline.max(3));
     let row = 1.0 / rows as f32;
     let tilt = spec.scale_tilt_deg.to_radians().tan();
+    // The body's scales, up to the head.
     for i in 0..rows {
         let t_centre = (i as f32 + 0.5) * row;
+        if t_centre >= HEAD_START {
+            break;
+        }
         let stagger = if i % 2 == 0 { 0.0 } else { 0.5 };
         for j in 0..around {
             let v_centre = (j as f32 + 0.5 + stagger) / around as f32;
@@ -235,22 +274,24 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
                 p + n * (lift + spec.scale_dome * half_width * dome(x, y))
             };
             let base = m.vertices.len() as u32;
-            for a in 0..=cells {
-                for b in 0..=cells {
-                    let (sx, sy) = (2.0 * a as f32 / cells as f32 - 1.0, 2.0 * b as f32 / cells as f32 - 1.0);
-                    let (x, y) = rounded_diamond(sx, sy);
-                    m.vertices.push(scale_vertex(spec, &surface, (x, y), (t_centre, v_centre), turn, tint));
-                }
+            let mut push =
+                |(x, y)| m.vertices.push(scale_vertex(spec, &surface, (x, y), (t_centre, v_centre), turn, tint));
+            push((0.0, 0.0));
+            for k in 0..outline {
+                // A point of the square's edge (concentric squares map to concentric outlines), counterclockwise
+                // from the free edge's middle (−x) like the grid of (x, y) it stands for.
+                let (sin, cos) = (std::f32::consts::TAU * k as f32 / outline as f32).sin_cos();
+                let edge = cos.abs().max(sin.abs());
+                push(rounded_diamond(-cos / edge, -sin / edge));
             }
-            for a in 0..cells {
-                for b in 0..cells {
-                    let k = base + a * (cells + 1) + b;
-                    let next = k + cells + 1;
-                    m.indices.extend_from_slice(&[k, next, k + 1, k + 1, next, next + 1]);
-                }
+            for k in 0..outline {
+                m.indices.extend_from_slice(&[base, base + 1 + k, base + 1 + (k + 1) % outline]);
             }
         }
     }
+    // The head's large, smooth plates (from under the last row of scales to the snout), with the pattern's eyes.
+    let start = HEAD_START - REACH_BACK * row;
+    smooth_part(spec, &mut m, (start, 1.0), HEAD_GRID, Some(&pattern));
     m
 }
 
@@ -329,14 +370,23 @@ impl PatternField {
         if from_top.abs() > 2.3 {
             return CORN_BELLY;
         }
-        // The eyes, low on the sides of the head, each with a dark stripe running back from it.
-        let eye = ((t - 0.968) / 0.007).powi(2) + ((from_top.abs() - 0.95) / 0.25).powi(2);
-        let stripe = ((t - 0.945) / 0.025).powi(2) + ((from_top.abs() - 1.15) / 0.18).powi(2);
+        // The eyes on the sides of the head: a round black pupil in an orange-red iris.
+        let eye = (((t - 0.972) / 0.0062).powi(2) + ((from_top.abs() - 1.0) / 0.2).powi(2)).sqrt();
         if eye < 1.0 {
-            return CORN_BORDER;
+            return if eye < 0.6 { CORN_BORDER } else { CORN_SADDLE };
         }
+        // A dark-edged stripe from each eye back to the jaw, and the spear point on the crown, pointing at the snout.
+        let stripe = ((t - 0.952) / 0.02).powi(2) + ((from_top.abs() - 1.2) / 0.14).powi(2);
         if stripe < 1.0 {
             return if stripe < 0.45 { CORN_SADDLE } else { CORN_BORDER };
+        }
+        if (HEAD_START - 0.01..0.975).contains(&t) {
+            let half = 0.7 * (0.975 - t) / (0.975 - HEAD_START);
+            match from_top.abs() / half {
+                d if d < 0.8 => return CORN_SADDLE,
+                d if d < 1.0 => return CORN_BORDER,
+                _ => {}
+            }
         }
         let spacing = (SADDLE_SPAN.1 - SADDLE_SPAN.0) / SADDLES as f32;
         // The nearest saddle on the back, and the nearest blotch on the flanks (between two saddles).
@@ -382,7 +432,7 @@ mod tests {
 
     #[test]
     fn the_head_is_wider_than_the_neck_and_flatter_than_the_body() {
-        let (neck, _) = cross_section(0.91);
+        let (neck, _) = cross_section(NECK);
         let (head, head_height) = cross_section(0.95);
         let (body, body_height) = cross_section(0.6);
         assert!(head > 1.2 * neck, "head {head} vs neck {neck}");
@@ -394,8 +444,10 @@ mod tests {
     fn scales_are_domed_lean_towards_the_head_and_face_outwards() {
         let spec = SnakeSpec::default();
         let m = snake(&spec);
-        let per_scale = ((spec.scale_cells + 1) * (spec.scale_cells + 1)) as usize;
-        assert_eq!(m.vertices.len(), per_scale * (spec.scale_rows * spec.scales_around) as usize);
+        let per_scale = (spec.scale_outline + 1) as usize;
+        let rows = (0..spec.scale_rows).filter(|&i| (i as f32 + 0.5) / (spec.scale_rows as f32) < HEAD_START).count();
+        let head = ((HEAD_GRID.0 + 1) * (HEAD_GRID.1 + 1)) as usize;
+        assert_eq!(m.vertices.len(), per_scale * rows * spec.scales_around as usize + head);
         check_outward_and_frames(&m, |p| p, "scaled snake (winding only)");
         let (mut leans, mut spreads) = (Vec::new(), Vec::new());
         for scale in m.vertices.chunks(per_scale) {

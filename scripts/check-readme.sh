@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Runs every complete `diffract …` command the README shows (in backticks or after `$ ` in a code block), as
+# written, in a scratch folder beside a link to assets/: any non-zero exit fails the script. Commands with
+# placeholders (FILE, SCENE, N, …, [optional parts], a|b choices, the user's own files) and `view` without
+# --frames (it waits for a window to close) are listed as skipped. A command still running after the time limit
+# (default 120 s per command; the README's longest, FLSS profiles at 800², take many minutes on lavapipe) is
+# stopped and reported as cut: it was accepted and ran that long without an error.
+# Usage: scripts/check-readme.sh [SECONDS]   (needs what scripts/setup-debian.sh installs; builds the release binary)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+limit=${1:-120}
+
+cargo build --release --quiet
+work=$(mktemp -d)
+trap 'rm -rf "$work"; [ -n "${xvfb:-}" ] && kill "$xvfb" 2>/dev/null || true' EXIT
+if [ -z "${DISPLAY:-}" ] && command -v Xvfb >/dev/null; then
+  Xvfb :96 -screen 0 1024x768x24 -nolisten tcp >/dev/null 2>&1 &
+  xvfb=$!
+  for _ in $(seq 50); do [ -S /tmp/.X11-unix/X96 ] && break; sleep 0.1; done
+  export DISPLAY=:96
+fi
+ln -s "$root/assets" "$work/assets"
+# The README's own outputs (docs/images, docs/profile) are written into a copy, not over the repository's.
+cp -r "$root/docs" "$work/docs"
+mkdir -p "$work/bin" && ln -s "$root/target/release/diffract" "$work/bin/diffract"
+export PATH="$work/bin:$PATH" DIFFRACT_CACHE="$work/cache"
+
+# Commands: backticked spans, and code-block lines starting with "diffract" or "$ diffract", joined over trailing
+# backslashes. A bare command name in prose (`diffract map`) is not a command.
+mapfile -t commands < <(python3 - README.md <<'PY'
+import re, sys
+text = open(sys.argv[1], encoding="utf-8").read()
+found = []
+for block in re.findall(r"```[^\n]*\n(.*?)```", text, re.S):
+    lines = re.sub(r"\s*\\\n\s*", " ", block).splitlines()
+    # In a table of commands, two spaces part a command from its description.
+    found += [re.split(r"\s{2,}", l.removeprefix("$ ").strip())[0] for l in lines if l.startswith(("$ diffract ", "diffract "))]
+text = re.sub(r"```.*?```", "", text, flags=re.S)
+found += [c.strip() for c in re.findall(r"`(diffract [^`]+)`", text.replace("\n", " "))]
+seen = set()
+for c in found:
+    c = re.sub(r"\s+", " ", c)
+    # A command's bare name (`diffract map`) names it in prose; a window title is not a command.
+    if not re.match(r"diffract [a-z]+ ", c + " ") or (len(c.split()) == 2 and c != "diffract devices"):
+        continue
+    if c not in seen:
+        seen.add(c)
+        print(c)
+PY
+)
+
+placeholder='(\.\.\.|…|\[|\||<|\b(FILE|SCENE|NAME|KIND|N|F\.png|F\.obj|F\.gsf|F\.exr|NNNN)\b|scan\.|my-scene|mine\.)'
+ran=0 skipped=0 cut=0 failures=0
+for command in "${commands[@]}"; do
+  if [[ $command =~ $placeholder ]] || { [[ $command == "diffract view"* ]] && [[ $command != *--frames* ]]; }; then
+    echo "skip  $command"
+    skipped=$((skipped + 1))
+    continue
+  fi
+  start=$SECONDS
+  status=0
+  (cd "$work" && eval "timeout --kill-after=10 $limit $command") >"$work/log" 2>&1 || status=$?
+  if [ "$status" -eq 0 ]; then
+    echo "ok    $command ($((SECONDS - start)) s)"
+    ran=$((ran + 1))
+  elif [ "$status" -eq 124 ] && ! grep -q '^error' "$work/log"; then
+    echo "cut   $command (still running without an error after $limit s)"
+    cut=$((cut + 1))
+  else
+    echo "FAIL  $command"
+    sed 's/^/      /' "$work/log" | tail -5
+    failures=$((failures + 1))
+  fi
+done
+echo "check-readme: $ran command(s) ran, $cut cut at $limit s, $skipped skipped, $failures failed"
+[ "$failures" -eq 0 ]
