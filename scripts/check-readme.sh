@@ -8,6 +8,7 @@
 # Usage: scripts/check-readme.sh [SECONDS]   (needs what scripts/setup-debian.sh installs; builds the release binary)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/xvfb.sh
 root=$PWD
 limit=${1:-120}
 
@@ -15,10 +16,7 @@ cargo build --release --quiet
 work=$(mktemp -d)
 trap 'rm -rf "$work"; [ -n "${xvfb:-}" ] && kill "$xvfb" 2>/dev/null || true' EXIT
 if [ -z "${DISPLAY:-}" ] && command -v Xvfb >/dev/null; then
-  Xvfb :96 -screen 0 1024x768x24 -nolisten tcp >/dev/null 2>&1 &
-  xvfb=$!
-  for _ in $(seq 50); do [ -S /tmp/.X11-unix/X96 ] && break; sleep 0.1; done
-  export DISPLAY=:96
+  start_xvfb 95
 fi
 ln -s "$root/assets" "$work/assets"
 # The README's own outputs (docs/images, docs/profile) are written into a copy, not over the repository's.

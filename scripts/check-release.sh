@@ -5,6 +5,7 @@
 # Usage: scripts/check-release.sh   (CI runs it; it needs what scripts/setup-debian.sh installs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/xvfb.sh
 
 cargo build --release --quiet
 bin=target/release/diffract
@@ -44,11 +45,9 @@ check profile "$bin" profile --width 32 --frames 2 --warmup 1 --no-reference --s
 check devices "$bin" devices
 
 if command -v Xvfb >/dev/null; then
-  Xvfb :97 -screen 0 800x600x24 -nolisten tcp >/dev/null 2>&1 &
-  xvfb=$!
-  for _ in $(seq 50); do [ -S /tmp/.X11-unix/X97 ] && break; sleep 0.1; done
-  DISPLAY=:97 check viewer "$bin" view --width 160 --height 120 --frames 20 --screenshot "$out/view.png"
-  DISPLAY=:97 check viewer-flss "$bin" view --width 96 --height 64 --frames 3 --approach flss
+  start_xvfb 97 800x600
+  check viewer "$bin" view --width 160 --height 120 --frames 20 --screenshot "$out/view.png"
+  check viewer-flss "$bin" view --width 96 --height 64 --frames 3 --approach flss
 else
   echo "FAIL  viewer: Xvfb is not installed (scripts/setup-debian.sh installs it)"
   failures=$((failures + 1))

@@ -8,15 +8,14 @@
 # minutes on 2 cores. CARGO_TARGET_DIR picks the build folder.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/xvfb.sh
 frames=${1:-1000}
 width=${2:-64}
 height=${3:-48}
 cargo build --release -q
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"; [ -n "${xvfb:-}" ] && kill "$xvfb" 2>/dev/null || true' EXIT
-Xvfb :96 -screen 0 800x600x24 -nolisten tcp >/dev/null 2>&1 &
-xvfb=$!
-for _ in $(seq 50); do [ -S /tmp/.X11-unix/X96 ] && break; sleep 0.1; done
+start_xvfb 96 800x600
 out=docs/soak-view.txt
 {
   echo "# scripts/soak-view.sh $frames $width $height ($(date -u +%Y-%m-%d), $(nproc) cores)"

@@ -150,8 +150,8 @@ mod tests {
         let p = scratch("corn.obj");
         save(&p, &m, "test").unwrap();
         let back = load(&p).unwrap();
-        // The loader may share or reorder vertices (the head's seam and snout tip repeat positions): each loaded
-        // vertex carries the colour of a saved one at its position and uv.
+        // tobj (single_index) numbers the loaded vertices in the order the faces first use them, which the head's
+        // grid of rings does not follow: each loaded vertex carries the colour of the saved one at its position and uv.
         let close = |x: &[f32], y: &[f32]| x.iter().zip(y).all(|(a, b)| (a - b).abs() < 1e-5);
         for b in &back.vertices {
             let a = m.vertices.iter().find(|a| close(&a.position, &b.position) && close(&a.uv, &b.uv));

@@ -99,12 +99,13 @@ fn cross_section(t: f32) -> (f32, f32) {
     let neck = 1.0 - 0.22 * (-((t - NECK) / 0.025).powi(2)).exp();
     let jaw = 1.0 + 0.12 * (-((t - JAW) / 0.018).powi(2)).exp();
     // From the jaws the head narrows towards the snout, and its last stretch is rounded off (an elliptical cap).
-    let taper = 1.0 - 0.4 * smoothstep(0.95, 0.99, t);
+    let narrowing = smoothstep(0.95, 0.99, t);
+    let taper = 1.0 - 0.4 * narrowing;
     let cap = if t > 0.985 { (1.0 - ((t - 0.985) / 0.015).powi(2)).max(0.0).sqrt() } else { 1.0 };
     let width = tail * neck * jaw * taper * cap;
     // The body's section is flattened underneath like a real snake's belly; the head is flatter still.
     let flat = 0.8 - 0.3 * smoothstep(NECK, JAW, t);
-    let height = tail * neck * flat * (1.0 - 0.25 * smoothstep(0.95, 0.99, t)) * cap;
+    let height = tail * neck * flat * (1.0 - 0.25 * narrowing) * cap;
     (width, height)
 }
 
