@@ -23,13 +23,15 @@ pub enum Shape {
 impl Shape {
     /// The shape at unit size (plane and cube edges 2, disk and sphere radius 1, cylinder radius 1 and height 2,
     /// snake 4 long).
+    /// Closed shapes (sphere, cube, snake) are one-sided ([`Mesh::one_sided`]); a plane, disk or open cylinder
+    /// shows its back.
     pub fn build(self) -> Mesh {
         match self {
             Shape::Plane => Mesh::quad(1.0),
             Shape::Disk => disk(1.0, 96, 24),
             Shape::Sphere => Mesh::uv_sphere(1.0, 96, 48),
             Shape::Cylinder => cylinder(1.0, 2.0, 96, 16),
-            Shape::Cube => cube(1.0),
+            Shape::Cube => Mesh { one_sided: true, ..cube(1.0) },
             Shape::Snake => super::snake::snake(&super::snake::SnakeSpec::default()),
         }
     }
@@ -159,5 +161,31 @@ pub(crate) mod tests {
         check_outward_and_frames(&Shape::Cube.build(), |_| Vec3::ZERO, "cube");
         check_outward_and_frames(&Shape::Disk.build(), |p| p - Vec3::Z, "disk");
         check_outward_and_frames(&Shape::Plane.build(), |p| p - Vec3::Z, "plane");
+    }
+
+    /// Culling back faces is safe only where every triangle's front (counter-clockwise, as the pipelines take
+    /// it) faces the way its vertex normals point.
+    #[test]
+    fn one_sided_shapes_wind_their_fronts_along_the_normals() {
+        for shape in [Shape::Plane, Shape::Disk, Shape::Sphere, Shape::Cylinder, Shape::Cube, Shape::Snake] {
+            let m = shape.build();
+            assert_eq!(m.one_sided, matches!(shape, Shape::Sphere | Shape::Cube | Shape::Snake), "{shape:?}");
+            if !m.one_sided {
+                continue;
+            }
+            let mut against = 0;
+            for tri in m.indices.chunks_exact(3) {
+                let v: Vec<_> = tri.iter().map(|&i| &m.vertices[i as usize]).collect();
+                let p: Vec<Vec3> = v.iter().map(|v| Vec3::from(v.position)).collect();
+                let face = (p[1] - p[0]).cross(p[2] - p[0]);
+                let normals: Vec3 = v.iter().map(|v| Vec3::from(v.normal)).sum();
+                // Degenerate triangles (a pole's, a tip's) cover no pixel: their side does not matter.
+                let longest = (0..3).map(|k| (p[(k + 1) % 3] - p[k]).length_squared()).fold(0.0, f32::max);
+                if face.length() > 1e-3 * longest && face.dot(normals) <= 0.0 {
+                    against += 1;
+                }
+            }
+            assert_eq!(against, 0, "{shape:?}: {against} triangles face against their normals");
+        }
     }
 }

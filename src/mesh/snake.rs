@@ -167,7 +167,7 @@ pub fn snake(spec: &SnakeSpec) -> Mesh {
     if spec.scale_rows > 0 && spec.scales_around > 0 {
         return scaled(spec);
     }
-    let mut m = Mesh::default();
+    let mut m = Mesh { one_sided: true, ..Mesh::default() };
     smooth_part(spec, &mut m, (0.0, 1.0), (spec.segments, spec.sides), None);
     m
 }
@@ -246,7 +246,7 @@ fn dome(x: f32, y: f32) -> f32 {
 /// by `scale_tilt_deg` (roof tiles) and domed across. Normals come from the dome's surface; each scale is also
 /// turned at random about the body's axis by up to `scale_jitter_deg`.
 fn scaled(spec: &SnakeSpec) -> Mesh {
-    let mut m = Mesh::default();
+    let mut m = Mesh { one_sided: true, ..Mesh::default() };
     let mut random = Random::new(spec.seed);
     let pattern = PatternField::new(spec.pattern, spec.seed);
     let (rows, around, outline) = (spec.scale_rows, spec.scales_around, spec.scale_outline.max(3));

@@ -146,7 +146,8 @@ impl GBuffer {
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format: LINEAR_FORMAT,
                 depth: Some((DEPTH_FORMAT, DepthTest::Write)),
-                cull_back_faces: false,
+                // As the surface pass culls (the same fragments win the depth test).
+                cull_back_faces: scene.objects.iter().all(|o| o.mesh.one_sided),
                 samples: vk::SampleCountFlags::TYPE_1,
             })?);
         }

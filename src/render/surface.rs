@@ -184,6 +184,8 @@ impl SceneRenderer {
         variant: SurfaceVariant,
     ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        // Both passes cull alike (the EQUAL test needs the same fragments), and only where no object shows a back.
+        let cull_back_faces = objects.iter().all(|(mesh, _)| mesh.one_sided);
         let frame_binding = Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
         self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: DEPTH_PASS,
@@ -196,7 +198,7 @@ impl SceneRenderer {
             vertex_attributes: &VERTEX_ATTRIBUTES,
             color_format,
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
-            cull_back_faces: false,
+            cull_back_faces,
             samples: self.samples,
         })?);
         let [p, t, s] = patch_bindings(stages);
@@ -229,7 +231,7 @@ impl SceneRenderer {
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format,
                 depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
-                cull_back_faces: false,
+                cull_back_faces,
                 samples: self.samples,
             });
             let pipeline = match pipeline {

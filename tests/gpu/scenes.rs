@@ -1,8 +1,9 @@
-//! Every scene shipped in assets/scenes renders validation-clean, with colour.
+//! Every scene shipped in assets/scenes renders validation-clean, with colour, as its golden image shows it.
 
 use diffract::render::capture::{prepare_materials, scene_reaches, Overrides, SceneCapture};
 use diffract::scene::Scene;
 
+use crate::golden;
 use crate::harness::gpu_test;
 
 #[test]
@@ -29,5 +30,8 @@ fn every_asset_scene_renders_in_colour() {
         let coloured =
             rgba8.chunks(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 40).count();
         assert!(coloured > 5, "{}: only {coloured} coloured pixels", path.display());
+        // The look, pinned: the default snake (head, domed scales, pattern, anti-aliased edges) and the others.
+        let stem = path.file_stem().unwrap().to_string_lossy().replace('-', "_");
+        golden::check(&format!("scene_{stem}_{w}"), w, h, &rgba8);
     }
 }
