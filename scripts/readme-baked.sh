@@ -11,6 +11,7 @@
 # Usage: scripts/readme-baked.sh [TAG] [extra diffract options, e.g. --device 0]   (default tag: lavapipe)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/xvfb.sh
 tag=${1:-lavapipe}
 shift || true
 cargo build --release -q
@@ -51,9 +52,7 @@ $d profile "$@" --width 800 --frames 3 --warmup 1 --no-reference --sweep approac
 } | tee "$out/table-cold.txt"
 
 if command -v Xvfb >/dev/null; then
-  Xvfb :97 -screen 0 1024x1024x24 -nolisten tcp &
-  xvfb=$!
-  sleep 2
-  DISPLAY=:97 $d view "$@" --width 800 --height 800 --frames 40 --vsync off | tail -1 | tee "$out/view-800.txt"
-  kill $xvfb
+  start_xvfb 93
+  $d view "$@" --width 800 --height 800 --frames 40 --vsync off | tail -1 | tee "$out/view-800.txt"
+  kill "$xvfb"
 fi

@@ -112,6 +112,29 @@ fn sequences_write_numbered_frames() {
     assert!(o.status.success());
     assert!(scratch("sweep_0002.png").exists());
     assert_one_line_error(&diffract(&["render", s(&scene), "--out", s(&out), "--frames", "3"]), "--orbit");
+    let arc = scratch("arc.png");
+    let o = diffract(&[
+        "render",
+        s(&scene),
+        "--out",
+        s(&arc),
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--frames",
+        "3",
+        "--light-sweep",
+        "--turn-deg",
+        "60",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(scratch("arc_0003.png").exists());
+    assert_one_line_error(&diffract(&["render", s(&scene), "--out", s(&out), "--turn-deg", "60"]), "--light-sweep");
+    for bad in ["0", "400", "nan"] {
+        let o = diffract(&["render", s(&scene), "--out", s(&out), "--orbit", "--frames", "2", "--turn-deg", bad]);
+        assert_one_line_error(&o, "(0, 360]");
+    }
 }
 
 #[test]

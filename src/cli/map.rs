@@ -65,11 +65,20 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let sampling = match material.settings.approach {
         Approach::Nmm => format!("one λ per DFT bin crossed ({} λ near specular)", material.sampling.count),
         Approach::Gem => format!("orders of the {:.3} µm spacing", material.params.gem[2]),
-        Approach::Baked => format!("a table of {} λ at 1 nm", material.sampling.count),
+        // The table's own integration (the shader samples no λ), over the full window (no taps either).
+        Approach::Baked => {
+            let step = crate::physics::baked::TABLE_LAMBDA_STEP_NM;
+            let count = ((crate::physics::spectrum::VISIBLE_MAX_NM - crate::physics::spectrum::VISIBLE_MIN_NM) / step)
+                .round() as u32
+                + 1;
+            format!("a table of {count} λ at {step} nm, the full window")
+        }
         _ => format!("{} λ", material.sampling.count),
     };
+    let taps =
+        if material.settings.approach == Approach::Baked { String::new() } else { format!(", {taps}×{taps} taps") };
     println!(
-        "wrote {} ({size}×{size} {approach}: {plan}{sampling}, {taps}×{taps} taps; precompute {prep_ms:.0} ms{gpu_time} on {device})",
+        "wrote {} ({size}×{size} {approach}: {plan}{sampling}{taps}; precompute {prep_ms:.0} ms{gpu_time} on {device})",
         args.out.display(),
         size = args.size,
         approach = material.settings.approach.name(),

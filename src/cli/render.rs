@@ -44,6 +44,10 @@ pub struct RenderArgs {
     /// Turn the light once around the up axis over the frames
     #[arg(long)]
     pub light_sweep: bool,
+    /// How far --orbit or --light-sweep turns, degrees: 360 (the default) a full turn, less an arc centred on the
+    /// scene's camera or light, first and last frame at its ends
+    #[arg(long, value_name = "DEG", default_value_t = 360.0, value_parser = parse_turn)]
+    pub turn_deg: f32,
     /// Draw the scene lit without diffraction (fast: for framing the camera)
     #[arg(long)]
     pub preview: bool,
@@ -59,9 +63,29 @@ fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
     path.with_file_name(format!("{stem}_{:04}.{ext}", frame + 1))
 }
 
+/// `--turn-deg`: an angle in (0, 360].
+fn parse_turn(text: &str) -> Result<f32, String> {
+    match text.parse::<f32>() {
+        Ok(deg) if deg > 0.0 && deg <= 360.0 => Ok(deg),
+        _ => Err(format!("{text:?} is not an angle in degrees in (0, 360]")),
+    }
+}
+
+/// The turn of frame `f` of `n`, radians: a full turn in n equal steps (the last frame one step short of the
+/// first), or an arc of `turn_deg` centred on 0 from end to end.
+fn frame_angle(turn_deg: f32, f: u32, n: u32) -> f32 {
+    if turn_deg >= 360.0 {
+        std::f32::consts::TAU * f as f32 / n as f32
+    } else if n > 1 {
+        turn_deg.to_radians() * (f as f32 / (n - 1) as f32 - 0.5)
+    } else {
+        0.0
+    }
+}
+
 /// Camera and light of frame `f` of `n`.
 fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::camera::Camera, Vec3) {
-    let angle = std::f32::consts::TAU * f as f32 / args.frames as f32;
+    let angle = frame_angle(args.turn_deg, f, args.frames);
     let turn = Quat::from_axis_angle(scene.camera.up.normalize(), angle);
     let mut camera = scene.camera;
     let mut light = scene.light_dir;
@@ -78,6 +102,9 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     crate::output::check_png_path(&args.out)?;
     if let Some(exr) = &args.exr {
         crate::output::check_exr_path(exr)?;
+    }
+    if args.turn_deg < 360.0 && !(args.orbit || args.light_sweep) {
+        anyhow::bail!("--turn-deg {} needs --orbit or --light-sweep (what should turn?)", args.turn_deg);
     }
     if args.frames > 1 && !(args.orbit || args.light_sweep) {
         anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
@@ -201,4 +228,17 @@ fn preview(
     }
     println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
     Ok(super::validation_status(&ctx.validation()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::frame_angle;
+
+    #[test]
+    fn a_full_turn_steps_evenly_and_an_arc_runs_end_to_end_about_the_setup() {
+        let deg = |turn, f, n| frame_angle(turn, f, n).to_degrees();
+        assert_eq!([0, 1, 3].map(|f| deg(360.0, f, 4).round()), [0.0, 90.0, 270.0]);
+        assert_eq!([0, 2, 4].map(|f| deg(60.0, f, 5).round()), [-30.0, 0.0, 30.0]);
+        assert_eq!(deg(60.0, 0, 1), 0.0, "one frame: the scene's own setup");
+    }
 }
