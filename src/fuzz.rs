@@ -4,7 +4,8 @@
 
 use std::path::Path;
 
-use crate::physics::{gsf, HeightField, PngScale};
+use crate::physics::formats::gsf;
+use crate::physics::PngScale;
 
 /// A Gwyddion Simple Field height field.
 pub fn gsf(bytes: &[u8]) {
@@ -16,7 +17,7 @@ pub fn gsf(bytes: &[u8]) {
 /// A greyscale PNG height field, at the Elaphe scan's units.
 pub fn png_heightfield(bytes: &[u8]) {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    if let Ok(hf) = HeightField::from_png_bytes(Path::new("fuzz.png"), bytes, scale) {
+    if let Ok(hf) = crate::physics::formats::png::from_bytes(Path::new("fuzz.png"), bytes, scale) {
         assert!(hf.heights_um.iter().all(|h| (0.0..=0.375).contains(h)));
     }
 }

@@ -384,7 +384,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
             };
             match (built_in(&file), png) {
                 (Some(bytes), Some(scale)) => {
-                    HeightField::from_png_bytes(&file, bytes, scale).map_err(|e| loc.at(path.span(), e))?
+                    crate::physics::formats::png::from_bytes(&file, bytes, scale).map_err(|e| loc.at(path.span(), e))?
                 }
                 (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
                 (None, _) if !file.exists() => {
@@ -393,7 +393,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
                         format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
                     ))
                 }
-                (None, png) => HeightField::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
+                (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
             }
         }
         (None, Some(kind)) => {

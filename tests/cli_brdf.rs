@@ -7,7 +7,8 @@ use std::path::PathBuf;
 use std::process::Output;
 
 use common::{assert_one_line_error, diffract};
-use diffract::physics::{gsf, HeightField};
+use diffract::physics::formats::gsf;
+use diffract::physics::HeightField;
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("cli_brdf", name)

@@ -40,7 +40,8 @@ struct Patch {
 /// A measured scan (`assets/afm/<name>-100px.png`, 0.065 µm pixels) with its heights scaled by `scale`.
 fn scan(name: &str, height_um: f64, scale: f64) -> HeightField {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/afm/{name}-100px.png"));
-    HeightField::load(&path, Some(PngScale { pixel_size_um: 0.065, height_um: height_um * scale })).unwrap()
+    diffract::physics::formats::load(&path, Some(PngScale { pixel_size_um: 0.065, height_um: height_um * scale }))
+        .unwrap()
 }
 
 fn elaphe(scale: f64) -> HeightField {

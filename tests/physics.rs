@@ -168,7 +168,7 @@ fn grazing_angles_stay_finite() {
 
 fn elaphe(tile: usize) -> HeightField {
     let scale = diffract::physics::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
         .unwrap()
         .tiled(tile, tile)
         .unwrap()

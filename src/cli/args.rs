@@ -37,7 +37,7 @@ impl HeightFieldArgs {
             (None, None) => None,
             _ => bail!("--pixel-size-um and --height-um go together"),
         };
-        let hf = HeightField::load(&self.heightfield, png)?;
+        let hf = crate::physics::formats::load(&self.heightfield, png)?;
         match self.tile {
             Some((tx, ty)) => Ok(hf.tiled(tx, ty)?),
             None => Ok(hf),

@@ -8,7 +8,7 @@ use clap::{Args, Subcommand};
 use super::parse;
 use crate::generate::{generate, PatchKind, PatchSpec};
 use crate::mesh::snake::{Pattern, SnakeSpec};
-use crate::physics::gsf;
+use crate::physics::formats::gsf;
 
 #[derive(Subcommand, Debug)]
 pub enum GenCommand {

@@ -13,7 +13,7 @@ pub mod baked;
 pub mod chebyshev;
 pub mod cie_tables;
 pub mod colour;
-pub mod gsf;
+pub mod formats;
 pub mod heightfield;
 pub mod optics;
 pub mod reference;
@@ -21,7 +21,8 @@ pub mod spectrum;
 pub mod taylor;
 pub mod window;
 
-pub use heightfield::{HeightField, PngScale};
+pub use formats::PngScale;
+pub use heightfield::HeightField;
 pub use reference::{Method, Query, Reference, Sample};
 pub use taylor::{HeightStats, TaylorPlan, TaylorTerms};
 pub use window::{Lookup, Window};

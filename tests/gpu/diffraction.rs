@@ -21,7 +21,7 @@ pub fn blazed(period_px: usize, periods: usize, rows: usize, dx_um: f64, h_um: f
 
 fn elaphe(tile: usize) -> HeightField {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
         .unwrap()
         .tiled(tile, tile)
         .unwrap()

@@ -3,7 +3,7 @@
 use diffract::camera::Camera;
 use diffract::mesh::Mesh;
 use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
-use diffract::physics::{HeightField, Method, PngScale, Reference};
+use diffract::physics::{Method, PngScale, Reference};
 use diffract::render::surface::{render_surface, SurfaceScene};
 use diffract::shading::{Material, Reach, Settings};
 use glam::{DVec3, Vec3, Vec4};
@@ -54,7 +54,7 @@ fn unproject(scene: &SurfaceScene, w: u32, h: u32, x: u32, y: u32) -> Option<Vec
 #[test]
 fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
         .unwrap()
         .tiled(3, 3)
         .unwrap();
@@ -107,7 +107,7 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
 fn material_orientation_turns_the_patch_like_the_tangent() {
     use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
         .unwrap()
         .tiled(2, 2)
         .unwrap();
@@ -174,7 +174,8 @@ fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
 #[test]
 fn multisampling_gives_silhouette_pixels_intermediate_values() {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = HeightField::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale)).unwrap();
+    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+        .unwrap();
     let settings = Settings { lambda_step_nm: 20.0, coherence_um: 6.5, ..Settings::default() };
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     // Pixels between the background (0) and the quad's colour: partly covered ones.

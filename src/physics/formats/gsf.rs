@@ -8,8 +8,8 @@
 
 use std::path::Path;
 
-use super::heightfield::{check_dims, HeightField};
 use crate::error::{Error, Result};
+use crate::physics::heightfield::{check_dims, HeightField, MAX_PIXELS};
 
 const MAGIC: &str = "Gwyddion Simple Field 1.0";
 /// A header longer than this is not a GSF header (real ones are a few hundred bytes).
@@ -30,7 +30,7 @@ fn um_per_unit(unit: &str) -> Option<f64> {
 
 /// Reads a `.gsf` height field; heights and pixel size come out in µm.
 pub fn read(path: &Path) -> Result<HeightField> {
-    let limit = MAX_HEADER as u64 + 4 * super::heightfield::MAX_PIXELS;
+    let limit = MAX_HEADER as u64 + 4 * MAX_PIXELS;
     let bytes = crate::input::read(path, limit, "GSF")?;
     parse(path, &bytes)
 }
