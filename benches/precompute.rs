@@ -18,11 +18,6 @@ fn patch(n: usize) -> HeightField {
     HeightField::new(n, n, 0.065, 0.065, h).expect("valid patch")
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -41,7 +36,7 @@ fn main() {
                     start.elapsed().as_secs_f64() * 1e3
                 })
                 .collect();
-            let ms = median(times);
+            let ms = diffract::stats::median(&times).expect("at least one run");
             let mib = (terms * n * n * 8) as f64 / (1 << 20) as f64;
             println!("| {n}² | {terms} | {runs} | {ms:.1} | {:.2} | {mib:.0} |", ms / terms as f64);
         }

@@ -6,17 +6,27 @@
 //! `docs/model.md`, which comments cite as `model.md §N`.
 //!
 //! ## Architecture
+//! From the top down (each layer uses only those below it):
+//! - [`cli`]: the `diffract` command line (a thin binary calls [`cli::main`]); `anyhow` lives only there.
+//! - [`view`]: the interactive viewer (winit window, swapchain, live settings).
+//! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
+//!   [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, or the GPU's compute
+//!   shader through [`render`]), with the refusals every command shares.
+//! - [`render`]: frames, speaking in the project's terms: offscreen targets, passes (map, G-buffer, surface,
+//!   preview), scene capture, readback.
+//! - [`scene`]: scene files (camera, light, objects, materials); [`camera`], [`mesh`]: geometry on the CPU
+//!   (built-in shapes, the procedural snake, OBJ meshes).
+//! - [`shading`]: approaches, the settings that trade speed for accuracy and the prepared material a pass
+//!   uploads.
+//! - [`physics`]: height fields and their file formats, the Taylor-term precomputation, the baked table and the
+//!   exact CPU reference of the BRDF (no GPU); [`generate`]: nanostructure generators in µm.
 //! - [`vk`]: the Vulkan backend, and the only module that creates or destroys Vulkan objects: a [`vk::Context`]
 //!   (instance, device, allocator, queue) and leaf objects (buffers, images, pipelines, timestamp queries) that
-//!   are destroyed explicitly. Validation is on demand and every message is counted.
-//! - [`render`]: frames, speaking in the project's terms: offscreen targets, passes, readback.
-//! - [`camera`], [`mesh`]: scene geometry on the CPU.
-//! - [`shaders`]: the SPIR-V that `build.rs` compiled from `glsl/`.
-//! - [`physics`]: height fields, the Taylor-term precomputation and the exact CPU reference of the BRDF (no GPU).
-//! - [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, the GPU's compute
-//!   shader), with the refusals every command shares.
-//! - [`output`]: writing frames to image files.
-//! - [`cli`]: the `diffract` command line (a thin binary calls [`cli::main`]); `anyhow` lives only there.
+//!   are destroyed explicitly. Validation is on demand and every message is counted. [`shaders`]: the SPIR-V
+//!   that `build.rs` compiled from `glsl/`.
+//! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR), [`cache`] (the
+//!   on-disk cache of tables and references), [`stats`] (quantiles, the finite-pixel check), [`error`], and
+//!   [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.
 
@@ -36,6 +46,7 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod shading;
+pub mod stats;
 pub mod view;
 pub mod vk;
 

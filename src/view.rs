@@ -572,7 +572,7 @@ impl State {
     /// The scripted frames' cost, after the first: GPU ms (median, p10, p90) and the frame rate of the window.
     fn print_frame_times(&self) {
         let size = self.window.inner_size();
-        let Some(spread) = crate::profile::Spread::of(&self.frame_times) else { return };
+        let Some(spread) = crate::stats::Spread::of(&self.frame_times) else { return };
         let fps = self.timed_since.map(|t| (self.frame_times.len() + 1) as f64 / t.elapsed().as_secs_f64());
         println!(
             "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",

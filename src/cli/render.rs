@@ -141,10 +141,8 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     // SAFETY: every frame was waited for.
     unsafe { capture.destroy(&ctx) };
     let gpu_ms = result?;
-    let mut sorted = gpu_ms.clone();
-    sorted.sort_by(f64::total_cmp);
     let median =
-        sorted.get(sorted.len() / 2).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
+        crate::stats::median(&gpu_ms).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
     let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
     println!(
         "wrote {what} ({width}×{height}, {} sample(s) per pixel, {} object(s), {} material(s); precompute \

@@ -13,6 +13,7 @@ use std::fmt::Write as _;
 
 use crate::error::{Error, Result};
 use crate::shading::{Approach, MAX_WINDOW_RADIUS};
+pub use crate::stats::Spread;
 
 /// One configuration of the settings that trade speed for accuracy.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -160,35 +161,6 @@ pub fn configurations(base: Config, sweeps: &[Sweep]) -> Result<Vec<Config>> {
         }
     }
     Ok(out)
-}
-
-/// The `q`-quantile (0..=1) of `values` by linear interpolation between order statistics (sorts `values`).
-pub fn percentile(values: &mut [f64], q: f64) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    values.sort_by(f64::total_cmp);
-    let at = q.clamp(0.0, 1.0) * (values.len() - 1) as f64;
-    let (lo, hi) = (at.floor() as usize, at.ceil() as usize);
-    values[lo] + (values[hi] - values[lo]) * (at - lo as f64)
-}
-
-/// Median, 10th and 90th percentiles of a set of frame times.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Spread {
-    pub median: f64,
-    pub p10: f64,
-    pub p90: f64,
-}
-
-impl Spread {
-    pub fn of(values: &[f64]) -> Option<Self> {
-        if values.is_empty() {
-            return None;
-        }
-        let mut v = values.to_vec();
-        Some(Self { median: percentile(&mut v, 0.5), p10: percentile(&mut v, 0.1), p90: percentile(&mut v, 0.9) })
-    }
 }
 
 /// What one configuration measured.
@@ -440,15 +412,5 @@ mod tests {
             let e = Sweep::parse(&[item.to_string()]).unwrap_err().to_string();
             assert!(e.contains(needle), "{item}: {e}");
         }
-    }
-
-    #[test]
-    fn percentiles_interpolate() {
-        let mut v = vec![4.0, 1.0, 3.0, 2.0, 5.0];
-        assert_eq!(percentile(&mut v, 0.5), 3.0);
-        assert_eq!(percentile(&mut v, 0.0), 1.0);
-        assert!((percentile(&mut v, 0.1) - 1.4).abs() < 1e-12);
-        let s = Spread::of(&[2.0, 1.0, 3.0]).unwrap();
-        assert_eq!((s.median, s.p10, s.p90), (2.0, 1.2, 2.8));
     }
 }

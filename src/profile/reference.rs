@@ -376,7 +376,7 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
     let mean_de = des.iter().sum::<f64>() / des.len() as f64;
     Ok(ImageError {
         mean_de,
-        p99_de: super::percentile(&mut des, 0.99),
+        p99_de: crate::stats::percentile(&mut des, 0.99),
         rel_rmse: if ref2 > 0.0 { (err2 / ref2).sqrt() } else { err2.sqrt() },
     })
 }

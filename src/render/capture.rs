@@ -122,7 +122,7 @@ impl SceneCapture {
     ) -> Result<SurfaceFrame> {
         self.renderer.update(camera, light_dir, ambient, &self.models, self.width as f32 / self.height as f32)?;
         let frame = self.frames.render(ctx, &self.renderer, [background[0], background[1], background[2], 1.0])?;
-        let bad = frame.linear.as_ref().map_or(0, |l| l.chunks(4).filter(|p| p.iter().any(|c| !c.is_finite())).count());
+        let bad = frame.linear.as_deref().map_or(0, crate::stats::non_finite_pixels);
         if bad > 0 {
             return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
         }

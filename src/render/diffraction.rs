@@ -195,7 +195,7 @@ impl MapImage {
 
     /// Pixels whose colour is not a finite number (a bug, reported loudly rather than written).
     pub fn non_finite(&self) -> usize {
-        self.rgba.chunks(4).filter(|p| p.iter().any(|c| !c.is_finite())).count()
+        crate::stats::non_finite_pixels(&self.rgba)
     }
 
     /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.

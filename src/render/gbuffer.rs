@@ -181,8 +181,8 @@ impl GBuffer {
                     .collect();
                 let domain = Domain::bounding(seen.iter().map(|s| -s.omega_i - s.omega_r))?;
                 let mut footprints: Vec<f64> = seen.iter().map(|s| s.footprint).filter(|f| f.is_finite()).collect();
-                let small = crate::profile::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
-                let margin = crate::profile::percentile(&mut footprints, 0.5).max(0.0);
+                let small = crate::stats::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
+                let margin = crate::stats::percentile(&mut footprints, 0.5).max(0.0);
                 Some((domain.widened(margin), small))
             })
             .collect()

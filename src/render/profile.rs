@@ -276,8 +276,7 @@ fn probe_frames(
             times.push(ms);
         }
     }
-    times.sort_by(f64::total_cmp);
-    Ok(Some(times[times.len() / 2]))
+    Ok(crate::stats::median(&times))
 }
 
 /// The camera, light and objects' placement of a profiled scene.
