@@ -35,6 +35,8 @@ fn main() {
     println!("cargo:rerun-if-changed={}", glsl.display());
     println!("cargo:rerun-if-changed={}", include_dir.display());
 
+    check_interface(&root.join("src/shaders/interface.rs"), &include_dir.join("interface.glsl"));
+
     let compiler = shaderc::Compiler::new().expect("shaderc compiler");
     let debug = std::env::var("PROFILE").map(|p| p == "debug").unwrap_or(false);
 
@@ -128,4 +130,45 @@ fn compile(
             a.as_binary_u8().to_vec()
         })
         .map_err(|e| e.to_string())
+}
+
+/// The `NAME = value` pairs of the shader interface: `pub const NAME: u32 = value;` lines in Rust, `#define NAME
+/// value` lines in GLSL.
+fn interface_pairs(path: &Path, rust: bool) -> std::collections::BTreeMap<String, String> {
+    println!("cargo:rerun-if-changed={}", path.display());
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    text.lines()
+        .filter_map(|line| {
+            let line = line.trim();
+            if rust {
+                let rest = line.strip_prefix("pub const ")?;
+                let (name, value) = rest.split_once(": u32 = ")?;
+                Some((name.to_string(), value.trim_end_matches(';').to_string()))
+            } else {
+                let mut words = line.strip_prefix("#define ")?.split_whitespace();
+                let (name, value) = (words.next()?, words.next()?);
+                Some((name.to_string(), value.to_string()))
+            }
+        })
+        .collect()
+}
+
+/// Refuses to build when src/shaders/interface.rs and glsl/include/interface.glsl disagree on a name or a value.
+fn check_interface(rust: &Path, glsl: &Path) {
+    let (r, g) = (interface_pairs(rust, true), interface_pairs(glsl, false));
+    let mut differences = Vec::new();
+    for name in r.keys().chain(g.keys().filter(|k| !r.contains_key(*k))) {
+        match (r.get(name), g.get(name)) {
+            (Some(a), Some(b)) if a == b => {}
+            (a, b) => differences.push(format!("{name}: Rust {a:?}, GLSL {b:?}")),
+        }
+    }
+    if !differences.is_empty() {
+        panic!(
+            "the shader interface differs between {} and {}: {}",
+            rust.display(),
+            glsl.display(),
+            differences.join("; ")
+        );
+    }
 }

@@ -6,15 +6,15 @@
 #include "brdf.glsl"
 #include "taylor.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = LOCAL_SIZE_X) in;
 
 struct BrdfQuery {
     vec4 omega_i_lambda;  // ω_i (patch frame), λ in nm
     vec4 omega_r;         // ω_r (patch frame), unused
 };
-layout(std430, set = 0, binding = 4) readonly buffer Queries { BrdfQuery queries[]; };
-layout(std430, set = 0, binding = 5) writeonly buffer Results { vec2 results[]; };  // power, reflectance
-layout(push_constant) uniform EvalPush { uint count; } eval;
+layout(std430, set = 0, binding = BINDING_QUERIES) readonly buffer Queries { BrdfQuery queries[]; };
+layout(std430, set = 0, binding = BINDING_RESULTS) writeonly buffer Results { vec2 results[]; };  // power, reflectance
+layout(push_constant) uniform EvalPush { uint count; } eval;  // `interface::EvalPush`
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

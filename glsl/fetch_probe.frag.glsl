@@ -3,10 +3,11 @@
 // pattern. Each fragment fetches PROBE_TAPS² neighbouring texels (the window's taps) in each of the array's
 // layers (the Taylor terms), around a texel that moves with the fragment as a lookup does across a BRDF map,
 // and sums them so that no fetch can be optimised away.
-layout(constant_id = 0) const uint PROBE_LAYERS = 16;
-layout(constant_id = 1) const int PROBE_TAPS = 8;
+#include "interface.glsl"
+layout(constant_id = SPEC_PROBE_LAYERS) const uint PROBE_LAYERS = 16;
+layout(constant_id = SPEC_PROBE_TAPS) const int PROBE_TAPS = 8;
 
-layout(set = 0, binding = 2) uniform sampler2DArray probe_texture;
+layout(set = 0, binding = BINDING_TABLE) uniform sampler2DArray probe_texture;
 layout(location = 0) out vec4 out_color;
 
 void main() {

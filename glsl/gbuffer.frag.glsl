@@ -5,9 +5,8 @@
 #include "surface_frame.glsl"
 #include "footprint.glsl"
 
-// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up). Mirrored by
-// `render::gbuffer::PART_ID`.
-layout(constant_id = 0) const uint PART = 0;
+// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up).
+layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;

@@ -1,4 +1,8 @@
 //! SPIR-V of every `glsl/<name>.<stage>.glsl`, compiled by `build.rs` and embedded at build time.
 //! `NAME_STAGE` holds the bytes of `glsl/name.stage.glsl` (dashes and dots become underscores).
 
+//! [`interface`] holds the numbers the shaders and the Rust side share.
+
+pub mod interface;
+
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

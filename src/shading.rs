@@ -334,12 +334,15 @@ impl Material {
     /// LAMBDA_COUNT, APPROACH, DISPLAY_OUTPUT.
     pub fn spec_constants(&self, display_output: bool) -> crate::vk::SpecConstants {
         let terms = self.table.as_ref().map_or(self.layers, |t| t.terms as u32);
+        use crate::shaders::interface::{
+            SPEC_APPROACH, SPEC_DISPLAY_OUTPUT, SPEC_LAMBDA_COUNT, SPEC_TERMS, SPEC_WINDOW_RADIUS,
+        };
         crate::vk::SpecConstants::default()
-            .u32(0, terms)
-            .i32(1, self.window.radius_x.max(self.window.radius_y) as i32)
-            .u32(2, self.sampling.count as u32)
-            .u32(3, self.settings.approach.id())
-            .u32(4, u32::from(display_output))
+            .u32(SPEC_TERMS, terms)
+            .i32(SPEC_WINDOW_RADIUS, self.window.radius_x.max(self.window.radius_y) as i32)
+            .u32(SPEC_LAMBDA_COUNT, self.sampling.count as u32)
+            .u32(SPEC_APPROACH, self.settings.approach.id())
+            .u32(SPEC_DISPLAY_OUTPUT, u32::from(display_output))
     }
 
     /// Texels one BRDF evaluation reads at most: FLSS/PQ's Taylor terms (NMM and gem vary per pixel), or the

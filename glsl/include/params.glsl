@@ -1,20 +1,21 @@
 // Specialization constants and resources shared by every diffraction shader.
-// Mirrored by `shading::DiffractionParams` (std140, 160 bytes) and `shading::Material::spec_constants`.
+// Mirrored by `shading::DiffractionParams` (std140, 160 bytes) and `shading::Material::spec_constants`; the ids
+// and bindings are named in interface.glsl.
+#include "interface.glsl"
 
-layout(constant_id = 0) const uint TERMS = 1;          // Taylor terms F_0..F_{TERMS-1}; baked: Chebyshev terms in w
-layout(constant_id = 1) const int WINDOW_RADIUS = 1;   // taps either side of the nearest bin
-layout(constant_id = 2) const uint LAMBDA_COUNT = 81;  // uniform wavelength samples (FLSS, PQ, gem's specular)
-layout(constant_id = 3) const uint APPROACH = 0;       // see APPROACH_*
-layout(constant_id = 4) const uint DISPLAY_OUTPUT = 0; // 0: linear scene-referred RGB; 1: exposure + sRGB OETF
+layout(constant_id = SPEC_TERMS) const uint TERMS = 1;          // Taylor terms F_0..F_{TERMS-1}; baked: Chebyshev terms in w
+layout(constant_id = SPEC_WINDOW_RADIUS) const int WINDOW_RADIUS = 1;   // taps either side of the nearest bin
+layout(constant_id = SPEC_LAMBDA_COUNT) const uint LAMBDA_COUNT = 81;  // uniform wavelength samples (FLSS, PQ, gem's specular)
+layout(constant_id = SPEC_APPROACH) const uint APPROACH = 0; // see APPROACH_*
+layout(constant_id = SPEC_DISPLAY_OUTPUT) const uint DISPLAY_OUTPUT = 0; // 0: linear scene-referred RGB; 1: exposure + sRGB OETF
 // Baked: 0 reads the table's finest level (a BRDF map's point values); 1 filters over the pixel's footprint.
-// Mirrored by `render::diffraction::FOOTPRINT_ID`.
-layout(constant_id = 8) const uint FOOTPRINT = 1;
+layout(constant_id = SPEC_FOOTPRINT) const uint FOOTPRINT = 1;
 
 #ifdef COUNT_FETCHES
 // The counting variant adds each fragment's fetches, and 1, to fetch_counts[y · COUNT_STRIDE + x] (a row of the
 // target): the texels a pixel cost and how many times it was shaded. Mirrored by `render::profile::Counts`.
-layout(constant_id = 5) const uint COUNT_STRIDE = 1;
-layout(std430, set = 0, binding = 4) buffer FetchCounts { uvec2 fetch_counts[]; };
+layout(constant_id = SPEC_COUNT_STRIDE) const uint COUNT_STRIDE = 1;
+layout(std430, set = 0, binding = BINDING_FETCH_COUNTS) buffer FetchCounts { uvec2 fetch_counts[]; };
 // Texels fetched by this fragment so far (Taylor terms, or the baked table's trilinear samples).
 uint fetch_count = 0u;
 #endif
@@ -35,7 +36,7 @@ const uint APPROACH_PQ = 2u;
 const uint APPROACH_GEM = 3u;
 const uint APPROACH_BAKED = 4u;
 
-layout(std140, set = 0, binding = 1) uniform DiffractionParams {
+layout(std140, set = 0, binding = BINDING_PARAMS) uniform DiffractionParams {
     ivec4 patch_px;  // nx, ny, layers, 0
     vec4 patch_um;   // Lx, Ly, dx, dy (µm)
     vec4 window;     // σ_x, σ_y (bins), σ_f (cycles/µm), 0
@@ -51,13 +52,13 @@ layout(std140, set = 0, binding = 1) uniform DiffractionParams {
 #ifdef BAKED
 // The baked colour table: Chebyshev coefficients of X, Y, Z in w packed four to a layer (coefficient d of channel
 // c is scalar 3d + c), mip-mapped, sampled trilinearly.
-layout(set = 0, binding = 2) uniform sampler2DArray baked_table;
+layout(set = 0, binding = BINDING_TABLE) uniform sampler2DArray baked_table;
 #else
 // F_n as RG32F (re, im), one layer per Taylor term, DC at texel (nx/2, ny/2).
-layout(set = 0, binding = 2) uniform sampler2DArray taylor_terms;
+layout(set = 0, binding = BINDING_TABLE) uniform sampler2DArray taylor_terms;
 #endif
 
 // (x̄, ȳ, z̄, D65/100) per nm from 380 to 780 nm.
-layout(std430, set = 0, binding = 3) readonly buffer SpectrumTable { vec4 spectrum_table[]; };
+layout(std430, set = 0, binding = BINDING_SPECTRUM) readonly buffer SpectrumTable { vec4 spectrum_table[]; };
 
 const float PI = 3.14159265358979;

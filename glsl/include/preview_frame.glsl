@@ -1,5 +1,6 @@
 // Per-frame uniforms of the preview (lit mesh) pass. Mirrored by `render::preview::FrameUniforms`.
-layout(set = 0, binding = 0) uniform FrameUniforms {
+#include "interface.glsl"
+layout(set = 0, binding = BINDING_FRAME) uniform FrameUniforms {
     mat4 view_proj;
     mat4 model;
     vec4 camera_pos;   // world space, w unused

@@ -1,5 +1,6 @@
 // Per-frame uniforms of the surface (geometry) pass. Mirrored by `render::surface::SurfaceUniforms`.
-layout(std140, set = 0, binding = 0) uniform SurfaceUniforms {
+#include "interface.glsl"
+layout(std140, set = 0, binding = BINDING_FRAME) uniform SurfaceUniforms {
     mat4 view_proj;
     mat4 model;
     mat4 normal_matrix;  // inverse transpose of the model matrix's linear part (in a mat4 for std140)

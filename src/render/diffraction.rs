@@ -12,6 +12,10 @@ use crate::error::{Error, Result};
 use crate::physics::spectrum;
 use crate::physics::Query;
 use crate::shaders;
+use crate::shaders::interface::{
+    EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS, BINDING_SPECTRUM,
+    BINDING_TABLE, LOCAL_SIZE_X, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT,
+};
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Image, ImageDesc,
@@ -25,25 +29,21 @@ const MAP_BAND_ROWS: u32 = 32;
 /// The descriptor bindings every diffraction shader declares (glsl/include/params.glsl).
 pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
     [
-        Binding { binding: 1, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
-        Binding { binding: 2, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
-        Binding { binding: 3, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+        Binding { binding: BINDING_PARAMS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
+        Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
+        Binding { binding: BINDING_SPECTRUM, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
     ]
 }
-
-/// The binding of the counting variants' per-pixel fetch counters (glsl/include/params.glsl, COUNT_FETCHES).
-pub const COUNT_BINDING: u32 = 4;
-/// The specialization constant of the counters' row stride.
-pub const COUNT_STRIDE_ID: u32 = 5;
-/// The specialization constant that makes the baked shaders filter over the pixel's footprint (1) or read the
-/// table's finest level (0) (`FOOTPRINT` in glsl/include/params.glsl).
-pub const FOOTPRINT_ID: u32 = 8;
 /// The baked table's texel format: filtered linearly in every Vulkan driver diffract targets (checked).
 pub const TABLE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
 /// The fetch counters' binding for a fragment shader.
 pub fn count_binding() -> Binding {
-    Binding { binding: COUNT_BINDING, kind: vk::DescriptorType::STORAGE_BUFFER, stages: vk::ShaderStageFlags::FRAGMENT }
+    Binding {
+        binding: BINDING_FETCH_COUNTS,
+        kind: vk::DescriptorType::STORAGE_BUFFER,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    }
 }
 
 /// A material's GPU resources, uploaded once.
@@ -249,11 +249,11 @@ impl MapPass {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let mut bindings = patch_bindings(stages).to_vec();
         let baked = material.table.is_some();
-        let mut specialization = material.spec_constants(display_output).u32(FOOTPRINT_ID, u32::from(footprint));
+        let mut specialization = material.spec_constants(display_output).u32(SPEC_FOOTPRINT, u32::from(footprint));
         let mut fragment = if baked { shaders::MAP_BAKED_FRAG } else { shaders::MAP_FRAG };
         if let Some(stride) = count_stride {
             bindings.push(count_binding());
-            specialization = specialization.u32(COUNT_STRIDE_ID, stride);
+            specialization = specialization.u32(SPEC_COUNT_STRIDE, stride);
             fragment = if baked { shaders::MAP_BAKED_COUNT_FRAG } else { shaders::MAP_COUNT_FRAG };
         }
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -262,7 +262,7 @@ impl MapPass {
             fragment: Some(fragment),
             specialization,
             bindings: &bindings,
-            push_constant_size: 16,
+            push_constant_size: std::mem::size_of::<MapPush>() as u32,
             vertex_stride: 0,
             vertex_attributes: &[],
             color_format,
@@ -298,15 +298,14 @@ impl MapPass {
     ) {
         let (w, h) = (target.extent.width as f32, target.extent.height as f32);
         let side = w.min(h);
-        let push: Vec<u8> =
-            [side, side, 0.5 * (w - side), 0.5 * (h - side)].iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let push = MapPush { size: [side, side], offset: [0.5 * (w - side), 0.5 * (h - side)] };
         debug_assert_eq!(self.counting, counts.is_some(), "a counting pass takes counters, and only it");
         let mut writes: Vec<DescriptorWrite<'_>> = patch.writes().into();
         if let Some(counts) = counts.filter(|_| self.counting) {
-            writes.push(DescriptorWrite::StorageBuffer(COUNT_BINDING, counts));
+            writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
         }
         begin_rendering(ctx, cmd, target, [0.0, 0.0, 0.0, 1.0], area);
-        ctx.bind(cmd, &self.pipeline, &writes, &push);
+        ctx.bind(cmd, &self.pipeline, &writes, bytemuck::bytes_of(&push));
         // SAFETY: recording inside the rendering scope with the pipeline bound.
         unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
         end_rendering(ctx, cmd);
@@ -411,24 +410,29 @@ pub fn evaluate_brdf(ctx: &Context, material: &Material, queries: &[Query]) -> R
             bindings[0],
             bindings[1],
             bindings[2],
-            Binding { binding: 4, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-            Binding { binding: 5, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+            Binding { binding: BINDING_QUERIES, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+            Binding { binding: BINDING_RESULTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
         ];
         let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: "brdf evaluation",
             shader: shaders::BRDF_EVAL_COMP,
             specialization: material.spec_constants(false),
             bindings: &all,
-            push_constant_size: 4,
+            push_constant_size: std::mem::size_of::<EvalPush>() as u32,
         })?;
         let [p, t, s] = patch.writes();
-        let writes =
-            [p, t, s, DescriptorWrite::StorageBuffer(4, &buffers[0]), DescriptorWrite::StorageBuffer(5, &buffers[1])];
+        let writes = [
+            p,
+            t,
+            s,
+            DescriptorWrite::StorageBuffer(BINDING_QUERIES, &buffers[0]),
+            DescriptorWrite::StorageBuffer(BINDING_RESULTS, &buffers[1]),
+        ];
         let count = queries.len() as u32;
         let submitted = ctx.one_shot("brdf evaluation", |cmd| {
-            ctx.bind(cmd, &pipeline, &writes, &count.to_ne_bytes());
+            ctx.bind(cmd, &pipeline, &writes, bytemuck::bytes_of(&EvalPush { count }));
             // SAFETY: recording with the pipeline bound.
-            unsafe { ctx.device().cmd_dispatch(cmd, count.div_ceil(64), 1, 1) };
+            unsafe { ctx.device().cmd_dispatch(cmd, count.div_ceil(LOCAL_SIZE_X), 1, 1) };
             ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::HOST_READ);
         });
         // SAFETY: one_shot waited.

@@ -19,8 +19,6 @@ use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
 };
 
-/// The specialization constant that picks what the G-buffer writes (`PART` in glsl/gbuffer.frag.glsl).
-pub const PART_ID: u32 = 0;
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up).
 const PARTS: u32 = 3;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
@@ -133,13 +131,17 @@ impl GBuffer {
             written?;
         }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
+        let bindings = [Binding {
+            binding: crate::shaders::interface::BINDING_FRAME,
+            kind: vk::DescriptorType::UNIFORM_BUFFER,
+            stages,
+        }];
         for part in 0..PARTS {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
                 vertex: shaders::SURFACE_VERT,
                 fragment: Some(shaders::GBUFFER_FRAG),
-                specialization: SpecConstants::default().u32(PART_ID, part),
+                specialization: SpecConstants::default().u32(crate::shaders::interface::SPEC_GBUFFER_PART, part),
                 bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,

@@ -73,7 +73,7 @@ impl PreviewPass {
     /// The pass for targets of `samples` per pixel.
     pub fn new(ctx: &Context, mesh: &Mesh, samples: vk::SampleCountFlags) -> Result<Self> {
         let bindings = [Binding {
-            binding: 0,
+            binding: crate::shaders::interface::BINDING_FRAME,
             kind: vk::DescriptorType::UNIFORM_BUFFER,
             stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         }];

@@ -13,6 +13,7 @@ use super::{OffscreenTarget, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::shaders;
+use crate::shaders::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, ImageDesc, ImageState, MemoryState,
@@ -203,21 +204,25 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
         ctx.upload_image(&texture, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
         let sampler = sampler.insert(ctx.create_sampler("fetch probe (nearest)")?);
         let stages = vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [Binding { binding: 2, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
-        let pipeline = pipeline.insert(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-            name: PROBE_NAME,
-            vertex: shaders::FULLSCREEN_VERT,
-            fragment: Some(shaders::FETCH_PROBE_FRAG),
-            specialization: crate::vk::SpecConstants::default().u32(0, PROBE_LAYERS).i32(1, PROBE_TAPS as i32),
-            bindings: &bindings,
-            push_constant_size: 0,
-            vertex_stride: 0,
-            vertex_attributes: &[],
-            color_format: LINEAR_FORMAT,
-            depth: None,
-            cull_back_faces: false,
-            samples: vk::SampleCountFlags::TYPE_1,
-        })?);
+        let bindings = [Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
+        let pipeline = pipeline.insert(
+            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: PROBE_NAME,
+                vertex: shaders::FULLSCREEN_VERT,
+                fragment: Some(shaders::FETCH_PROBE_FRAG),
+                specialization: crate::vk::SpecConstants::default()
+                    .u32(SPEC_PROBE_LAYERS, PROBE_LAYERS)
+                    .i32(SPEC_PROBE_TAPS, PROBE_TAPS as i32),
+                bindings: &bindings,
+                push_constant_size: 0,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+                color_format: LINEAR_FORMAT,
+                depth: None,
+                cull_back_faces: false,
+                samples: vk::SampleCountFlags::TYPE_1,
+            })?,
+        );
         let writes = [DescriptorWrite::SampledImage(2, &texture, sampler)];
         let mut side = 256;
         loop {

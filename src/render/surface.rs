@@ -186,7 +186,11 @@ impl SceneRenderer {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         // Both passes cull alike (the EQUAL test needs the same fragments), and only where no object shows a back.
         let cull_back_faces = objects.iter().all(|(mesh, _)| mesh.one_sided);
-        let frame_binding = Binding { binding: 0, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
+        let frame_binding = Binding {
+            binding: crate::shaders::interface::BINDING_FRAME,
+            kind: vk::DescriptorType::UNIFORM_BUFFER,
+            stages,
+        };
         self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: DEPTH_PASS,
             vertex: shaders::SURFACE_VERT,
@@ -217,7 +221,7 @@ impl SceneRenderer {
                 ),
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
-                    input.material.spec_constants(false).u32(super::diffraction::COUNT_STRIDE_ID, stride),
+                    input.material.spec_constants(false).u32(crate::shaders::interface::SPEC_COUNT_STRIDE, stride),
                 ),
             };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -349,7 +353,7 @@ impl SceneRenderer {
             let [p, t, s] = material.patch.writes();
             let mut writes = vec![DescriptorWrite::UniformBuffer(0, &object.uniforms), p, t, s];
             if let Some(counts) = counts.filter(|_| self.counting) {
-                writes.push(DescriptorWrite::StorageBuffer(super::diffraction::COUNT_BINDING, counts));
+                writes.push(DescriptorWrite::StorageBuffer(crate::shaders::interface::BINDING_FETCH_COUNTS, counts));
             }
             ctx.bind(cmd, &material.pipeline, &writes, &[]);
             object.mesh.draw(ctx, cmd);

@@ -9,6 +9,9 @@ mod surface;
 use ash::vk as raw;
 use diffract::render::preview::{render_offscreen, PreviewScene};
 use diffract::shaders;
+use diffract::shaders::interface::{
+    SelftestPush, BINDING_SELFTEST_IN, BINDING_SELFTEST_OUT, LOCAL_SIZE_X, SPEC_SELFTEST_SCALE,
+};
 use diffract::vk::{
     Binding, BufferDesc, ComputePipelineDesc, DescriptorWrite, ImageDesc, ImageState, MemoryState, SpecConstants,
 };
@@ -58,33 +61,38 @@ fn compute_pipeline_with_push_descriptors_and_specialization() {
                 "out",
             )
             .unwrap();
-        let bindings = [
-            Binding { binding: 0, kind: raw::DescriptorType::STORAGE_BUFFER, stages: raw::ShaderStageFlags::COMPUTE },
-            Binding { binding: 1, kind: raw::DescriptorType::STORAGE_BUFFER, stages: raw::ShaderStageFlags::COMPUTE },
-        ];
+        let storage = |binding| Binding {
+            binding,
+            kind: raw::DescriptorType::STORAGE_BUFFER,
+            stages: raw::ShaderStageFlags::COMPUTE,
+        };
+        let bindings = [storage(BINDING_SELFTEST_IN), storage(BINDING_SELFTEST_OUT)];
         let pipeline = ctx
             .create_compute_pipeline(&ComputePipelineDesc {
                 name: "selftest",
                 shader: shaders::SELFTEST_COMP,
-                specialization: SpecConstants::default().f32(0, 3.0),
+                specialization: SpecConstants::default().f32(SPEC_SELFTEST_SCALE, 3.0),
                 bindings: &bindings,
-                push_constant_size: 8,
+                push_constant_size: std::mem::size_of::<SelftestPush>() as u32,
             })
             .unwrap();
         let mut ring =
             ctx.create_timestamp_ring(2, 1, "selftest timestamps").unwrap().expect("lavapipe has timestamps");
-        let push: Vec<u8> = [1.5f32.to_ne_bytes(), n.to_ne_bytes()].concat();
+        let push = SelftestPush { offset: 1.5, count: n };
         ctx.one_shot("selftest", |cmd| {
             ring.begin_frame(ctx, cmd, 7);
             let scope = ring.begin_scope(ctx, cmd, "square").unwrap();
             ctx.bind(
                 cmd,
                 &pipeline,
-                &[DescriptorWrite::StorageBuffer(0, &src), DescriptorWrite::StorageBuffer(1, &dst)],
-                &push,
+                &[
+                    DescriptorWrite::StorageBuffer(BINDING_SELFTEST_IN, &src),
+                    DescriptorWrite::StorageBuffer(BINDING_SELFTEST_OUT, &dst),
+                ],
+                bytemuck::bytes_of(&push),
             );
             // SAFETY: recording, pipeline bound.
-            unsafe { ctx.device().cmd_dispatch(cmd, n.div_ceil(64), 1, 1) };
+            unsafe { ctx.device().cmd_dispatch(cmd, n.div_ceil(LOCAL_SIZE_X), 1, 1) };
             ring.end_scope(ctx, cmd, scope);
             ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::TRANSFER_READ);
         })

@@ -1,0 +1,79 @@
+//! The numbers the shaders and the Rust side must agree on: specialization-constant ids, descriptor bindings
+//! (all in set 0), workgroup sizes, and the push-constant blocks. `glsl/include/interface.glsl` declares the same
+//! names as `#define`s; build.rs compares the two files and refuses to compile the shaders if they differ, so a
+//! number changes in one place per side, never by luck.
+
+// Specialization constants of the diffraction shaders (glsl/include/params.glsl).
+/// Taylor terms F_0..F_{TERMS−1}; the baked approach: Chebyshev terms in w.
+pub const SPEC_TERMS: u32 = 0;
+/// Window taps either side of the nearest DFT bin.
+pub const SPEC_WINDOW_RADIUS: u32 = 1;
+/// Uniform wavelength samples (FLSS, PQ, gem's specular spot).
+pub const SPEC_LAMBDA_COUNT: u32 = 2;
+/// The approach (`Approach::id`).
+pub const SPEC_APPROACH: u32 = 3;
+/// 0: linear scene-referred RGB out; 1: exposure and the sRGB transfer function applied in the shader.
+pub const SPEC_DISPLAY_OUTPUT: u32 = 4;
+/// The counting variants' row stride of the per-pixel fetch counters.
+pub const SPEC_COUNT_STRIDE: u32 = 5;
+/// 1: the baked shaders filter over the pixel's footprint; 0: they read the table's finest level.
+pub const SPEC_FOOTPRINT: u32 = 8;
+
+// Specialization constants of single shaders.
+/// Which part of the G-buffer `gbuffer.frag` writes.
+pub const SPEC_GBUFFER_PART: u32 = 0;
+/// The fetch probe's texture layers and taps per axis (`fetch_probe.frag`).
+pub const SPEC_PROBE_LAYERS: u32 = 0;
+pub const SPEC_PROBE_TAPS: u32 = 1;
+/// The self-test's scale factor (`selftest.comp`).
+pub const SPEC_SELFTEST_SCALE: u32 = 0;
+
+// Descriptor bindings.
+/// A pass's per-object or per-frame uniforms (surface, G-buffer, preview).
+pub const BINDING_FRAME: u32 = 0;
+/// The diffraction parameters' uniform block (`DiffractionParams`).
+pub const BINDING_PARAMS: u32 = 1;
+/// The patch's texture: Taylor terms or the baked table (and the fetch probe's texture).
+pub const BINDING_TABLE: u32 = 2;
+/// The wavelength table (colour-matching functions × illuminant).
+pub const BINDING_SPECTRUM: u32 = 3;
+/// The counting variants' per-pixel fetch counters.
+pub const BINDING_FETCH_COUNTS: u32 = 4;
+/// The BRDF evaluation's queries and results (`brdf_eval.comp`).
+pub const BINDING_QUERIES: u32 = 5;
+pub const BINDING_RESULTS: u32 = 6;
+/// The self-test's input and output buffers (`selftest.comp`).
+pub const BINDING_SELFTEST_IN: u32 = 0;
+pub const BINDING_SELFTEST_OUT: u32 = 1;
+
+// Workgroup sizes.
+/// Invocations per workgroup of every compute shader (`local_size_x`); dispatches divide by it.
+pub const LOCAL_SIZE_X: u32 = 64;
+
+/// `map.frag`'s push constants (`MapPush`): the map's square in pixels and its offset in the target.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MapPush {
+    pub size: [f32; 2],
+    pub offset: [f32; 2],
+}
+
+/// `brdf_eval.comp`'s push constants (`EvalPush`): the number of queries.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EvalPush {
+    pub count: u32,
+}
+
+/// `selftest.comp`'s push constants (`Push`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SelftestPush {
+    pub offset: f32,
+    pub count: u32,
+}
+
+// The GLSL blocks' sizes (std430 push-constant layout: these are tightly packed scalars and vec2s).
+const _: () = assert!(std::mem::size_of::<MapPush>() == 16);
+const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
+const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);
