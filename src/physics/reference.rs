@@ -178,19 +178,8 @@ impl Reference {
         for q in queries {
             q.check()?;
         }
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let chunk = queries.len().div_ceil(threads).max(1);
-        let mut out = Vec::with_capacity(queries.len());
-        std::thread::scope(|s| {
-            let handles: Vec<_> = queries
-                .chunks(chunk)
-                .map(|c| s.spawn(move || c.iter().map(|q| self.sample(q)).collect::<Vec<_>>()))
-                .collect();
-            for h in handles {
-                out.extend(h.join().expect("evaluation thread"));
-            }
-        });
-        Ok(out)
+        use rayon::prelude::*;
+        Ok(queries.par_iter().map(|q| self.sample(q)).collect())
     }
 
     /// The colour of one pair of directions by full wavelength sampling (the CPU twin of `diffraction_xyz` in

@@ -212,37 +212,24 @@ impl TaylorTerms {
         let h = hf.centred();
         let mut planner = FftPlanner::<f64>::new();
         let (fx, fy) = (planner.plan_fft_inverse(nx), planner.plan_fft_inverse(ny));
-        let pairs: Vec<usize> = (0..count).step_by(2).collect();
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(pairs.len()).max(1);
+        use rayon::prelude::*;
         let done = std::sync::atomic::AtomicUsize::new(0);
-        let mut layers: Vec<Vec<Complex64>> = vec![Vec::new(); count];
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..threads)
-                .map(|t| {
-                    let (h, fx, fy, pairs, done) = (&h, fx.clone(), fy.clone(), &pairs, &done);
-                    scope.spawn(move || {
-                        let mut out = Vec::new();
-                        for &n in pairs.iter().skip(t).step_by(threads) {
-                            let (a, b) = term_pair(h, nx, ny, n, &fx, &fy);
-                            out.push((n, a));
-                            if n + 1 < count {
-                                out.push((n + 1, b));
-                            }
-                            let d = done.fetch_add(2, std::sync::atomic::Ordering::Relaxed) + 2;
-                            if let Some(p) = progress {
-                                p(d.min(count), count);
-                            }
-                        }
-                        out
-                    })
-                })
-                .collect();
-            for handle in handles {
-                for (n, layer) in handle.join().expect("precomputation thread") {
-                    layers[n] = layer;
+        // Two real powers per complex FFT: the pair (n, n + 1) from one transform, pairs shared out to every core.
+        let pairs: Vec<(Vec<Complex64>, Vec<Complex64>)> = (0..count)
+            .step_by(2)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|n| {
+                let pair = term_pair(&h, nx, ny, n, &fx, &fy);
+                let d = done.fetch_add(2, std::sync::atomic::Ordering::Relaxed) + 2;
+                if let Some(p) = progress {
+                    p(d.min(count), count);
                 }
-            }
-        });
+                pair
+            })
+            .collect();
+        let mut layers: Vec<Vec<Complex64>> = pairs.into_iter().flat_map(|(a, b)| [a, b]).collect();
+        layers.truncate(count);
         Ok(Self {
             nx,
             ny,

@@ -249,51 +249,29 @@ impl ReferenceImage {
 
 /// Evaluates `f` for every pixel with a query, rows shared out to every core, progress on stderr.
 fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Vec<DVec3> {
+    use rayon::prelude::*;
     let (w, h) = (job.width as usize, job.height as usize);
-    let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let show = std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut xyz = vec![DVec3::ZERO; w * h];
-    let rows: Vec<(usize, Vec<DVec3>)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|t| {
-                let (next, done, f) = (&next, &done, &f);
-                s.spawn(move || {
-                    let mut out = Vec::new();
-                    loop {
-                        let y = next.fetch_add(1, Ordering::Relaxed);
-                        if y >= h {
-                            break;
-                        }
-                        let row: Vec<DVec3> =
-                            job.pixels[y * w..][..w].iter().map(|p| p.as_ref().map_or(DVec3::ZERO, f)).collect();
-                        out.push((y, row));
-                        let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-                        if show && t == 0 {
-                            let elapsed = start.elapsed().as_secs_f64();
-                            let eta = elapsed / finished as f64 * (h - finished) as f64;
-                            eprint!(
-                                "\rexact reference {}×{}: {:3.0} % (about {:.0} s left)  ",
-                                w,
-                                h,
-                                100.0 * finished as f64 / h as f64,
-                                eta
-                            );
-                        }
-                    }
-                    out
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|w| w.join().expect("reference thread")).collect()
+    xyz.par_chunks_mut(w).zip(job.pixels.par_chunks(w)).for_each(|(out, row)| {
+        for (o, p) in out.iter_mut().zip(row) {
+            *o = p.as_ref().map_or(DVec3::ZERO, &f);
+        }
+        let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
+        // About a hundred updates in all, whichever thread finishes the row.
+        if show && finished % h.div_ceil(100) == 0 {
+            let elapsed = start.elapsed().as_secs_f64();
+            let eta = elapsed / finished as f64 * (h - finished) as f64;
+            eprint!(
+                "\rexact reference {w}×{h}: {:3.0} % (about {eta:.0} s left)  ",
+                100.0 * finished as f64 / h as f64
+            );
+        }
     });
     if show {
         eprintln!("\rexact reference {}×{}: done in {:.1} s{:20}", w, h, start.elapsed().as_secs_f64(), "");
-    }
-    for (y, row) in rows {
-        xyz[y * w..][..w].copy_from_slice(&row);
     }
     xyz
 }
@@ -314,27 +292,17 @@ fn quadrature_check(
         })
         .filter(|&i| job.pixels[i].is_some())
         .collect();
-    let results: Vec<(f64, f64)> = std::thread::scope(|s| {
-        let handles: Vec<_> = picks
-            .chunks(picks.len().div_ceil(std::thread::available_parallelism().map_or(1, |n| n.get())).max(1))
-            .map(|chunk| {
-                let fine = &fine;
-                s.spawn(move || {
-                    chunk
-                        .iter()
-                        .map(|&i| {
-                            let q = job.pixels[i].expect("picked pixels have queries");
-                            let fine_xyz = fine(&q);
-                            let de = delta_e(fine_xyz, xyz[i], 0.0);
-                            let rel = (fine_xyz - xyz[i]).length() / fine_xyz.length().max(1e-300);
-                            (de, if fine_xyz.length() > 0.0 { rel } else { 0.0 })
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles.into_iter().flat_map(|h| h.join().expect("check thread")).collect()
-    });
+    use rayon::prelude::*;
+    let results: Vec<(f64, f64)> = picks
+        .par_iter()
+        .map(|&i| {
+            let q = job.pixels[i].expect("picked pixels have queries");
+            let fine_xyz = fine(&q);
+            let de = delta_e(fine_xyz, xyz[i], 0.0);
+            let rel = (fine_xyz - xyz[i]).length() / fine_xyz.length().max(1e-300);
+            (de, if fine_xyz.length() > 0.0 { rel } else { 0.0 })
+        })
+        .collect();
     let max_de = results.iter().map(|r| r.0).fold(0.0, f64::max);
     let max_rel = results.iter().map(|r| r.1).fold(0.0, f64::max);
     (picks.len(), max_de, max_rel)
