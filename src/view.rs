@@ -59,7 +59,7 @@ pub struct ViewOptions {
 
 /// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe shades every sample, so
 /// 4× multisampling costs about 4× the frame time there (`diffract render --samples 1|4` on the default scene:
-/// 72–84 → 304–324 ms per 800² frame).
+/// 80–85 → 328–439 ms per 800² frame).
 pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 4× the frame time: \
                                  edges are not anti-aliased (--samples 4 turns it on)";
 

@@ -17,7 +17,7 @@ use super::{Mesh, Vertex, UNTINTED};
 #[serde(rename_all = "lowercase")]
 pub enum Pattern {
     /// A corn snake (Pantherophis guttatus): red-orange saddles bordered in black on a lighter orange-tan ground,
-    /// smaller blotches on the flanks, a cream belly, dark eyes.
+    /// smaller blotches on the flanks, a cream belly, eyes with black pupils in red irises.
     #[default]
     Corn,
     /// One colour (the material's pigment), as a sunbeam snake.
@@ -209,8 +209,9 @@ fn smooth_part(
 const REACH_BACK: f32 = 1.1;
 const REACH_FRONT: f32 = 1.6;
 const HALF_WIDTH: f32 = 0.62;
-/// Rings and vertices around of the head's smooth surface (fine enough to draw its eyes).
-const HEAD_GRID: (u32, u32) = (64, 72);
+/// Rings and vertices around of the head's smooth surface: fine enough for its eye stripes and crown (the eyes are
+/// their own geometry), coarse enough not to slow the viewer (64×72 cost it about a tenth of its frame).
+const HEAD_GRID: (u32, u32) = (40, 48);
 /// The exponent of the scale's outline |x|^p + |y|^p = 1: 1 is a diamond, 2 an ellipse.
 const OUTLINE_EXPONENT: f32 = 1.6;
 
@@ -290,10 +291,127 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
             }
         }
     }
-    // The head's large, smooth plates (from under the last row of scales to the snout), with the pattern's eyes.
+    // The head's large, smooth plates (from under the last row of scales to the snout), then its two eyes.
     let start = HEAD_START - REACH_BACK * row;
     smooth_part(spec, &mut m, (start, 1.0), HEAD_GRID, Some(&pattern));
+    for side in [-1.0, 1.0] {
+        eye(spec, &mut m, &pattern, side);
+    }
     m
+}
+
+/// Where the eyes sit: along the body (t) and their angle from the middle of the back, radians.
+const EYE_T: f32 = 0.972;
+const EYE_FROM_TOP: f32 = 1.0;
+/// The eye's radius as a length along the body in t, and its rings: the pupil's edge (a sharp colour edge, two
+/// rings at one radius), the rim where the dome meets the head, and a skirt that tucks under the head's surface.
+const EYE_RADIUS_T: f32 = 0.0042;
+const EYE_RINGS: [(f32, bool); 6] = [(0.3, true), (0.6, true), (0.6, false), (0.8, false), (1.0, false), (1.0, false)];
+const EYE_SECTORS: u32 = 24;
+
+/// One eye (`side` −1 or 1: which side of the head): a round dome on the head's surface, raised up to 0.42 of its
+/// radius, with a black pupil in a coloured iris — geometry, so that its edges stay round at any distance, where
+/// a painted eye would follow the head's grid.
+fn eye(spec: &SnakeSpec, m: &mut Mesh, pattern: &PatternField, side: f32) {
+    let (t0, a0) = (EYE_T, std::f32::consts::FRAC_PI_2 + side * EYE_FROM_TOP);
+    // The head's surface derivatives at the eye, in t and in the angle; (x, y) in eye radii along an orthonormal
+    // frame of the tangent plane (T along the body) become parameter offsets through them, so the eye is round in
+    // the world although the tapering head's parameters are neither isotropic nor orthogonal.
+    const STEP: f32 = 1e-3;
+    let at = |t: f32, a: f32| body_surface(spec, t, a).0;
+    let e_t = (at(t0 + STEP, a0) - at(t0 - STEP, a0)) / (2.0 * STEP);
+    let e_a = (at(t0, a0 + STEP) - at(t0, a0 - STEP)) / (2.0 * STEP);
+    let tangent_t = e_t.normalize();
+    let tangent_b = (e_a - tangent_t * tangent_t.dot(e_a)).normalize();
+    let radius = EYE_RADIUS_T * e_t.length();
+    let centre = at(t0, a0);
+    // Parameter offsets for an offset (u, v) in the tangent plane, to first order.
+    let solve = move |u: f32, v: f32| {
+        let da = v / tangent_b.dot(e_a);
+        ((u - da * tangent_t.dot(e_a)) / e_t.length(), da)
+    };
+    // The point of the head that the tangent plane's (x, y) lies over (seen along the normal), by a few Newton
+    // steps from the first-order guess: the head's section curves too fast round the jaw for that guess alone.
+    let params = move |x: f32, y: f32| {
+        let (mut t, mut a) = (t0, a0);
+        for _ in 0..4 {
+            let d = at(t, a) - centre;
+            let (dt, da) = solve(x * radius - d.dot(tangent_t), side * y * radius - d.dot(tangent_b));
+            (t, a) = (t + dt, a + da);
+        }
+        (t, a)
+    };
+    // The dome at (x, y) in eye radii; `lift` in eye radii along the head's normal (the skirt: below it).
+    let surface = |x: f32, y: f32, lift: f32| {
+        let (t, a) = params(x, y);
+        let (p, n, _) = body_surface(spec, t, a);
+        p + n * (lift * radius)
+    };
+    let dome = |r: f32| 0.12 + 0.3 * (1.0 - r * r).max(0.0);
+    let (pupil, iris) = pattern.eye_tints();
+    let base = m.vertices.len() as u32;
+    let mut push = |x: f32, y: f32, lift: f32, tint: [f32; 3], flat: bool| {
+        let p = surface(x, y, lift);
+        let (t, a) = params(x, y);
+        let (_, body_normal, body_along) = body_surface(spec, t, a);
+        let n = if flat {
+            body_normal
+        } else {
+            const D: f32 = 1e-3;
+            let r = |x: f32, y: f32| (x * x + y * y).sqrt();
+            let dx = surface(x + D, y, dome(r(x + D, y))) - surface(x - D, y, dome(r(x - D, y)));
+            let dy = surface(x, y + D, dome(r(x, y + D))) - surface(x, y - D, dome(r(x, y - D)));
+            let n = dx.cross(dy).try_normalize().unwrap_or(body_normal);
+            if n.dot(body_normal) < 0.0 {
+                -n
+            } else {
+                n
+            }
+        };
+        let tangent =
+            (body_along - n * n.dot(body_along)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
+        m.vertices.push(Vertex {
+            position: p.to_array(),
+            normal: n.to_array(),
+            tangent: [tangent.x, tangent.y, tangent.z, 1.0],
+            uv: [t, (a0 / std::f32::consts::TAU + 0.25).rem_euclid(1.0)],
+            pigment: tint,
+        });
+    };
+    push(0.0, 0.0, dome(0.0), pupil, false);
+    for (ring, &(r, is_pupil)) in EYE_RINGS.iter().enumerate() {
+        let skirt = ring == EYE_RINGS.len() - 1;
+        for k in 0..EYE_SECTORS {
+            let (sin, cos) = (std::f32::consts::TAU * k as f32 / EYE_SECTORS as f32).sin_cos();
+            let lift = if skirt { -0.1 } else { dome(r) };
+            push(r * cos, r * sin, lift, if is_pupil { pupil } else { iris }, skirt);
+        }
+    }
+    // The centre's fan, then a band of quads between consecutive rings (none across the pupil's doubled ring).
+    let ring_start = |ring: u32| base + 1 + ring * EYE_SECTORS;
+    let mut triangles = Vec::new();
+    for k in 0..EYE_SECTORS {
+        triangles.push([base, ring_start(0) + k, ring_start(0) + (k + 1) % EYE_SECTORS]);
+    }
+    for ring in 0..EYE_RINGS.len() as u32 - 1 {
+        if EYE_RINGS[ring as usize].1 != EYE_RINGS[ring as usize + 1].1 {
+            continue;
+        }
+        for k in 0..EYE_SECTORS {
+            let (a, b) = (ring_start(ring) + k, ring_start(ring) + (k + 1) % EYE_SECTORS);
+            let (c, d) = (ring_start(ring + 1) + k, ring_start(ring + 1) + (k + 1) % EYE_SECTORS);
+            triangles.push([a, c, b]);
+            triangles.push([b, c, d]);
+        }
+    }
+    // Fronts outwards: the winding that the first triangle's normal agrees with.
+    let position = |i: u32| Vec3::from(m.vertices[i as usize].position);
+    let [a, b, c] = triangles[0];
+    let face = (position(b) - position(a)).cross(position(c) - position(a));
+    let flip = face.dot(Vec3::from(m.vertices[a as usize].normal)) < 0.0;
+    for [a, b, c] in triangles {
+        m.indices.extend_from_slice(&if flip { [a, c, b] } else { [a, b, c] });
+    }
 }
 
 /// The angle around the body of v ∈ [0, 1) (v = 0 under the belly, ½ on the back).
@@ -355,6 +473,15 @@ impl PatternField {
         Self { pattern, saddles }
     }
 
+    /// The tints of an eye's pupil and iris (none for the plain pattern).
+    fn eye_tints(&self) -> ([f32; 3], [f32; 3]) {
+        if self.pattern == Pattern::Plain {
+            return (UNTINTED, UNTINTED);
+        }
+        let relative = |c: [f32; 3]| [c[0] / CORN_GROUND[0], c[1] / CORN_GROUND[1], c[2] / CORN_GROUND[2]];
+        (relative(CORN_BORDER), relative(CORN_SADDLE))
+    }
+
     /// The tint at t along the body and angle a around it.
     fn tint(&self, t: f32, a: f32) -> [f32; 3] {
         if self.pattern == Pattern::Plain {
@@ -371,12 +498,7 @@ impl PatternField {
         if from_top.abs() > 2.3 {
             return CORN_BELLY;
         }
-        // The eyes on the sides of the head: a round black pupil in an orange-red iris.
-        let eye = (((t - 0.972) / 0.0062).powi(2) + ((from_top.abs() - 1.0) / 0.2).powi(2)).sqrt();
-        if eye < 1.0 {
-            return if eye < 0.6 { CORN_BORDER } else { CORN_SADDLE };
-        }
-        // A dark-edged stripe from each eye back to the jaw, and the spear point on the crown, pointing at the snout.
+        // (The eyes are geometry: `eye`.) A dark-edged stripe from each eye back to the jaw, and the spear point on the crown, pointing at the snout.
         let stripe = ((t - 0.952) / 0.02).powi(2) + ((from_top.abs() - 1.2) / 0.14).powi(2);
         if stripe < 1.0 {
             return if stripe < 0.45 { CORN_SADDLE } else { CORN_BORDER };
@@ -442,13 +564,43 @@ mod tests {
     }
 
     #[test]
+    fn the_eyes_are_round_raised_domes_with_a_black_pupil() {
+        let spec = SnakeSpec::default();
+        let m = snake(&spec);
+        let per_eye = 1 + EYE_RINGS.len() * EYE_SECTORS as usize;
+        let eyes = &m.vertices[m.vertices.len() - 2 * per_eye..];
+        let pupil = PatternField::new(Pattern::Corn, spec.seed).eye_tints().0;
+        for eye in eyes.chunks(per_eye) {
+            let centre = Vec3::from(eye[0].position);
+            assert_eq!(eye[0].pigment, pupil);
+            // The rim (ring 4, where the dome meets the head), seen along the eye's axis (the centre's normal):
+            // equally far from the centre all round.
+            let axis = Vec3::from(eye[0].normal);
+            let rim: Vec<f32> = eye[1 + 4 * EYE_SECTORS as usize..][..EYE_SECTORS as usize]
+                .iter()
+                .map(|v| {
+                    let d = Vec3::from(v.position) - centre;
+                    (d - axis * axis.dot(d)).length()
+                })
+                .collect();
+            let (lo, hi) = rim.iter().fold((f32::MAX, 0.0f32), |(lo, hi), &d| (lo.min(d), hi.max(d)));
+            assert!(hi < 1.1 * lo, "a round eye: rim distances {lo}..{hi}: {rim:?}");
+            // Raised: the centre stands off the head's surface by 0.42 eye radii.
+            let (_, normal, _) = body_surface(&spec, eye[0].uv[0], angle(eye[0].uv[1]));
+            let (surface, ..) = body_surface(&spec, eye[0].uv[0], angle(eye[0].uv[1]));
+            assert!((centre - surface).dot(normal) > 0.3 * lo, "the eye bulges");
+        }
+    }
+
+    #[test]
     fn scales_are_domed_lean_towards_the_head_and_face_outwards() {
         let spec = SnakeSpec::default();
         let m = snake(&spec);
         let per_scale = (spec.scale_outline + 1) as usize;
         let rows = (0..spec.scale_rows).filter(|&i| (i as f32 + 0.5) / (spec.scale_rows as f32) < HEAD_START).count();
         let head = ((HEAD_GRID.0 + 1) * (HEAD_GRID.1 + 1)) as usize;
-        assert_eq!(m.vertices.len(), per_scale * rows * spec.scales_around as usize + head);
+        let eyes = 2 * (1 + EYE_RINGS.len() * EYE_SECTORS as usize);
+        assert_eq!(m.vertices.len(), per_scale * rows * spec.scales_around as usize + head + eyes);
         check_outward_and_frames(&m, |p| p, "scaled snake (winding only)");
         let (mut leans, mut spreads) = (Vec::new(), Vec::new());
         for scale in m.vertices.chunks(per_scale) {
