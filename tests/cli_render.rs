@@ -74,65 +74,32 @@ fn a_users_obj_and_gsf_render_validation_clean() {
     assert!(image::open(&exr).is_ok());
 }
 
+/// `diffract render SCENE --out OUT` of a 24² sequence with `extra` flags.
+fn render_sequence(scene: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["render", s(scene), "--out", s(out), "--width", "24", "--height", "24"];
+    args.extend_from_slice(extra);
+    diffract(&args)
+}
+
 #[test]
 fn sequences_write_numbered_frames() {
     let scene = own_scene("own-sequence");
     let out = scratch("turn.png");
-    let o = diffract(&[
-        "render",
-        s(&scene),
-        "--out",
-        s(&out),
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--frames",
-        "3",
-        "--orbit",
-    ]);
+    let o = render_sequence(&scene, &out, &["--frames", "3", "--orbit"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     for f in 1..=3 {
         assert!(scratch(&format!("turn_{f:04}.png")).exists(), "frame {f}");
     }
-    let sweep = scratch("sweep.png");
-    let o = diffract(&[
-        "render",
-        s(&scene),
-        "--out",
-        s(&sweep),
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--frames",
-        "2",
-        "--light-sweep",
-    ]);
+    let o = render_sequence(&scene, &scratch("sweep.png"), &["--frames", "2", "--light-sweep"]);
     assert!(o.status.success());
     assert!(scratch("sweep_0002.png").exists());
     assert_one_line_error(&diffract(&["render", s(&scene), "--out", s(&out), "--frames", "3"]), "--orbit");
-    let arc = scratch("arc.png");
-    let o = diffract(&[
-        "render",
-        s(&scene),
-        "--out",
-        s(&arc),
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--frames",
-        "3",
-        "--light-sweep",
-        "--turn-deg",
-        "60",
-    ]);
+    let o = render_sequence(&scene, &scratch("arc.png"), &["--frames", "3", "--light-sweep", "--turn-deg", "60"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(scratch("arc_0003.png").exists());
     assert_one_line_error(&diffract(&["render", s(&scene), "--out", s(&out), "--turn-deg", "60"]), "--light-sweep");
     for bad in ["0", "400", "nan"] {
-        let o = diffract(&["render", s(&scene), "--out", s(&out), "--orbit", "--frames", "2", "--turn-deg", bad]);
+        let o = render_sequence(&scene, &out, &["--orbit", "--frames", "2", "--turn-deg", bad]);
         assert_one_line_error(&o, "(0, 360]");
     }
 }
