@@ -48,7 +48,7 @@ for c in found:
 PY
 )
 
-placeholder='(\.\.\.|…|\[|\||<|\b(FILE|SCENE|NAME|KIND|N|F\.png|F\.obj|F\.gsf|F\.exr|NNNN)\b|scan\.|my-scene|mine\.)'
+placeholder='(\.\.\.|…|\[|\||<|\b(FILE|SCENE|NAME|KIND|N|W|H|D|DEG|F\.png|F\.obj|F\.gsf|F\.exr|NNNN)\b|scan\.|my-scene|mine\.)'
 ran=0 skipped=0 cut=0 failures=0
 for command in "${commands[@]}"; do
   if [[ $command =~ $placeholder ]] || { [[ $command == "diffract view"* ]] && [[ $command != *--frames* ]]; }; then
