@@ -387,7 +387,20 @@ fn eye(spec: &SnakeSpec, m: &mut Mesh, pattern: &PatternField, side: f32) {
             push(r * cos, r * sin, lift, if is_pupil { pupil } else { iris }, skirt);
         }
     }
-    // The centre's fan, then a band of quads between consecutive rings (none across the pupil's doubled ring).
+    let triangles = eye_triangles(base);
+    // Fronts outwards: the winding that the first triangle's normal agrees with.
+    let position = |i: u32| Vec3::from(m.vertices[i as usize].position);
+    let [a, b, c] = triangles[0];
+    let face = (position(b) - position(a)).cross(position(c) - position(a));
+    let flip = face.dot(Vec3::from(m.vertices[a as usize].normal)) < 0.0;
+    for [a, b, c] in triangles {
+        m.indices.extend_from_slice(&if flip { [a, c, b] } else { [a, b, c] });
+    }
+}
+
+/// An eye's triangles, its centre at vertex `base` and its rings after it: the centre's fan, then a band of quads
+/// between consecutive rings (none across the pupil's doubled ring).
+fn eye_triangles(base: u32) -> Vec<[u32; 3]> {
     let ring_start = |ring: u32| base + 1 + ring * EYE_SECTORS;
     let mut triangles = Vec::new();
     for k in 0..EYE_SECTORS {
@@ -404,14 +417,12 @@ fn eye(spec: &SnakeSpec, m: &mut Mesh, pattern: &PatternField, side: f32) {
             triangles.push([b, c, d]);
         }
     }
-    // Fronts outwards: the winding that the first triangle's normal agrees with.
-    let position = |i: u32| Vec3::from(m.vertices[i as usize].position);
-    let [a, b, c] = triangles[0];
-    let face = (position(b) - position(a)).cross(position(c) - position(a));
-    let flip = face.dot(Vec3::from(m.vertices[a as usize].normal)) < 0.0;
-    for [a, b, c] in triangles {
-        m.indices.extend_from_slice(&if flip { [a, c, b] } else { [a, b, c] });
-    }
+    triangles
+}
+
+/// A pattern colour as a tint of the material's pigment, the corn snake's ground colour.
+fn relative_to_ground(colour: [f32; 3]) -> [f32; 3] {
+    [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]]
 }
 
 /// The angle around the body of v ∈ [0, 1) (v = 0 under the belly, ½ on the back).
@@ -478,8 +489,7 @@ impl PatternField {
         if self.pattern == Pattern::Plain {
             return (UNTINTED, UNTINTED);
         }
-        let relative = |c: [f32; 3]| [c[0] / CORN_GROUND[0], c[1] / CORN_GROUND[1], c[2] / CORN_GROUND[2]];
-        (relative(CORN_BORDER), relative(CORN_SADDLE))
+        (relative_to_ground(CORN_BORDER), relative_to_ground(CORN_SADDLE))
     }
 
     /// The tint at t along the body and angle a around it.
@@ -487,8 +497,7 @@ impl PatternField {
         if self.pattern == Pattern::Plain {
             return UNTINTED;
         }
-        let colour = self.colour(t, a);
-        [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]]
+        relative_to_ground(self.colour(t, a))
     }
 
     fn colour(&self, t: f32, a: f32) -> [f32; 3] {
@@ -634,7 +643,7 @@ mod tests {
     fn the_corn_pattern_has_saddles_borders_and_ground_and_is_deterministic() {
         let m = snake(&SnakeSpec::default());
         let count = |colour: [f32; 3]| {
-            let tint = [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]];
+            let tint = relative_to_ground(colour);
             m.vertices.iter().filter(|v| v.pigment == tint).count() as f32 / m.vertices.len() as f32
         };
         let (saddle, border, ground) = (count(CORN_SADDLE), count(CORN_BORDER), count(CORN_GROUND));
