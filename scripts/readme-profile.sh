@@ -12,6 +12,6 @@ mkdir -p docs/profile docs/images
 target/release/diffract profile "$@" \
   --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \
   --width 256 --exposure 8 --frames 3 --warmup 1 --roofline \
-  --sweep approach=flss,nmm,pq,gem,baked --sweep terms=2,4,8,16 --sweep lambda_step_nm=1,2,10,20 \
+  --sweep approach=flss,nmm,pq,gem,baked --sweep order=2,4,8,16 --sweep lambda_step_nm=1,2,10,20 \
   --csv "docs/profile/elaphe-256-$tag.csv" --plot "docs/images/profile-elaphe-$tag.png" \
   | tee "docs/profile/elaphe-256-$tag.md"

@@ -152,7 +152,9 @@ struct MaterialDef {
     seed: Option<u64>,
     tile: Option<TileDef>,
     approach: Option<Approach>,
-    terms: Option<usize>,
+    /// The Taylor order N (`terms`: its first name, still accepted).
+    #[serde(alias = "terms")]
+    order: Option<usize>,
     tolerance: Option<f64>,
     lambda_step_nm: Option<f64>,
     window_radius: Option<u32>,
@@ -427,7 +429,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
     let defaults = Settings::default();
     let settings = Settings {
         approach: d.approach.unwrap_or(DEFAULT_APPROACH),
-        order: d.terms,
+        order: d.order,
         tolerance: d.tolerance.unwrap_or(defaults.tolerance),
         lambda_step_nm: d.lambda_step_nm.unwrap_or(defaults.lambda_step_nm),
         window_radius: d.window_radius,
@@ -535,6 +537,15 @@ tile = [2, 3]
         assert_eq!(s.materials[0].heightfield.nx, 2 * 100);
         assert_eq!(s.materials[0].heightfield.ny, 3 * 100);
         assert!((s.light_dir.length() - 1.0).abs() < 1e-6);
+        // The Taylor order, by its name or by its first one.
+        for key in ["order", "terms"] {
+            let s = Scene::parse(
+                &GOOD.replace("tile = [2, 3]", &format!("tile = [2, 3]\n{key} = 7")),
+                "s.toml",
+                Path::new("."),
+            );
+            assert_eq!(s.unwrap().materials[0].settings.order, Some(7), "{key}");
+        }
     }
 
     #[test]

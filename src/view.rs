@@ -31,7 +31,7 @@ use crate::vk::{Buffer, BufferDesc, Context, ContextDesc, ImageState, TimestampR
 pub const BINDINGS: &str = "\
 mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
 keys:  1 … 5     approach flss / nmm / pq / gem / baked
-       T / shift+T   Taylor terms + / −        L / shift+L   wavelength step + / − (nm)
+       T / shift+T   Taylor order + / −        L / shift+L   wavelength step + / − (nm)
        R / shift+R   window radius + / −       + / −         exposure ± 0.5 EV
        arrows        light azimuth / elevation M             BRDF map ↔ geometry
        P             screenshot (diffract-NNNN.png)          H  this help        Esc  quit";

@@ -120,6 +120,17 @@ fn brdf_on(file: &str, extra: &[&str]) -> Output {
 }
 
 #[test]
+fn the_taylor_order_is_forced_by_its_name_or_its_first_one() {
+    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm/elaphe-100px.png");
+    let png = ["--pixel-size-um", "0.065", "--height-um", "0.375", "--method", "taylor", "--accept-f32-error"];
+    let by = |flag| brdf_on(afm, &[&[flag, "3"][..], &png].concat());
+    let (order, terms) = (by("--order"), by("--terms"));
+    assert!(order.status.success(), "{}", String::from_utf8_lossy(&order.stderr));
+    assert_eq!(order.stdout, terms.stdout);
+    assert!(String::from_utf8_lossy(&order.stderr).contains("N = 3"), "{}", String::from_utf8_lossy(&order.stderr));
+}
+
+#[test]
 fn hostile_input_is_refused_in_one_line() {
     let png = ["--pixel-size-um", "0.1", "--height-um", "0.3"];
     assert_one_line_error(&brdf_on("/no/such/file.gsf", &[]), "cannot open");

@@ -48,9 +48,9 @@ impl HeightFieldArgs {
 /// The accuracy of the Taylor sum and of the window, for every command that evaluates P.
 #[derive(Args, Debug, Clone)]
 pub struct AccuracyArgs {
-    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
+    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance (--terms: its first name)
+    #[arg(long, value_name = "N", alias = "terms")]
+    pub order: Option<usize>,
     /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
     #[arg(value_parser = parse::finite, long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
@@ -89,7 +89,7 @@ impl ShadingArgs {
     pub fn settings(&self) -> Settings {
         Settings {
             approach: self.approach,
-            order: self.accuracy.terms,
+            order: self.accuracy.order,
             tolerance: self.accuracy.tolerance,
             lambda_step_nm: self.lambda_step,
             window_radius: self.accuracy.window_radius,
@@ -121,9 +121,9 @@ pub struct SceneOverrideArgs {
     /// Exposure in stops (default: the scene's)
     #[arg(value_parser = parse::finite, long, value_name = "EV")]
     pub exposure: Option<f64>,
-    /// Taylor order N for every material (default: from each material's tolerance)
-    #[arg(long, value_name = "N")]
-    pub terms: Option<usize>,
+    /// Taylor order N for every material (default: from each material's tolerance; --terms: its first name)
+    #[arg(long, value_name = "N", alias = "terms")]
+    pub order: Option<usize>,
     /// Wavelength step in nm for every material
     #[arg(value_parser = parse::finite, long, value_name = "NM")]
     pub lambda_step: Option<f64>,
@@ -153,7 +153,7 @@ impl SceneOverrideArgs {
     pub fn overrides(&self) -> crate::render::capture::Overrides {
         crate::render::capture::Overrides {
             approach: self.approach,
-            order: self.terms,
+            order: self.order,
             lambda_step_nm: self.lambda_step,
             window_radius: self.window_radius,
             accept_f32_error: self.accept_f32_error,

@@ -90,7 +90,7 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
     };
     let accuracy = Accuracy {
         tolerance: acc.tolerance,
-        order: acc.terms,
+        order: acc.order,
         coherence_um: acc.coherence_um,
         window_radius: acc.window_radius,
         accept_f32_error: args.accept_f32_error,
@@ -183,7 +183,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         &crate::physics::HeightStats::of(&hf),
         gain,
         acc.tolerance,
-        acc.terms,
+        acc.order,
     )?;
     let (lo, hi) = hf.range();
     println!("patch: {}×{} pixels of {:.4}×{:.4} µm = {:.3}×{:.3} µm", hf.nx, hf.ny, hf.dx_um, hf.dy_um, lx, ly);

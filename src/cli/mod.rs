@@ -92,7 +92,7 @@ once and cached): mean and 99th-percentile CIEDE2000 at --exposure, and the rela
 
 Examples:
   diffract profile --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 --width 64 \\
-                   --exposure 8 --frames 5 --sweep approach=flss,nmm,pq,gem --sweep terms=4,8,16 lambda_step_nm=10,5
+                   --exposure 8 --frames 5 --sweep approach=flss,nmm,pq,gem --sweep order=4,8,16 lambda_step_nm=10,5
   diffract profile --heightfield blaze.gsf --roofline --csv blaze.csv --plot blaze.png
   diffract profile assets/scenes/blazed-disk.toml --width 96 --height 64 --sweep approach=flss,gem";
 
@@ -111,7 +111,7 @@ Examples:
 
 Controls (also printed at start and by H):
   mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
-  1 2 3 4 5 approach (flss nmm pq gem baked) · T/shift+T terms · L/shift+L wavelength step · R/shift+R window radius · +/- exposure
+  1 2 3 4 5 approach (flss nmm pq gem baked) · T/shift+T Taylor order · L/shift+L wavelength step · R/shift+R window radius · +/- exposure
   arrows light · M BRDF map <-> geometry · P screenshot · H help · Esc quit";
 
 const MAP_HELP: &str = "\

@@ -58,7 +58,7 @@ pub struct ProfileArgs {
     /// Untimed frames first, per configuration
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub warmup: u32,
-    /// Vary settings: KEY=V1,V2,... items (keys: approach, terms, lambda_step_nm, window_radius, size); one
+    /// Vary settings: KEY=V1,V2,... items (keys: approach, order (or terms), lambda_step_nm, window_radius, size); one
     /// --sweep runs the cross product of its items, several --sweep flags run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
@@ -133,7 +133,7 @@ impl Subject {
                 )
             }
             Subject::Scene { scene, name } => format!(
-                "scene {name} ({} objects, {} materials; each material's approach, terms, Δλ and window radius set \
+                "scene {name} ({} objects, {} materials; each material's approach, Taylor order, Δλ and window radius set \
                  by the configuration)",
                 scene.objects.len(),
                 scene.materials.len()
@@ -191,7 +191,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
     let base = Config {
         approach: args.approach,
-        terms: args.accuracy.terms,
+        order: args.accuracy.order,
         lambda_step_nm: args.lambda_step,
         window_radius: args.accuracy.window_radius,
         size: args.width,
@@ -418,7 +418,7 @@ fn reference_for(
 fn overrides_of(config: &Config, args: &ProfileArgs) -> Overrides {
     Overrides {
         approach: Some(config.approach),
-        order: config.terms,
+        order: config.order,
         lambda_step_nm: Some(config.lambda_step_nm),
         window_radius: config.window_radius,
         accept_f32_error: args.accept_f32_error,
@@ -446,7 +446,7 @@ fn scene_workload<'a>(
 fn settings_of(config: &Config, args: &ProfileArgs) -> Settings {
     Settings {
         approach: config.approach,
-        order: config.terms,
+        order: config.order,
         tolerance: args.accuracy.tolerance,
         lambda_step_nm: config.lambda_step_nm,
         window_radius: config.window_radius,

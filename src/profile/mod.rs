@@ -20,7 +20,7 @@ pub use crate::stats::Spread;
 pub struct Config {
     pub approach: Approach,
     /// Taylor order N; None: from the tolerance.
-    pub terms: Option<usize>,
+    pub order: Option<usize>,
     pub lambda_step_nm: f64,
     /// Window taps either side; None: down to a weight of 10⁻³.
     pub window_radius: Option<u32>,
@@ -29,7 +29,7 @@ pub struct Config {
 }
 
 /// The keys a sweep may vary.
-pub const SWEEP_KEYS: [&str; 5] = ["approach", "terms", "lambda_step_nm", "window_radius", "size"];
+pub const SWEEP_KEYS: [&str; 5] = ["approach", "order", "lambda_step_nm", "window_radius", "size"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
 
@@ -44,10 +44,11 @@ impl Config {
                     .find(|a| a.name() == value)
                     .ok_or_else(|| bad("the approaches are flss, nmm, pq and gem"))?;
             }
-            "terms" => {
-                self.terms = match value {
+            // `terms`: the key's first name, still accepted.
+            "order" | "terms" => {
+                self.order = match value {
                     "auto" => None,
-                    v => Some(v.parse().map_err(|_| bad("terms is an order N (0, 1, …) or auto"))?),
+                    v => Some(v.parse().map_err(|_| bad("the Taylor order is N (0, 1, …) or auto"))?),
                 }
             }
             "lambda_step_nm" => {
@@ -88,9 +89,9 @@ impl Config {
 
     /// A short label, e.g. `flss N=12 Δλ=5 r=2 256`.
     pub fn label(&self) -> String {
-        let terms = self.terms.map_or("auto".to_string(), |n| n.to_string());
+        let order = self.order.map_or("auto".to_string(), |n| n.to_string());
         let radius = self.window_radius.map_or("auto".to_string(), |r| r.to_string());
-        format!("{} N={terms} Δλ={} r={radius} {}px", self.approach.name(), self.lambda_step_nm, self.size)
+        format!("{} N={order} Δλ={} r={radius} {}px", self.approach.name(), self.lambda_step_nm, self.size)
     }
 }
 
@@ -107,7 +108,7 @@ impl Sweep {
         for item in items {
             let (key, values) = item
                 .split_once('=')
-                .ok_or_else(|| Error::Invalid(format!("--sweep {item}: expected KEY=V1,V2,... (e.g. terms=4,8,16)")))?;
+                .ok_or_else(|| Error::Invalid(format!("--sweep {item}: expected KEY=V1,V2,... (e.g. order=4,8,16)")))?;
             let key = key.trim().replace('-', "_");
             let key = if key == "lambda_step" { "lambda_step_nm".to_string() } else { key };
             if parsed.iter().any(|(k, _)| *k == key) {
@@ -119,7 +120,7 @@ impl Sweep {
                 return Err(Error::Invalid(format!("--sweep {item}: no values")));
             }
             let mut probe =
-                Config { approach: Approach::Flss, terms: None, lambda_step_nm: 5.0, window_radius: None, size: 64 };
+                Config { approach: Approach::Flss, order: None, lambda_step_nm: 5.0, window_radius: None, size: 64 };
             for v in &values {
                 probe.set(&key, v)?;
             }
@@ -221,7 +222,7 @@ impl TableSummary {
 /// The CSV's column header (the schema a test checks).
 pub const CSV_COLUMNS: [&str; 27] = [
     "approach",
-    "terms",
+    "order_asked",
     "order",
     "lambda_step_nm",
     "lambda_count",
@@ -259,7 +260,7 @@ impl Row {
         let c = &self.config;
         vec![
             c.approach.name().to_string(),
-            c.terms.map_or("auto".into(), |n| n.to_string()),
+            c.order.map_or("auto".into(), |n| n.to_string()),
             opt(self.order),
             format!("{}", c.lambda_step_nm),
             self.lambda_count.to_string(),
@@ -381,18 +382,20 @@ mod tests {
     use super::*;
 
     fn base() -> Config {
-        Config { approach: Approach::Flss, terms: None, lambda_step_nm: 5.0, window_radius: None, size: 64 }
+        Config { approach: Approach::Flss, order: None, lambda_step_nm: 5.0, window_radius: None, size: 64 }
     }
 
     #[test]
     fn a_sweep_is_the_cross_product_of_its_items_and_sweeps_add_up() {
-        let a = Sweep::parse(&["approach=flss,pq".into(), "terms=4,8,auto".into()]).unwrap();
+        let a = Sweep::parse(&["approach=flss,pq".into(), "order=4,8,auto".into()]).unwrap();
         let b = Sweep::parse(&["lambda-step=10,5".into()]).unwrap();
         let configs = configurations(base(), &[a, b]).unwrap();
         // 2 × 3 from the first sweep; the second adds Δλ = 10 (Δλ = 5 is the base, already listed).
         assert_eq!(configs.len(), 7);
-        assert_eq!(configs[0].terms, Some(4));
-        assert_eq!(configs[2].terms, None);
+        assert_eq!(configs[0].order, Some(4));
+        assert_eq!(configs[2].order, None);
+        let old = configurations(base(), &[Sweep::parse(&["terms=3".into()]).unwrap()]).unwrap();
+        assert_eq!(old[0].order, Some(3), "the key's first name is still accepted");
         assert_eq!(configs[3].approach, Approach::Pq);
         assert_eq!(configs[6].lambda_step_nm, 10.0);
     }
@@ -401,9 +404,9 @@ mod tests {
     fn bad_sweeps_are_refused_with_the_item() {
         for (item, needle) in [
             ("speed=1", "unknown key"),
-            ("terms", "KEY=V1"),
-            ("terms=", "no values"),
-            ("terms=x", "terms=x"),
+            ("order", "KEY=V1"),
+            ("order=", "no values"),
+            ("order=x", "order=x"),
             ("approach=fast", "flss, nmm"),
             ("lambda_step_nm=0", "(0, 400]"),
             ("window_radius=99", "at most"),
