@@ -14,7 +14,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::physics::baked::{self, BakedTable, Domain, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE};
-use crate::physics::reference::window_gain;
+use crate::physics::exact::window_gain;
 use crate::physics::spectrum::{self, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLERANCE};
 use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};

@@ -195,7 +195,7 @@ fn between_texel_centres_the_table_interpolates_within_a_colour_difference_of_on
         for a in (2..g.nu - 2).step_by(g.nu / 24) {
             let uvw = DVec3::new(g.u_centre(a) + 0.5 * g.texel, g.v_centre(b) + 0.5 * g.texel, w);
             let de =
-                diffract::profile::reference::delta_e(table.xyz(uvw, 0.0), exact.spectral_xyz(uvw, &sampling), 4.0);
+                diffract::profile::exact_image::delta_e(table.xyz(uvw, 0.0), exact.spectral_xyz(uvw, &sampling), 4.0);
             des.push(de);
         }
     }

@@ -23,7 +23,7 @@ use std::time::Instant;
 
 use diffract::brdf::{Accuracy, Evaluator};
 use diffract::physics::{HeightField, Method, PngScale, Query, Sample};
-use diffract::profile::reference::{image_error, ReferenceJob, ReferenceMaterial};
+use diffract::profile::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
 use diffract::render::diffraction;
 use diffract::shading::{Approach, Material, Reach, Settings};
 use diffract::vk::Context;

@@ -1,7 +1,7 @@
 //! The CPU reference against closed-form optics (no GPU): Jacobi–Anger orders of a sinusoidal phase grating,
 //! the grating equation for a blazed grating, a flat mirror, and the Taylor series against the exact method.
 
-use diffract::physics::reference::window_gain;
+use diffract::physics::exact::window_gain;
 use diffract::physics::{HeightField, HeightStats, Lookup, Method, Query, Reference, TaylorPlan, Window};
 
 const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");

@@ -176,7 +176,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     let (lx, ly) = hf.size_um();
     let acc = &args.accuracy;
     let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
-    let gain = crate::physics::reference::window_gain(&window, &hf);
+    let gain = crate::physics::exact::window_gain(&window, &hf);
     let plan = crate::physics::TaylorPlan::new(
         args.lambda_min * 1e-3,
         args.w_max,

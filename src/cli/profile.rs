@@ -12,7 +12,7 @@ use glam::DVec3;
 use super::args::{AccuracyArgs, HeightFieldArgs};
 use super::{parse, GpuArgs};
 use crate::physics::{optics, spectrum};
-use crate::profile::reference::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
+use crate::profile::exact_image::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::profile::{self as prof, Config, Row, Spread, Sweep};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches, Overrides};
 use crate::render::gbuffer::{GBuffer, Seen};
@@ -204,8 +204,11 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<std::process
     if !exposure.is_finite() {
         bail!("--exposure must be a finite number of stops");
     }
-    let cache =
-        if args.no_reference_cache { None } else { args.reference_cache.clone().or_else(reference::default_cache_dir) };
+    let cache = if args.no_reference_cache {
+        None
+    } else {
+        args.reference_cache.clone().or_else(exact_image::default_cache_dir)
+    };
 
     let ctx = Context::new(&gpu.context_desc())?;
     let samples = ctx.sample_count(frame_samples, crate::render::LINEAR_FORMAT)?;
@@ -489,7 +492,7 @@ fn profile_one(
     };
     let measured = measure(ctx, workload.as_mut(), args, progress);
     let result = measured.and_then(|(samples, image, fetches)| {
-        let error = reference.map(|r| reference::image_error(r, &image, exposure)).transpose()?;
+        let error = reference.map(|r| exact_image::image_error(r, &image, exposure)).transpose()?;
         Ok((samples, error, fetches))
     });
     // SAFETY: every frame was waited for.

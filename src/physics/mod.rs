@@ -13,16 +13,16 @@ pub mod baked;
 pub mod chebyshev;
 pub mod cie_tables;
 pub mod colour;
+pub mod exact;
 pub mod formats;
 pub mod heightfield;
 pub mod optics;
-pub mod reference;
 pub mod spectrum;
 pub mod taylor;
 pub mod window;
 
+pub use exact::{Method, Query, Reference, Sample};
 pub use formats::PngScale;
 pub use heightfield::HeightField;
-pub use reference::{Method, Query, Reference, Sample};
 pub use taylor::{HeightStats, TaylorPlan, TaylorTerms};
 pub use window::{Lookup, Window};

@@ -4,10 +4,10 @@
 //! lists) over one workload (a BRDF map or a scene) and reports for each: GPU time per frame from timestamps
 //! (median, 10th and 90th percentiles), CPU wall time per frame, Taylor-term texel fetches per pixel (counted by
 //! the shaders' counting variants), their rate against the device's measured peak (`--roofline`), and the
-//! image's error against an exact reference ([`mod@reference`]).
+//! image's error against an exact reference ([`exact_image`]).
 
+pub mod exact_image;
 pub mod plot;
-pub mod reference;
 
 use std::fmt::Write as _;
 
@@ -191,7 +191,7 @@ pub struct Row {
     /// `fetches_per_s` over the probe's peak (with `--roofline`).
     pub roofline_fraction: Option<f64>,
     /// Against the exact reference (None with `--no-reference`).
-    pub error: Option<reference::ImageError>,
+    pub error: Option<exact_image::ImageError>,
     /// The baked approach's table (of the first material).
     pub table: Option<TableSummary>,
 }

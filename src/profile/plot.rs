@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use super::reference::ImageError;
+use super::exact_image::ImageError;
 use super::Row;
 use crate::error::{Error, Result};
 use crate::shading::Approach;

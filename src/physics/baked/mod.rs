@@ -297,7 +297,7 @@ impl TablePlan {
         let (h0, h1) = hf.range();
         let omega = 2.0 * std::f64::consts::PI * (h1 - h0) / (super::spectrum::VISIBLE_MIN_NM * 1e-3);
         let x = omega * 0.5 * (w.1 - w.0);
-        let gain = super::reference::window_gain(window, hf);
+        let gain = super::exact::window_gain(window, hf);
         super::chebyshev::terms_for(x, gain * gain, tolerance * INVISIBLE.sqrt(), MAX_TERMS)
             .map(|n| n.max(2))
             .ok_or_else(|| {

@@ -22,7 +22,7 @@ use glam::DVec3;
 use crate::cache::Fnv;
 use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab, D65_WHITE};
-use crate::physics::reference::{window_gain, Method, Reference};
+use crate::physics::exact::{window_gain, Method, Reference};
 use crate::physics::spectrum::{linear_srgb_to_xyz, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 use crate::physics::window::Window;
