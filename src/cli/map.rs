@@ -9,6 +9,7 @@ use clap::Args;
 use super::args::{HeightFieldArgs, LightArgs, ShadingArgs};
 use super::GpuArgs;
 use crate::physics::optics;
+use crate::physics::spectrum::Sampling;
 use crate::render::diffraction;
 use crate::shading::{Approach, Material, Reach};
 
@@ -68,17 +69,14 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
         // The table's own integration (the shader samples no λ), over the full window (no taps either).
         Approach::Baked => {
             let step = crate::physics::baked::TABLE_LAMBDA_STEP_NM;
-            let count = ((crate::physics::spectrum::VISIBLE_MAX_NM - crate::physics::spectrum::VISIBLE_MIN_NM) / step)
-                .round() as u32
-                + 1;
-            format!("a table of {count} λ at {step} nm, the full window")
+            format!("a table of {} λ at {step} nm, the full window", Sampling::visible(step).count)
         }
         _ => format!("{} λ", material.sampling.count),
     };
-    let taps =
+    let window =
         if material.settings.approach == Approach::Baked { String::new() } else { format!(", {taps}×{taps} taps") };
     println!(
-        "wrote {} ({size}×{size} {approach}: {plan}{sampling}{taps}; precompute {prep_ms:.0} ms{gpu_time} on {device})",
+        "wrote {} ({size}×{size} {approach}: {plan}{sampling}{window}; precompute {prep_ms:.0} ms{gpu_time} on {device})",
         args.out.display(),
         size = args.size,
         approach = material.settings.approach.name(),

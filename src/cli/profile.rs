@@ -13,7 +13,7 @@ use super::args::{AccuracyArgs, HeightFieldArgs};
 use super::{parse, GpuArgs};
 use crate::physics::{optics, spectrum};
 use crate::profile::exact_image::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
-use crate::profile::{self as prof, Config, Row, Spread, Sweep};
+use crate::profile::{self as prof, Config, Row, Sweep};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches, Overrides};
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{
@@ -21,6 +21,7 @@ use crate::render::profile::{
 };
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Reach, Settings};
+use crate::stats::Spread;
 use crate::vk::Context;
 
 #[derive(Args, Debug)]

@@ -351,9 +351,9 @@ fn eye(spec: &SnakeSpec, m: &mut Mesh, pattern: &PatternField, side: f32) {
     let (pupil, iris) = pattern.eye_tints();
     let base = m.vertices.len() as u32;
     let mut push = |x: f32, y: f32, lift: f32, tint: [f32; 3], flat: bool| {
-        let p = surface(x, y, lift);
         let (t, a) = params(x, y);
-        let (_, body_normal, body_along) = body_surface(spec, t, a);
+        let (on_head, body_normal, body_along) = body_surface(spec, t, a);
+        let p = on_head + body_normal * (lift * radius);
         let n = if flat {
             body_normal
         } else {
@@ -595,8 +595,7 @@ mod tests {
             let (lo, hi) = rim.iter().fold((f32::MAX, 0.0f32), |(lo, hi), &d| (lo.min(d), hi.max(d)));
             assert!(hi < 1.1 * lo, "a round eye: rim distances {lo}..{hi}: {rim:?}");
             // Raised: the centre stands off the head's surface by 0.42 eye radii.
-            let (_, normal, _) = body_surface(&spec, eye[0].uv[0], angle(eye[0].uv[1]));
-            let (surface, ..) = body_surface(&spec, eye[0].uv[0], angle(eye[0].uv[1]));
+            let (surface, normal, _) = body_surface(&spec, eye[0].uv[0], angle(eye[0].uv[1]));
             assert!((centre - surface).dot(normal) > 0.3 * lo, "the eye bulges");
         }
     }

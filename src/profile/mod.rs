@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 
 use crate::error::{Error, Result};
 use crate::shading::{Approach, MAX_WINDOW_RADIUS};
-pub use crate::stats::Spread;
+use crate::stats::Spread;
 
 /// One configuration of the settings that trade speed for accuracy.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -136,9 +136,9 @@ impl PatchResources {
 
     pub fn writes(&self) -> [DescriptorWrite<'_>; 3] {
         [
-            DescriptorWrite::UniformBuffer(1, &self.params),
-            DescriptorWrite::SampledImage(2, &self.terms, &self.sampler),
-            DescriptorWrite::StorageBuffer(3, &self.spectrum),
+            DescriptorWrite::UniformBuffer(BINDING_PARAMS, &self.params),
+            DescriptorWrite::SampledImage(BINDING_TABLE, &self.terms, &self.sampler),
+            DescriptorWrite::StorageBuffer(BINDING_SPECTRUM, &self.spectrum),
         ]
     }
 

@@ -14,6 +14,7 @@ use crate::mesh::Vertex;
 use crate::physics::baked::Domain;
 use crate::scene::Scene;
 use crate::shaders;
+use crate::shaders::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
 use crate::shading::Reach;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
@@ -131,25 +132,20 @@ impl GBuffer {
             written?;
         }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [Binding {
-            binding: crate::shaders::interface::BINDING_FRAME,
-            kind: vk::DescriptorType::UNIFORM_BUFFER,
-            stages,
-        }];
+        let bindings = [Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
         for part in 0..PARTS {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
                 vertex: shaders::SURFACE_VERT,
                 fragment: Some(shaders::GBUFFER_FRAG),
-                specialization: SpecConstants::default().u32(crate::shaders::interface::SPEC_GBUFFER_PART, part),
+                specialization: SpecConstants::default().u32(SPEC_GBUFFER_PART, part),
                 bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format: LINEAR_FORMAT,
                 depth: Some((DEPTH_FORMAT, DepthTest::Write)),
-                // As the surface pass culls (the same fragments win the depth test).
-                cull_back_faces: scene.objects.iter().all(|o| o.mesh.one_sided),
+                cull_back_faces: super::culls_back_faces(scene.objects.iter().map(|o| &o.mesh)),
                 samples: vk::SampleCountFlags::TYPE_1,
             })?);
         }
@@ -160,7 +156,7 @@ impl GBuffer {
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
-                    ctx.bind(cmd, pipeline, &[DescriptorWrite::UniformBuffer(0, uniforms)], &[]);
+                    ctx.bind(cmd, pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
                     mesh.draw(ctx, cmd);
                 }
                 end_rendering(ctx, cmd);

@@ -200,6 +200,13 @@ pub fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {
     unsafe { ctx.device().cmd_end_rendering(cmd) };
 }
 
+/// Whether a scene's passes cull back faces: only where no mesh shows a back ([`Mesh::one_sided`]). Every pass
+/// that draws the scene asks here, so that they all rasterise the same fragments (the shading pass's EQUAL depth
+/// test needs its pre-pass's; the G-buffer's must be the frame's).
+pub fn culls_back_faces<'a>(meshes: impl IntoIterator<Item = &'a Mesh>) -> bool {
+    meshes.into_iter().all(|m| m.one_sided)
+}
+
 /// A mesh's vertex and index buffers on the GPU.
 pub struct MeshBuffers {
     pub vertices: Buffer,

@@ -11,6 +11,7 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
+use crate::shaders::interface::BINDING_FRAME;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
 };
@@ -73,7 +74,7 @@ impl PreviewPass {
     /// The pass for targets of `samples` per pixel.
     pub fn new(ctx: &Context, mesh: &Mesh, samples: vk::SampleCountFlags) -> Result<Self> {
         let bindings = [Binding {
-            binding: crate::shaders::interface::BINDING_FRAME,
+            binding: BINDING_FRAME,
             kind: vk::DescriptorType::UNIFORM_BUFFER,
             stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         }];
@@ -131,7 +132,7 @@ impl PreviewPass {
     /// Records the pass into `target`, which must be in attachment layouts.
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
         begin_rendering(ctx, cmd, target, background, None);
-        ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(0, &self.uniforms)], &[]);
+        ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, &self.uniforms)], &[]);
         self.mesh.draw(ctx, cmd);
         end_rendering(ctx, cmd);
     }

@@ -223,7 +223,7 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
                 samples: vk::SampleCountFlags::TYPE_1,
             })?,
         );
-        let writes = [DescriptorWrite::SampledImage(2, &texture, sampler)];
+        let writes = [DescriptorWrite::SampledImage(BINDING_TABLE, &texture, sampler)];
         let mut side = 256;
         loop {
             let target = OffscreenTarget::with_format(ctx, side, side, LINEAR_FORMAT, false)?;

@@ -15,6 +15,7 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
+use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE};
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, Statistics,
@@ -184,13 +185,8 @@ impl SceneRenderer {
         variant: SurfaceVariant,
     ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        // Both passes cull alike (the EQUAL test needs the same fragments), and only where no object shows a back.
-        let cull_back_faces = objects.iter().all(|(mesh, _)| mesh.one_sided);
-        let frame_binding = Binding {
-            binding: crate::shaders::interface::BINDING_FRAME,
-            kind: vk::DescriptorType::UNIFORM_BUFFER,
-            stages,
-        };
+        let cull_back_faces = super::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
+        let frame_binding = Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
         self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: DEPTH_PASS,
             vertex: shaders::SURFACE_VERT,
@@ -221,7 +217,7 @@ impl SceneRenderer {
                 ),
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
-                    input.material.spec_constants(false).u32(crate::shaders::interface::SPEC_COUNT_STRIDE, stride),
+                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride),
                 ),
             };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -340,7 +336,7 @@ impl SceneRenderer {
         if let Some(depth) = &self.depth {
             ctx.begin_label(cmd, DEPTH_PASS);
             for object in &self.objects {
-                ctx.bind(cmd, depth, &[DescriptorWrite::UniformBuffer(0, &object.uniforms)], &[]);
+                ctx.bind(cmd, depth, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms)], &[]);
                 object.mesh.draw(ctx, cmd);
             }
             ctx.end_label(cmd);
@@ -351,9 +347,9 @@ impl SceneRenderer {
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
-            let mut writes = vec![DescriptorWrite::UniformBuffer(0, &object.uniforms), p, t, s];
+            let mut writes = vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s];
             if let Some(counts) = counts.filter(|_| self.counting) {
-                writes.push(DescriptorWrite::StorageBuffer(crate::shaders::interface::BINDING_FETCH_COUNTS, counts));
+                writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
             }
             ctx.bind(cmd, &material.pipeline, &writes, &[]);
             object.mesh.draw(ctx, cmd);
