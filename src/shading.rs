@@ -141,6 +141,32 @@ impl Default for Settings {
     }
 }
 
+/// Settings that replace a material's own: the command line's `--approach`, `--order`, `--lambda-step`,
+/// `--window-radius` and `--accept-f32-error`, the viewer's keys, one configuration of a profile. `None` (and
+/// `false`) leaves the material's setting as it is.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overrides {
+    pub approach: Option<Approach>,
+    pub order: Option<usize>,
+    pub lambda_step_nm: Option<f64>,
+    pub window_radius: Option<u32>,
+    pub accept_f32_error: bool,
+}
+
+impl Overrides {
+    /// `settings` with these overrides in place.
+    pub fn apply(&self, settings: Settings) -> Settings {
+        Settings {
+            approach: self.approach.unwrap_or(settings.approach),
+            order: self.order.or(settings.order),
+            lambda_step_nm: self.lambda_step_nm.unwrap_or(settings.lambda_step_nm),
+            window_radius: self.window_radius.or(settings.window_radius),
+            accept_f32_error: settings.accept_f32_error || self.accept_f32_error,
+            ..settings
+        }
+    }
+}
+
 /// The window weight at which the default render window stops (the first tap left out weighs less).
 pub const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
 /// Most wavelengths one pixel may sample (a 1 nm step over 380–780 nm is 401).
@@ -417,6 +443,25 @@ mod tests {
     use super::*;
 
     const HEMISPHERE: Reach = Reach::Hemisphere { footprint: 0.0 };
+
+    #[test]
+    fn overrides_replace_what_they_set_and_keep_the_rest() {
+        let own = Settings { order: Some(6), window_radius: Some(3), coherence_um: 20.0, ..Settings::default() };
+        assert_eq!(Overrides::default().apply(own), own, "no override changes nothing");
+        let set = Overrides {
+            approach: Some(Approach::Baked),
+            order: Some(2),
+            lambda_step_nm: Some(1.0),
+            window_radius: None,
+            accept_f32_error: true,
+        };
+        let s = set.apply(own);
+        assert_eq!((s.approach, s.order, s.lambda_step_nm), (Approach::Baked, Some(2), 1.0));
+        assert_eq!((s.window_radius, s.coherence_um), (Some(3), 20.0), "what is not overridden stays the material's");
+        assert!(s.accept_f32_error);
+        let material_accepts = Settings { accept_f32_error: true, ..own };
+        assert!(Overrides::default().apply(material_accepts).accept_f32_error, "an override cannot take it back");
+    }
 
     #[test]
     fn gem_finds_the_period_and_direction_of_a_grating() {

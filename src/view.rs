@@ -18,12 +18,12 @@ use winit::window::{Window, WindowId};
 
 use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::render::capture::{material_inputs, prepare_materials, scene_objects, Overrides};
+use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
 use crate::render::surface::SceneRenderer;
 use crate::render::TargetView;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material};
+use crate::shading::{Approach, Material, Overrides};
 use crate::vk::swapchain::{self, Acquired, FrameSync, Surface, Swapchain};
 use crate::vk::{Buffer, BufferDesc, Context, ContextDesc, ImageState, TimestampRing};
 

@@ -269,4 +269,12 @@ fn mistakes_end_in_one_line() {
     assert_one_line_error(&with(&["--height", "4"]), "square");
     assert_one_line_error(&with(&["--plot", s(&scratch("p.png")), "--plot-font", "/nonexistent.ttf"]), "font");
     assert_one_line_error(&with(&["--light-theta", "95"]), "horizon");
+    // A BRDF map's own settings are refused for a scene (which has its own light and materials), not ignored.
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/blazed-disk.toml");
+    for extra in [["--coherence-um", "4"], ["--light-theta", "30"], ["--tolerance", "1e-3"]] {
+        let mut args = vec!["profile", scene, "--width", "8", "--no-reference"];
+        args.extend_from_slice(&extra);
+        assert_one_line_error(&diffract(&args), "--heightfield");
+    }
+    assert_one_line_error(&diffract(&["profile", "--tile", "2", "--width", "8"]), "heightfield");
 }

@@ -11,7 +11,7 @@ use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
 use crate::physics::taylor::DEFAULT_TOLERANCE;
 use crate::physics::window::DEFAULT_COHERENCE_UM;
 use crate::physics::{HeightField, PngScale};
-use crate::shading::{Approach, Settings};
+use crate::shading::{Approach, Overrides, Settings};
 
 /// A height field and its physical units, shared by every command that reads one.
 #[derive(Args, Debug, Clone)]
@@ -45,18 +45,39 @@ impl HeightFieldArgs {
     }
 }
 
-/// The accuracy of the Taylor sum and of the window, for every command that evaluates P.
+/// What a scene's material says about its patch besides the speed settings: the tolerance the Taylor order
+/// is chosen for and the coherence length.
 #[derive(Args, Debug, Clone)]
-pub struct AccuracyArgs {
-    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance (--terms: its first name)
-    #[arg(long, value_name = "N", alias = "terms")]
-    pub order: Option<usize>,
+pub struct MaterialArgs {
     /// Tolerance on the amplitude |P − P_N| (a flat mirror at specular has |P| = 1)
     #[arg(value_parser = parse::finite, long, default_value_t = DEFAULT_TOLERANCE)]
     pub tolerance: f64,
     /// Coherence length in µm (the Gaussian window has σ_s = L/4)
     #[arg(value_parser = parse::finite, long, value_name = "L", default_value_t = DEFAULT_COHERENCE_UM)]
     pub coherence_um: f64,
+}
+
+impl Default for MaterialArgs {
+    fn default() -> Self {
+        Self { tolerance: DEFAULT_TOLERANCE, coherence_um: DEFAULT_COHERENCE_UM }
+    }
+}
+
+impl MaterialArgs {
+    /// [`Settings::default`] with this tolerance and coherence.
+    pub fn settings(&self) -> Settings {
+        Settings { tolerance: self.tolerance, coherence_um: self.coherence_um, ..Settings::default() }
+    }
+}
+
+/// The accuracy of the Taylor sum and of the window, for every command that evaluates P.
+#[derive(Args, Debug, Clone)]
+pub struct AccuracyArgs {
+    /// Taylor order N (terms 0..=N); default: the smallest N that meets --tolerance (--terms: its first name)
+    #[arg(long, value_name = "N", alias = "terms")]
+    pub order: Option<usize>,
+    #[command(flatten)]
+    pub material: MaterialArgs,
     /// Window taps either side of the nearest bin, at most 16 (default: brdf and terms the full window, weights
     /// ≥ 1e-17; map and render down to a weight of 1e-3)
     #[arg(long, value_name = "R", value_parser = parse::window_radius)]
@@ -90,13 +111,12 @@ impl ShadingArgs {
         Settings {
             approach: self.approach,
             order: self.accuracy.order,
-            tolerance: self.accuracy.tolerance,
             lambda_step_nm: self.lambda_step,
             window_radius: self.accuracy.window_radius,
-            coherence_um: self.accuracy.coherence_um,
             exposure_ev: self.exposure,
             accept_f32_error: self.accept_f32_error,
             table_tolerance: self.table_tolerance,
+            ..self.accuracy.material.settings()
         }
     }
 }
@@ -112,28 +132,30 @@ pub struct LightArgs {
     pub light_phi: f64,
 }
 
-/// Settings that replace every material's own in a scene (`render`, `view`).
+/// Settings that replace every material's own in a scene (`render`, `view`, `profile`; a profiled BRDF map's
+/// material starts from the defaults).
 #[derive(Args, Debug, Clone)]
 pub struct SceneOverrideArgs {
-    /// Shading approach for every material (default: each material's own)
+    /// Shading approach for every material (default: each material's own; `profile --heightfield`: flss)
     #[arg(long, value_enum)]
     pub approach: Option<Approach>,
-    /// Exposure in stops (default: the scene's)
+    /// Exposure in stops (default: the scene's; `profile --heightfield`: 0)
     #[arg(value_parser = parse::finite, long, value_name = "EV")]
     pub exposure: Option<f64>,
     /// Taylor order N for every material (default: from each material's tolerance; --terms: its first name)
     #[arg(long, value_name = "N", alias = "terms")]
     pub order: Option<usize>,
-    /// Wavelength step in nm for every material
+    /// Wavelength step in nm for every material (default: each material's own; `profile --heightfield`: 5)
     #[arg(value_parser = parse::finite, long, value_name = "NM")]
     pub lambda_step: Option<f64>,
-    /// Window radius for every material (at most 16)
+    /// Window radius for every material, at most 16 (default: each material's own)
     #[arg(long, value_name = "R", value_parser = parse::window_radius)]
     pub window_radius: Option<u32>,
-    /// Render even where f32 cannot reach the tolerance
+    /// Shade even where f32 cannot reach the tolerance
     #[arg(long)]
     pub accept_f32_error: bool,
-    /// Samples per pixel: multisample anti-aliasing of edges, 1 for none (default: the scene's, else 4)
+    /// Samples per pixel: multisample anti-aliasing of edges, 1 for none (default: the scene's, else 4; a BRDF
+    /// map has one)
     #[arg(long, value_name = "N", value_parser = parse::samples)]
     pub samples: Option<u32>,
 }
@@ -150,8 +172,8 @@ impl SceneOverrideArgs {
         ctx.sample_count(self.samples.unwrap_or(scene.render.samples), format)
     }
 
-    pub fn overrides(&self) -> crate::render::capture::Overrides {
-        crate::render::capture::Overrides {
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
             approach: self.approach,
             order: self.order,
             lambda_step_nm: self.lambda_step,

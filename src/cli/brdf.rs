@@ -89,9 +89,9 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         (false, MethodArg::TaylorF32) => Evaluator::Cpu(Method::TaylorF32),
     };
     let accuracy = Accuracy {
-        tolerance: acc.tolerance,
+        tolerance: acc.material.tolerance,
         order: acc.order,
-        coherence_um: acc.coherence_um,
+        coherence_um: acc.material.coherence_um,
         window_radius: acc.window_radius,
         accept_f32_error: args.accept_f32_error,
     };
@@ -175,14 +175,14 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     }
     let (lx, ly) = hf.size_um();
     let acc = &args.accuracy;
-    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
+    let window = Window::new(lx, ly, acc.material.coherence_um, acc.window_radius)?;
     let gain = crate::physics::exact::window_gain(&window, &hf);
     let plan = crate::physics::TaylorPlan::new(
         args.lambda_min * 1e-3,
         args.w_max,
         &crate::physics::HeightStats::of(&hf),
         gain,
-        acc.tolerance,
+        acc.material.tolerance,
         acc.order,
     )?;
     let (lo, hi) = hf.range();
@@ -190,7 +190,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     println!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
     println!(
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
-        window.sigma_x, window.sigma_y, acc.coherence_um
+        window.sigma_x, window.sigma_y, acc.material.coherence_um
     );
     let (gx, gy, spacing) = crate::shading::dominant_grating(&hf);
     if spacing > 0.0 {
@@ -206,7 +206,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     }
     // The table `view` and rendered sequences use: any light and view, as fine as the lobes within 256 MiB.
     let request = crate::shading::Reach::ANY.table_request();
-    let table = crate::physics::baked::TablePlan::new(&hf, acc.coherence_um, &request, args.table_tolerance)?;
+    let table = crate::physics::baked::TablePlan::new(&hf, acc.material.coherence_um, &request, args.table_tolerance)?;
     println!("any light and view: {}", table.describe());
     if args.compute {
         let start = std::time::Instant::now();

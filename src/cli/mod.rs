@@ -80,7 +80,11 @@ pub enum Command {
     #[command(after_help = MAP_HELP, allow_negative_numbers = true)]
     Map(map::MapArgs),
     /// Measure speed against accuracy: GPU timings, texel fetches and the error against an exact reference
-    #[command(after_help = PROFILE_HELP, allow_negative_numbers = true)]
+    #[command(
+        after_help = PROFILE_HELP,
+        allow_negative_numbers = true,
+        override_usage = "diffract profile [OPTIONS] [SCENE | --heightfield FILE [HEIGHT-FIELD OPTIONS]]"
+    )]
     Profile(profile::ProfileArgs),
 }
 

@@ -5,25 +5,27 @@
 //! (median, 10th and 90th percentiles), CPU wall time per frame, Taylor-term texel fetches per pixel (counted by
 //! the shaders' counting variants), their rate against the device's measured peak (`--roofline`), and the
 //! image's error against an exact reference ([`exact_image`]).
+//!
+//! - [`run`]: the loop over configurations: the subject (a map or a scene), its materials, frames and reference.
+//! - [`exact_image`]: the exact reference image and the error metrics.
+//! - [`plot`]: time against error as a picture.
+//! - here: the configurations and sweeps, the rows and their CSV and markdown.
 
 pub mod exact_image;
 pub mod plot;
+pub mod run;
 
 use std::fmt::Write as _;
 
 use crate::error::{Error, Result};
-use crate::shading::{Approach, MAX_WINDOW_RADIUS};
+use crate::shading::{Approach, Overrides, Settings, MAX_WINDOW_RADIUS};
 use crate::stats::Spread;
 
-/// One configuration of the settings that trade speed for accuracy.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One configuration of a profile: the settings it sets for every material (the rest are each material's own;
+/// a BRDF map's are [`Settings::default`]'s with the command line's tolerance and coherence) and the image size.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Config {
-    pub approach: Approach,
-    /// Taylor order N; None: from the tolerance.
-    pub order: Option<usize>,
-    pub lambda_step_nm: f64,
-    /// Window taps either side; None: down to a weight of 10⁻³.
-    pub window_radius: Option<u32>,
+    pub overrides: Overrides,
     /// Image width (maps: the side) in pixels.
     pub size: u32,
 }
@@ -37,16 +39,16 @@ impl Config {
     /// Sets `key` to `value` (as written on the command line).
     pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
         let bad = |what: &str| Error::Invalid(format!("--sweep {key}={value}: {what}"));
+        let o = &mut self.overrides;
         match key {
             "approach" => {
-                self.approach = Approach::ALL
-                    .into_iter()
-                    .find(|a| a.name() == value)
-                    .ok_or_else(|| bad("the approaches are flss, nmm, pq and gem"))?;
+                o.approach = Some(Approach::ALL.into_iter().find(|a| a.name() == value).ok_or_else(|| {
+                    bad(&format!("the approaches are {}", Approach::ALL.map(Approach::name).join(", ")))
+                })?);
             }
             // `terms`: the key's first name, still accepted.
             "order" | "terms" => {
-                self.order = match value {
+                o.order = match value {
                     "auto" => None,
                     v => Some(v.parse().map_err(|_| bad("the Taylor order is N (0, 1, …) or auto"))?),
                 }
@@ -56,10 +58,10 @@ impl Config {
                 if !(v.is_finite() && v > 0.0 && v <= 400.0) {
                     return Err(bad("the wavelength step must lie in (0, 400] nm"));
                 }
-                self.lambda_step_nm = v;
+                o.lambda_step_nm = Some(v);
             }
             "window_radius" => {
-                self.window_radius = match value {
+                o.window_radius = match value {
                     "auto" => None,
                     v => {
                         let r: u32 = v.parse().map_err(|_| bad("the window radius is a tap count or auto"))?;
@@ -87,12 +89,24 @@ impl Config {
         Ok(())
     }
 
-    /// A short label, e.g. `flss N=12 Δλ=5 r=2 256`.
+    /// A short label, e.g. `flss N=12 Δλ=5 r=2 256px`: `own` where each material keeps its own approach or
+    /// wavelength step, `auto` where the order or window radius is not forced.
     pub fn label(&self) -> String {
-        let order = self.order.map_or("auto".to_string(), |n| n.to_string());
-        let radius = self.window_radius.map_or("auto".to_string(), |r| r.to_string());
-        format!("{} N={order} Δλ={} r={radius} {}px", self.approach.name(), self.lambda_step_nm, self.size)
+        let o = &self.overrides;
+        label(
+            o.approach.map_or("own", Approach::name),
+            o.order,
+            &o.lambda_step_nm.map_or("own".to_string(), |v| v.to_string()),
+            o.window_radius,
+            self.size,
+        )
     }
+}
+
+fn label(approach: &str, order: Option<usize>, lambda_step_nm: &str, window_radius: Option<u32>, size: u32) -> String {
+    let order = order.map_or("auto".to_string(), |n| n.to_string());
+    let radius = window_radius.map_or("auto".to_string(), |r| r.to_string());
+    format!("{approach} N={order} Δλ={lambda_step_nm} r={radius} {size}px")
 }
 
 /// One `--sweep`: items `KEY=V1,V2,...` whose cross product it stands for.
@@ -119,8 +133,7 @@ impl Sweep {
             if values.is_empty() {
                 return Err(Error::Invalid(format!("--sweep {item}: no values")));
             }
-            let mut probe =
-                Config { approach: Approach::Flss, order: None, lambda_step_nm: 5.0, window_radius: None, size: 64 };
+            let mut probe = Config::default();
             for v in &values {
                 probe.set(&key, v)?;
             }
@@ -168,6 +181,8 @@ pub fn configurations(base: Config, sweeps: &[Sweep]) -> Result<Vec<Config>> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
     pub config: Config,
+    /// The first material's settings under the configuration (the approach, order and step it ran with).
+    pub settings: Settings,
     pub width: u32,
     pub height: u32,
     /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
@@ -255,16 +270,22 @@ fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
 }
 
 impl Row {
+    /// The label of what ran, e.g. `flss N=12 Δλ=5 r=2 256px` (`auto`: the order or radius was not forced).
+    pub fn label(&self) -> String {
+        let s = &self.settings;
+        label(s.approach.name(), s.order, &s.lambda_step_nm.to_string(), s.window_radius, self.config.size)
+    }
+
     /// The row's CSV fields, in [`CSV_COLUMNS`] order (empty where the device cannot measure).
     pub fn csv_fields(&self) -> Vec<String> {
-        let c = &self.config;
+        let s = &self.settings;
         vec![
-            c.approach.name().to_string(),
-            c.order.map_or("auto".into(), |n| n.to_string()),
+            s.approach.name().to_string(),
+            s.order.map_or("auto".into(), |n| n.to_string()),
             opt(self.order),
-            format!("{}", c.lambda_step_nm),
+            format!("{}", s.lambda_step_nm),
             self.lambda_count.to_string(),
-            c.window_radius.map_or("auto".into(), |r| r.to_string()),
+            s.window_radius.map_or("auto".into(), |r| r.to_string()),
             self.taps.to_string(),
             self.width.to_string(),
             self.height.to_string(),
@@ -285,7 +306,7 @@ impl Row {
             opt(self.table.map(|t| t.terms)),
             opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
             opt(self.table.map(|t| format!("{:.2}", t.mib))),
-            c.label(),
+            self.label(),
         ]
     }
 }
@@ -321,12 +342,12 @@ pub fn markdown(rows: &[Row]) -> String {
          ΔE00 mean | ΔE00 p99 | rel. XYZ RMSE |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n",
     );
     for r in rows {
-        let c = &r.config;
+        let s = &r.settings;
         let gpu = r.gpu_ms.map_or("n/a".to_string(), |s| format!("{} [{}, {}]", ms(s.median), ms(s.p10), ms(s.p90)));
-        let lambda = match (c.approach, &r.table) {
+        let lambda = match (s.approach, &r.table) {
             (Approach::Nmm, _) => "per bin".to_string(),
             (Approach::Baked, _) => "1 (baked)".to_string(),
-            _ => format!("{} ({})", c.lambda_step_nm, r.lambda_count),
+            _ => format!("{} ({})", s.lambda_step_nm, r.lambda_count),
         };
         // A baked row's "N" is its table's Chebyshev terms in w and its "taps" the table's texels and memory.
         let (order, taps) = match &r.table {
@@ -336,7 +357,7 @@ pub fn markdown(rows: &[Row]) -> String {
         let _ = writeln!(
             out,
             "| {} | {} | {} | {} | {}×{} | {} | {} | {} | {} | {} | {} | {} |",
-            c.approach.name(),
+            s.approach.name(),
             order,
             lambda,
             taps,
@@ -382,7 +403,8 @@ mod tests {
     use super::*;
 
     fn base() -> Config {
-        Config { approach: Approach::Flss, order: None, lambda_step_nm: 5.0, window_radius: None, size: 64 }
+        let overrides = Overrides { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..Overrides::default() };
+        Config { overrides, size: 64 }
     }
 
     #[test]
@@ -392,12 +414,12 @@ mod tests {
         let configs = configurations(base(), &[a, b]).unwrap();
         // 2 × 3 from the first sweep; the second adds Δλ = 10 (Δλ = 5 is the base, already listed).
         assert_eq!(configs.len(), 7);
-        assert_eq!(configs[0].order, Some(4));
-        assert_eq!(configs[2].order, None);
+        assert_eq!(configs[0].overrides.order, Some(4));
+        assert_eq!(configs[2].overrides.order, None);
         let old = configurations(base(), &[Sweep::parse(&["terms=3".into()]).unwrap()]).unwrap();
-        assert_eq!(old[0].order, Some(3), "the key's first name is still accepted");
-        assert_eq!(configs[3].approach, Approach::Pq);
-        assert_eq!(configs[6].lambda_step_nm, 10.0);
+        assert_eq!(old[0].overrides.order, Some(3), "the key's first name is still accepted");
+        assert_eq!(configs[3].overrides.approach, Some(Approach::Pq));
+        assert_eq!(configs[6].overrides.lambda_step_nm, Some(10.0));
     }
 
     #[test]

@@ -91,7 +91,7 @@ pub fn plot(out: &Path, title: &str, rows: &[Row], font: Option<&Path>) -> Resul
         for approach in Approach::ALL {
             // Rows without a reference (`--no-reference`) have no error to plot.
             let mine: Vec<(&Row, ImageError)> =
-                rows.iter().filter(|r| r.config.approach == approach).filter_map(|r| Some((r, r.error?))).collect();
+                rows.iter().filter(|r| r.settings.approach == approach).filter_map(|r| Some((r, r.error?))).collect();
             if mine.is_empty() {
                 continue;
             }
@@ -135,8 +135,8 @@ fn point_label(r: &Row, rows: &[Row]) -> String {
     if let Some(n) = r.order.filter(|_| varies(&|o| format!("{:?}", o.order))) {
         parts.push(format!("N={n}"));
     }
-    if !matches!(r.config.approach, Approach::Nmm | Approach::Gem) && varies(&|o| o.lambda_count.to_string()) {
-        parts.push(format!("Δλ={}", r.config.lambda_step_nm));
+    if !matches!(r.settings.approach, Approach::Nmm | Approach::Gem) && varies(&|o| o.lambda_count.to_string()) {
+        parts.push(format!("Δλ={}", r.settings.lambda_step_nm));
     }
     if varies(&|o| o.taps.to_string()) {
         parts.push(format!("{}² taps", r.taps));

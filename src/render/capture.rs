@@ -9,18 +9,8 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material, Reach};
+use crate::shading::{Material, Overrides, Reach};
 use crate::vk::Context;
-
-/// Settings that replace every material's own (the command line's `--approach`, `--terms`, …).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Overrides {
-    pub approach: Option<Approach>,
-    pub order: Option<usize>,
-    pub lambda_step_nm: Option<f64>,
-    pub window_radius: Option<u32>,
-    pub accept_f32_error: bool,
-}
 
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
@@ -33,13 +23,7 @@ pub fn prepare_materials(scene: &Scene, overrides: &Overrides, reaches: &[Reach]
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            let mut s = m.settings;
-            s.approach = overrides.approach.unwrap_or(s.approach);
-            s.order = overrides.order.or(s.order);
-            s.lambda_step_nm = overrides.lambda_step_nm.unwrap_or(s.lambda_step_nm);
-            s.window_radius = overrides.window_radius.or(s.window_radius);
-            s.accept_f32_error |= overrides.accept_f32_error;
-            Material::prepare(&m.heightfield, s, &reaches[i.min(reaches.len() - 1)])
+            Material::prepare(&m.heightfield, overrides.apply(m.settings), &reaches[i.min(reaches.len() - 1)])
                 .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
         })
         .collect()

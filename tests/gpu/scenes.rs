@@ -1,7 +1,8 @@
 //! Every scene shipped in assets/scenes renders validation-clean, with colour, as its golden image shows it.
 
-use diffract::render::capture::{prepare_materials, scene_reaches, Overrides, SceneCapture};
+use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::scene::Scene;
+use diffract::shading::Overrides;
 
 use crate::golden;
 use crate::harness::gpu_test;

@@ -1,0 +1,357 @@
+//! The profiler's loop: for each [`Config`], prepare the subject's materials, draw warm-up and timed frames,
+//! count the fetches, and measure the image against the exact reference of its size (computed once per size).
+//! The command line parses and prints; everything measured is decided here.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use ash::vk;
+use glam::DVec3;
+
+use super::exact_image::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
+use super::{Config, Row, TableSummary, MAX_SIZE};
+use crate::error::{Error, Result};
+use crate::physics::{optics, spectrum, HeightField};
+use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
+use crate::render::gbuffer::{GBuffer, Seen};
+use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneView, SceneWorkload, Workload};
+use crate::scene::Scene;
+use crate::shading::{Material, Reach, Settings};
+use crate::stats::Spread;
+use crate::vk::Context;
+
+/// What is profiled.
+pub enum Subject {
+    /// The BRDF map of a height field lit from `light` (the patch frame), its material `settings` before each
+    /// configuration's overrides; `name` and `light_deg` (θ_i, φ_i) describe it.
+    Map { heightfield: HeightField, light: DVec3, settings: Settings, name: String, light_deg: (f64, f64) },
+    /// A scene; its images are `aspect` (height over width) as tall as wide.
+    Scene { scene: Box<Scene>, name: String, aspect: f64 },
+}
+
+impl Subject {
+    /// One line for the report's header.
+    pub fn describe(&self) -> String {
+        match self {
+            Subject::Map { heightfield: hf, settings, name, light_deg: (theta, phi), .. } => {
+                let (lx, ly) = hf.size_um();
+                format!(
+                    "BRDF map of {name} ({}×{} px, {lx:.1}×{ly:.1} µm), light θ_i = {theta}°, φ_i = {phi}°, coherence {} µm",
+                    hf.nx, hf.ny, settings.coherence_um
+                )
+            }
+            Subject::Scene { scene, name, .. } => format!(
+                "scene {name} ({} objects, {} materials; each material's approach, Taylor order, Δλ and window radius set \
+                 by the configuration)",
+                scene.objects.len(),
+                scene.materials.len()
+            ),
+        }
+    }
+
+    /// A few words for a plot's title.
+    pub fn short_name(&self) -> String {
+        match self {
+            Subject::Map { name, .. } => {
+                let file = std::path::Path::new(name).file_name().map_or(String::new(), |n| n.to_string_lossy().into());
+                format!("BRDF map of {file}")
+            }
+            Subject::Scene { name, .. } => format!("scene {name}"),
+        }
+    }
+
+    /// The image of `config`: a map is square; a scene's height follows the width at its aspect.
+    pub fn image_size(&self, config: &Config) -> (u32, u32) {
+        match self {
+            Subject::Map { .. } => (config.size, config.size),
+            Subject::Scene { aspect, .. } => {
+                (config.size, ((f64::from(config.size) * aspect).round() as u32).clamp(1, MAX_SIZE))
+            }
+        }
+    }
+
+    /// Samples per pixel of the timed frames: as asked, else the scene's; a map has one.
+    pub fn frame_samples(&self, asked: Option<u32>) -> Result<u32> {
+        match self {
+            Subject::Map { .. } if asked.is_some_and(|n| n > 1) => Err(Error::Invalid(
+                "--samples is for scenes: a BRDF map's pixels are directions (--reference-samples averages them)"
+                    .into(),
+            )),
+            Subject::Map { .. } => Ok(1),
+            Subject::Scene { scene, .. } => Ok(asked.unwrap_or(scene.render.samples)),
+        }
+    }
+
+    /// The exposure the error is measured at unless one is asked for: the scene's, a map's 0.
+    pub fn exposure(&self) -> f64 {
+        match self {
+            Subject::Map { .. } => 0.0,
+            Subject::Scene { scene, .. } => scene.render.exposure_ev,
+        }
+    }
+
+    /// The materials `config` asks for (the Taylor terms and everything else the GPU needs). A scene's materials
+    /// are sized (baked tables) for the views its frame at `size` shows.
+    fn prepare(&self, ctx: &Context, config: &Config, size: (u32, u32)) -> Result<Vec<Material>> {
+        match self {
+            Subject::Map { heightfield, light, settings, .. } => {
+                let reach = Reach::Map { light: *light, size: config.size };
+                Ok(vec![Material::prepare(heightfield, config.overrides.apply(*settings), &reach)?])
+            }
+            Subject::Scene { scene, .. } => {
+                let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], size.0, size.1)?;
+                prepare_materials(scene, &config.overrides, &reaches)
+            }
+        }
+    }
+
+    /// The exact reference at `size`. With `samples` > 1 it is evaluated at `samples`² positions per pixel (an
+    /// image that many times larger) and averaged.
+    fn reference(
+        &self,
+        ctx: &Context,
+        size: (u32, u32),
+        samples: u32,
+        cache: Option<&std::path::Path>,
+    ) -> Result<ReferenceImage> {
+        let fine = (size.0 * samples, size.1 * samples);
+        let job = match self {
+            Subject::Map { heightfield, light, settings, .. } => ReferenceJob {
+                materials: vec![ReferenceMaterial { heightfield, coherence_um: settings.coherence_um }],
+                width: fine.0,
+                height: fine.1,
+                pixels: ReferenceJob::map_pixels(fine.0, *light),
+            },
+            Subject::Scene { scene, .. } => ReferenceJob {
+                materials: scene
+                    .materials
+                    .iter()
+                    .map(|m| ReferenceMaterial { heightfield: &m.heightfield, coherence_um: m.settings.coherence_um })
+                    .collect(),
+                width: fine.0,
+                height: fine.1,
+                pixels: scene_pixels(ctx, scene, fine)?,
+            },
+        };
+        Ok(job.compute(cache)?.downsample(samples))
+    }
+
+    /// The GPU side of one configuration's frames.
+    fn workload<'a>(
+        &'a self,
+        ctx: &Context,
+        materials: &'a [Material],
+        size: (u32, u32),
+        options: &Options,
+    ) -> Result<Box<dyn Workload + 'a>> {
+        Ok(match self {
+            Subject::Map { light, .. } => {
+                // Against an area-sampled reference a baked map averages over its pixels too.
+                let footprint = options.reference.as_ref().is_some_and(|r| r.samples > 1);
+                Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, footprint)?)
+            }
+            Subject::Scene { scene, .. } => {
+                let [r, g, b] = scene.render.background;
+                let view = SceneView {
+                    camera: scene.camera,
+                    light_dir: scene.light_dir,
+                    ambient: scene.ambient,
+                    models: scene.objects.iter().map(|o| o.model).collect(),
+                    background: [r, g, b, 1.0],
+                };
+                let inputs = material_inputs(scene, materials);
+                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, options.samples)?)
+            }
+        })
+    }
+}
+
+/// What each pixel of `scene` at `size` asks of the exact reference: the directions come from the GPU's
+/// rasteriser (the same triangles, the same fragments as the frames); everything after them (the BRDF, the
+/// pigment term) is evaluated on the CPU.
+fn scene_pixels(ctx: &Context, scene: &Scene, size: (u32, u32)) -> Result<Vec<Option<PixelQuery>>> {
+    let gbuffer = GBuffer::draw(ctx, scene, &scene.camera, scene.light_dir, size.0, size.1)?;
+    let ambient = f64::from(scene.ambient);
+    Ok(gbuffer
+        .pixels
+        .iter()
+        .map(|seen| {
+            let Seen { omega_i, omega_r, material, albedo, normal_up, .. } = (*seen)?;
+            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient);
+            Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
+        })
+        .collect())
+}
+
+/// The exact reference's settings.
+#[derive(Clone, Debug)]
+pub struct ReferenceOptions {
+    /// Positions per pixel axis.
+    pub samples: u32,
+    /// Folder of cached reference images (None: compute and keep nothing).
+    pub cache: Option<PathBuf>,
+}
+
+/// How every configuration is measured.
+pub struct Options {
+    /// Timed frames (at least one) after `warmup` untimed ones.
+    pub frames: u32,
+    pub warmup: u32,
+    /// Exposure (EV) of the images as displayed, at which ΔE00 is measured.
+    pub exposure: f64,
+    /// Samples per pixel of a scene's timed frames.
+    pub samples: vk::SampleCountFlags,
+    /// None: time only, no error columns.
+    pub reference: Option<ReferenceOptions>,
+    /// The device's texel-fetch peak, for each row's share of it.
+    pub probe: Option<ProbeResult>,
+}
+
+/// What the loop tells its caller as it goes.
+pub enum Progress<'a> {
+    /// Configuration `index` of `count` (from 1) is at step `what` (transient).
+    Step { index: usize, count: usize, label: &'a str, what: &'a str },
+    /// A line to keep.
+    Line(String),
+}
+
+/// Every configuration's row, and the description of each reference image by size.
+pub struct Report {
+    pub rows: Vec<Row>,
+    pub references: Vec<((u32, u32), String)>,
+}
+
+/// Measures `subject` under each of `configs`.
+pub fn run(
+    ctx: &Context,
+    subject: &Subject,
+    configs: &[Config],
+    options: &Options,
+    progress: &dyn Fn(Progress<'_>),
+) -> Result<Report> {
+    let mut references: Vec<((u32, u32), ReferenceImage)> = Vec::new();
+    let mut rows = Vec::with_capacity(configs.len());
+    let count = configs.len();
+    for (i, config) in configs.iter().enumerate() {
+        let index = i + 1;
+        let label = config.label();
+        let step = |what: &str| progress(Progress::Step { index, count, label: &label, what });
+        let in_config = |e: Error| Error::Invalid(format!("configuration {label}: {e}"));
+        let size = subject.image_size(config);
+        step("precomputing");
+        let start = Instant::now();
+        let materials = subject.prepare(ctx, config, size).map_err(in_config)?;
+        let precompute_ms = start.elapsed().as_secs_f64() * 1e3;
+        for line in materials.iter().filter_map(Material::table_line) {
+            progress(Progress::Line(format!("[{index}/{count}] {line}")));
+        }
+        if let Some(r) = options.reference.as_ref().filter(|_| !references.iter().any(|(s, _)| *s == size)) {
+            let start = Instant::now();
+            let image = subject.reference(ctx, size, r.samples, r.cache.as_deref())?;
+            let seconds = start.elapsed().as_secs_f64();
+            progress(Progress::Line(format!(
+                "reference {}×{} ({seconds:.1} s): {}",
+                size.0, size.1, image.description
+            )));
+            references.push((size, image));
+        }
+        let reference = references.iter().find(|(s, _)| *s == size).map(|r| &r.1);
+        let measured = Measured { materials: &materials, precompute_ms, reference };
+        let row = measure_config(ctx, subject, config, size, options, &measured, &step).map_err(in_config)?;
+        progress(Progress::Line(format!(
+            "[{index}/{count}] {}: GPU {} ms{}",
+            row.label(),
+            row.gpu_ms.map_or("n/a".into(), |s| super::ms(s.median)),
+            row.error.map(|e| format!(", ΔE00 mean {:.3}", e.mean_de)).unwrap_or_default()
+        )));
+        rows.push(row);
+    }
+    let references = references.into_iter().map(|(size, image)| (size, image.description)).collect();
+    Ok(Report { rows, references })
+}
+
+/// What one configuration is measured with and against.
+struct Measured<'a> {
+    materials: &'a [Material],
+    precompute_ms: f64,
+    reference: Option<&'a ReferenceImage>,
+}
+
+fn measure_config(
+    ctx: &Context,
+    subject: &Subject,
+    config: &Config,
+    size: (u32, u32),
+    options: &Options,
+    with: &Measured<'_>,
+    step: &dyn Fn(&str),
+) -> Result<Row> {
+    let Measured { materials, precompute_ms, reference } = *with;
+    let mut workload = subject.workload(ctx, materials, size, options)?;
+    let measured = frames(ctx, workload.as_mut(), options, step);
+    let result = measured.and_then(|(samples, image, fetches)| {
+        let error = reference.map(|r| exact_image::image_error(r, &image, options.exposure)).transpose()?;
+        Ok((samples, error, fetches))
+    });
+    // SAFETY: every frame was waited for.
+    unsafe { workload.destroy(ctx) };
+    let (samples, error, fetches) = result?;
+    let gpu: Vec<f64> = samples.iter().filter_map(|s| s.gpu_ms).collect();
+    let gpu_ms = (gpu.len() == samples.len()).then(|| Spread::of(&gpu)).flatten();
+    let cpu_ms = Spread::of(&samples.iter().map(|s| s.cpu_ms).collect::<Vec<_>>())
+        .ok_or_else(|| Error::Invalid("no timed frame".into()))?;
+    let total_fetches: u64 = fetches.iter().map(|c| u64::from(c.fetches)).sum();
+    // Covered pixels are those shaded at least once (the counting shaders run only where the surface is seen).
+    let covered = fetches.iter().filter(|c| c.shaded > 0).count();
+    let shaded: u64 = fetches.iter().map(|c| u64::from(c.shaded)).sum();
+    let fetches_per_s = gpu_ms.filter(|s| s.median > 0.0).map(|s| total_fetches as f64 / (s.median * 1e-3));
+    let m = &materials[0];
+    Ok(Row {
+        config: *config,
+        settings: m.settings,
+        width: size.0,
+        height: size.1,
+        order: m.plan.map(|p| p.order),
+        lambda_count: m.sampling.count,
+        taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,
+        frames: samples.len(),
+        precompute_ms,
+        gpu_ms,
+        cpu_ms,
+        fragment_invocations: samples.last().and_then(|s| s.fragment_invocations),
+        shaded_per_pixel: shaded as f64 / covered.max(1) as f64,
+        fetches_per_pixel: total_fetches as f64 / f64::from(size.0 * size.1),
+        fetches_per_s,
+        roofline_fraction: fetches_per_s.zip(options.probe.as_ref()).map(|(rate, p)| rate / p.fetches_per_s),
+        error,
+        table: TableSummary::of(m),
+    })
+}
+
+/// Warm-up, timed frames, the last frame's image and one counting frame.
+fn frames(
+    ctx: &Context,
+    workload: &mut dyn Workload,
+    options: &Options,
+    step: &dyn Fn(&str),
+) -> Result<(Vec<FrameSample>, Vec<f32>, Vec<Counts>)> {
+    for w in 0..options.warmup {
+        step(&format!("warm-up {}/{}", w + 1, options.warmup));
+        workload.frame(ctx)?;
+    }
+    let mut samples = Vec::with_capacity(options.frames as usize);
+    for f in 0..options.frames {
+        step(&format!("frame {}/{}", f + 1, options.frames));
+        samples.push(workload.frame(ctx)?);
+    }
+    let image = workload.image(ctx)?;
+    if let Some(bad) = image.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "pixel {} of the image is not a finite number (a bug in diffract)",
+            bad / 4
+        )));
+    }
+    step("counting fetches");
+    let fetches = workload.count_fetches(ctx)?;
+    Ok((samples, image, fetches))
+}
