@@ -25,7 +25,7 @@ use crate::render::TargetView;
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Overrides};
 use crate::vk::swapchain::{self, Acquired, FrameSync, Surface, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Context, ContextDesc, ImageState, TimestampRing};
+use crate::vk::{Buffer, BufferDesc, Context, ContextDesc, Guard, ImageState, TimestampRing};
 
 /// The key bindings, as `H` prints them and the README lists them.
 pub const BINDINGS: &str = "\
@@ -370,30 +370,13 @@ impl State {
             m.params.display[0] = self.live.exposure_ev.exp2() as f32;
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
-        let renderer = SceneRenderer::new(&self.ctx, &inputs, &objects, format, true, samples)?;
+        let renderer = Guard::new(&self.ctx, SceneRenderer::new(&self.ctx, &inputs, &objects, format, true, samples)?);
         let first = &materials[scene.objects[0].material];
-        let map = match MapPass::new(&self.ctx, first, format, true, false) {
-            Ok(m) => m,
-            Err(e) => {
-                // SAFETY: nothing was submitted with it.
-                unsafe { renderer.destroy(&self.ctx) };
-                return Err(e);
-            }
-        };
-        match PatchResources::new(&self.ctx, first) {
-            Ok(map_patch) => {
-                self.gpu = Some(Gpu { materials, renderer, map, map_patch });
-                Ok(())
-            }
-            Err(e) => {
-                // SAFETY: nothing was submitted with these.
-                unsafe {
-                    renderer.destroy(&self.ctx);
-                    map.destroy(&self.ctx);
-                }
-                Err(e)
-            }
-        }
+        let map = Guard::new(&self.ctx, MapPass::new(&self.ctx, first, format, true, false)?);
+        let map_patch = PatchResources::new(&self.ctx, first)?;
+        let (renderer, map) = (renderer.keep(), map.keep());
+        self.gpu = Some(Gpu { materials, renderer, map, map_patch });
+        Ok(())
     }
 
     fn recreate_swapchain(&mut self, options: &ViewOptions) -> Result<()> {

@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
 use crate::shading::{Material, Overrides, Reach};
-use crate::vk::Context;
+use crate::vk::{Context, Guard};
 
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
@@ -83,16 +83,10 @@ impl SceneCapture {
     ) -> Result<Self> {
         let (inputs, objects) = (material_inputs(scene, materials), scene_objects(scene));
         let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false, samples)?;
-        match OffscreenFrames::new(ctx, width, height, false, samples) {
-            Ok(frames) => {
-                Ok(Self { renderer, frames, models: scene.objects.iter().map(|o| o.model).collect(), width, height })
-            }
-            Err(e) => {
-                // SAFETY: nothing was submitted.
-                unsafe { renderer.destroy(ctx) };
-                Err(e)
-            }
-        }
+        let renderer = Guard::new(ctx, renderer);
+        let frames = OffscreenFrames::new(ctx, width, height, false, samples)?;
+        let models = scene.objects.iter().map(|o| o.model).collect();
+        Ok(Self { renderer: renderer.keep(), frames, models, width, height })
     }
 
     /// Renders one frame: linear scene-referred RGBA float, checked to be finite.

@@ -18,8 +18,8 @@ use crate::shaders::interface::{
 };
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Image, ImageDesc,
-    ImageState, MemoryState, Pipeline, Sampler,
+    Binding, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
+    ImageDesc, ImageState, MemoryState, Pipeline, Sampler,
 };
 
 /// Rows per submission of a BRDF map: keeps each submission short (no driver watchdog) and lets long maps
@@ -89,44 +89,31 @@ impl PatchResources {
                 desc.layers, limits.max_image_array_layers
             )));
         }
-        let terms = ctx.create_image(desc, what)?;
-        let mut made = PartialPatch { terms: Some(terms), ..Default::default() };
-        let result = (|| {
-            let terms = made.terms.as_ref().expect("just made");
-            match &material.table {
-                Some(table) => {
-                    let texels: Vec<f32> = table.levels.iter().flat_map(|l| l.texels.iter().copied()).collect();
-                    ctx.upload_image(terms, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
-                }
-                None => ctx.upload_image(terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?,
+        let terms = Guard::new(ctx, ctx.create_image(desc, what)?);
+        match &material.table {
+            Some(table) => {
+                let texels: Vec<f32> = table.levels.iter().flat_map(|l| l.texels.iter().copied()).collect();
+                ctx.upload_image(&terms, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
             }
-            made.sampler = Some(ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
-            let table = spectrum::gpu_table();
-            made.spectrum = Some(ctx.create_buffer_init(
+            None => ctx.upload_image(&terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?,
+        }
+        let sampler = Guard::new(ctx, ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
+        let table = spectrum::gpu_table();
+        let spectrum = Guard::new(
+            ctx,
+            ctx.create_buffer_init(
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 bytemuck::cast_slice(&table),
                 "CIE 1931 × D65",
-            )?);
-            let size = std::mem::size_of_val(&material.params) as u64;
-            let mut params = ctx
-                .create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "diffraction params")?;
-            params.write(bytemuck::bytes_of(&material.params))?;
-            made.params = Some(params);
-            Ok(())
-        })();
-        match result {
-            Ok(()) => Ok(Self {
-                terms: made.terms.take().expect("made"),
-                sampler: made.sampler.take().expect("made"),
-                spectrum: made.spectrum.take().expect("made"),
-                params: made.params.take().expect("made"),
-            }),
-            Err(e) => {
-                // SAFETY: the failed upload was waited for; nothing else uses these.
-                unsafe { made.destroy(ctx) };
-                Err(e)
-            }
-        }
+            )?,
+        );
+        let size = std::mem::size_of_val(&material.params) as u64;
+        let mut params = Guard::new(
+            ctx,
+            ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "diffraction params")?,
+        );
+        params.write(bytemuck::bytes_of(&material.params))?;
+        Ok(Self { terms: terms.keep(), sampler: sampler.keep(), spectrum: spectrum.keep(), params: params.keep() })
     }
 
     /// Writes the uniforms (the light direction of a map, say); no submitted work may be reading them.
@@ -149,32 +136,6 @@ impl PatchResources {
         self.sampler.destroy(ctx);
         self.spectrum.destroy(ctx);
         self.params.destroy(ctx);
-    }
-}
-
-/// What [`PatchResources::new`] has made so far, for clean-up on failure.
-#[derive(Default)]
-struct PartialPatch {
-    terms: Option<Image>,
-    sampler: Option<Sampler>,
-    spectrum: Option<Buffer>,
-    params: Option<Buffer>,
-}
-
-impl PartialPatch {
-    unsafe fn destroy(mut self, ctx: &Context) {
-        if let Some(x) = self.terms.take() {
-            x.destroy(ctx);
-        }
-        if let Some(x) = self.sampler.take() {
-            x.destroy(ctx);
-        }
-        if let Some(x) = self.spectrum.take() {
-            x.destroy(ctx);
-        }
-        if let Some(x) = self.params.take() {
-            x.destroy(ctx);
-        }
     }
 }
 
@@ -321,54 +282,41 @@ impl MapPass {
 /// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels;
 /// `footprint`: a baked material averages over each pixel (else each pixel is the point value at its centre).
 pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
-    let mut patch = PatchResources::new(ctx, material)?;
-    let result = (|| {
-        patch.update(&light_params(material, light))?;
-        let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?;
-        let out = draw_map_bands(ctx, &pass, &patch, size);
-        // SAFETY: draw_map_bands waited for its work.
-        unsafe { pass.destroy(ctx) };
-        out
-    })();
-    // SAFETY: all work has completed.
-    unsafe { patch.destroy(ctx) };
-    result
+    let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
+    patch.update(&light_params(material, light))?;
+    let pass = Guard::new(ctx, MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?);
+    draw_map_bands(ctx, &pass, &patch, size)
 }
 
 fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u32) -> Result<MapImage> {
-    let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
-    let result = (|| {
-        let show_progress = std::io::stderr().is_terminal() && size >= 128;
-        let mut gpu_ms = Some(0.0);
-        let bands = size.div_ceil(MAP_BAND_ROWS);
-        for band in 0..bands {
-            let y0 = band * MAP_BAND_ROWS;
-            let area = vk::Rect2D {
-                offset: vk::Offset2D { x: 0, y: y0 as i32 },
-                extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
-            };
-            let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| {
-                if band == 0 {
-                    target.begin(ctx, cmd);
-                } else {
-                    target.continue_rendering(ctx, cmd);
-                }
-                pass.record(ctx, cmd, patch, &target.view(), Some(area));
-            })?;
-            gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
-            if show_progress {
-                eprint!("\rrendering map: {:3.0} %", 100.0 * f64::from(band + 1) / f64::from(bands));
+    let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?);
+    let show_progress = std::io::stderr().is_terminal() && size >= 128;
+    let mut gpu_ms = Some(0.0);
+    let bands = size.div_ceil(MAP_BAND_ROWS);
+    for band in 0..bands {
+        let y0 = band * MAP_BAND_ROWS;
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: y0 as i32 },
+            extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
+        };
+        let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| {
+            if band == 0 {
+                target.begin(ctx, cmd);
+            } else {
+                target.continue_rendering(ctx, cmd);
             }
-        }
+            pass.record(ctx, cmd, patch, &target.view(), Some(area));
+        })?;
+        gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
         if show_progress {
-            eprintln!();
+            eprint!("\rrendering map: {:3.0} %", 100.0 * f64::from(band + 1) / f64::from(bands));
         }
-        let bytes = target.read(ctx)?;
-        Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
-    })();
-    // SAFETY: every submission was waited for.
-    unsafe { target.destroy(ctx) };
-    result
+    }
+    if show_progress {
+        eprintln!();
+    }
+    let bytes = target.read(ctx)?;
+    Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
 }
 
 /// One query as `glsl/brdf_eval.comp.glsl` reads it.
@@ -395,59 +343,48 @@ pub fn evaluate_brdf(ctx: &Context, material: &Material, queries: &[Query]) -> R
             }
         })
         .collect();
-    let patch = PatchResources::new(ctx, material)?;
-    let mut buffers: Vec<Buffer> = Vec::new();
-    let result = (|| {
-        buffers.push(ctx.create_buffer_init(
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            bytemuck::cast_slice(&gpu),
-            "brdf queries",
-        )?);
-        buffers.push(ctx.create_buffer(BufferDesc::readback(8 * queries.len() as u64), "brdf results")?);
-        let stages = vk::ShaderStageFlags::COMPUTE;
-        let bindings = patch_bindings(stages);
-        let all = [
-            bindings[0],
-            bindings[1],
-            bindings[2],
-            Binding { binding: BINDING_QUERIES, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-            Binding { binding: BINDING_RESULTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-        ];
-        let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
+    let patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
+    let input =
+        ctx.create_buffer_init(vk::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(&gpu), "brdf queries");
+    let input = Guard::new(ctx, input?);
+    let output = Guard::new(ctx, ctx.create_buffer(BufferDesc::readback(8 * queries.len() as u64), "brdf results")?);
+    let stages = vk::ShaderStageFlags::COMPUTE;
+    let bindings = patch_bindings(stages);
+    let all = [
+        bindings[0],
+        bindings[1],
+        bindings[2],
+        Binding { binding: BINDING_QUERIES, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+        Binding { binding: BINDING_RESULTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
+    ];
+    let pipeline = Guard::new(
+        ctx,
+        ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: "brdf evaluation",
             shader: shaders::BRDF_EVAL_COMP,
             specialization: material.spec_constants(false),
             bindings: &all,
             push_constant_size: std::mem::size_of::<EvalPush>() as u32,
-        })?;
-        let [p, t, s] = patch.writes();
-        let writes = [
-            p,
-            t,
-            s,
-            DescriptorWrite::StorageBuffer(BINDING_QUERIES, &buffers[0]),
-            DescriptorWrite::StorageBuffer(BINDING_RESULTS, &buffers[1]),
-        ];
-        let count = queries.len() as u32;
-        let submitted = ctx.one_shot("brdf evaluation", |cmd| {
-            ctx.bind(cmd, &pipeline, &writes, bytemuck::bytes_of(&EvalPush { count }));
-            // SAFETY: recording with the pipeline bound.
-            unsafe { ctx.device().cmd_dispatch(cmd, count.div_ceil(LOCAL_SIZE_X), 1, 1) };
-            ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::HOST_READ);
-        });
-        // SAFETY: one_shot waited.
-        unsafe { pipeline.destroy(ctx) };
-        submitted?;
-        let bytes = ctx.read_buffer(&buffers[1])?;
-        let values: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
-        Ok(values.chunks(2).map(|v| (f64::from(v[0]), f64::from(v[1]))).collect())
-    })();
-    // SAFETY: all work has completed.
-    unsafe {
-        for b in buffers {
-            b.destroy(ctx);
-        }
-        patch.destroy(ctx);
-    }
-    result
+        })?,
+    );
+    let [p, t, s] = patch.writes();
+    let writes = [
+        p,
+        t,
+        s,
+        DescriptorWrite::StorageBuffer(BINDING_QUERIES, &input),
+        DescriptorWrite::StorageBuffer(BINDING_RESULTS, &output),
+    ];
+    let count = queries.len() as u32;
+    ctx.one_shot("brdf evaluation", |cmd| {
+        ctx.bind(cmd, &pipeline, &writes, bytemuck::bytes_of(&EvalPush { count }));
+        // SAFETY: recording with the pipeline bound.
+        unsafe { ctx.device().cmd_dispatch(cmd, count.div_ceil(LOCAL_SIZE_X), 1, 1) };
+        ctx.barrier_memory(cmd, MemoryState::COMPUTE_WRITE, MemoryState::HOST_READ);
+    })?;
+    let bytes = ctx.read_buffer(&output)?;
+    let values: Vec<f32> = bytemuck::pod_collect_to_vec(&bytes);
+    Ok(values.chunks(2).map(|v| (f64::from(v[0]), f64::from(v[1]))).collect())
 }
+
+crate::impl_destroy!(PatchResources, MapPass);

@@ -14,7 +14,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use crate::vk::{Buffer, Context, Image, ImageDesc, ImageState};
+use crate::vk::{Buffer, Context, Destroy, Guard, Image, ImageDesc, ImageState};
 
 /// The format of offscreen colour targets: 8-bit sRGB, so the store applies the sRGB transfer function and the
 /// bytes read back are what a PNG holds.
@@ -75,27 +75,21 @@ impl OffscreenTarget {
                 "{width}×{height} exceeds the device's {limit}-pixel image limit"
             )));
         }
-        let color = ctx.create_image(ImageDesc::render_target(width, height, format), "offscreen colour")?;
-        let mut made = Self { color, msaa: None, depth: None };
-        let rest = (|| {
-            if samples != vk::SampleCountFlags::TYPE_1 {
+        let color =
+            Guard::new(ctx, ctx.create_image(ImageDesc::render_target(width, height, format), "offscreen colour")?);
+        let msaa = match samples {
+            vk::SampleCountFlags::TYPE_1 => None,
+            _ => {
                 let desc = ImageDesc::render_target(width, height, format).multisampled(samples);
-                made.msaa = Some(ctx.create_image(desc, "offscreen colour (multisampled)")?);
+                Some(ctx.create_image(desc, "offscreen colour (multisampled)")?)
             }
-            if depth {
-                made.depth =
-                    Some(ctx.create_image(ImageDesc::depth(width, height).multisampled(samples), "offscreen depth")?);
-            }
-            Ok(())
-        })();
-        match rest {
-            Ok(()) => Ok(made),
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { made.destroy(ctx) };
-                Err(e)
-            }
-        }
+        };
+        let msaa = Guard::new(ctx, msaa);
+        let depth = match depth {
+            true => Some(ctx.create_image(ImageDesc::depth(width, height).multisampled(samples), "offscreen depth")?),
+            false => None,
+        };
+        Ok(Self { color: color.keep(), msaa: msaa.keep(), depth })
     }
 
     pub fn view(&self) -> TargetView {
@@ -132,12 +126,8 @@ impl OffscreenTarget {
     /// The GPU must be done with the images.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.color.destroy(ctx);
-        if let Some(msaa) = self.msaa {
-            msaa.destroy(ctx);
-        }
-        if let Some(depth) = self.depth {
-            depth.destroy(ctx);
-        }
+        self.msaa.destroy(ctx);
+        self.depth.destroy(ctx);
     }
 }
 
@@ -223,20 +213,14 @@ impl MeshBuffers {
             vk::BufferUsageFlags::VERTEX_BUFFER,
             bytemuck::cast_slice(&mesh.vertices),
             &format!("{name} vertices"),
-        )?;
+        );
+        let vertices = Guard::new(ctx, vertices?);
         let indices = ctx.create_buffer_init(
             vk::BufferUsageFlags::INDEX_BUFFER,
             bytemuck::cast_slice(&mesh.indices),
             &format!("{name} indices"),
-        );
-        match indices {
-            Ok(indices) => Ok(Self { vertices, indices, index_count: mesh.indices.len() as u32 }),
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { vertices.destroy(ctx) };
-                Err(e)
-            }
-        }
+        )?;
+        Ok(Self { vertices: vertices.keep(), indices, index_count: mesh.indices.len() as u32 })
     }
 
     /// Binds the buffers and draws every triangle (a pipeline must be bound inside a rendering scope).
@@ -256,3 +240,5 @@ impl MeshBuffers {
         self.indices.destroy(ctx);
     }
 }
+
+crate::impl_destroy!(OffscreenTarget, MeshBuffers);

@@ -13,7 +13,8 @@ use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::BINDING_FRAME;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
+    SpecConstants,
 };
 
 /// Mirrors `FrameUniforms` in `glsl/include/preview_frame.glsl`.
@@ -78,18 +79,12 @@ impl PreviewPass {
             kind: vk::DescriptorType::UNIFORM_BUFFER,
             stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         }];
-        let mesh = MeshBuffers::new(ctx, mesh, Self::NAME)?;
+        let mesh = Guard::new(ctx, MeshBuffers::new(ctx, mesh, Self::NAME)?);
         let size = std::mem::size_of::<FrameUniforms>() as u64;
-        let uniforms = match ctx
-            .create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "preview uniforms")
-        {
-            Ok(u) => u,
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe { mesh.destroy(ctx) };
-                return Err(e);
-            }
-        };
+        let uniforms = Guard::new(
+            ctx,
+            ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "preview uniforms")?,
+        );
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
             vertex: shaders::PREVIEW_VERT,
@@ -103,18 +98,8 @@ impl PreviewPass {
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: true,
             samples,
-        });
-        match pipeline {
-            Ok(pipeline) => Ok(Self { pipeline, mesh, uniforms }),
-            Err(e) => {
-                // SAFETY: never used.
-                unsafe {
-                    mesh.destroy(ctx);
-                    uniforms.destroy(ctx);
-                }
-                Err(e)
-            }
-        }
+        })?;
+        Ok(Self { pipeline, mesh: mesh.keep(), uniforms: uniforms.keep() })
     }
 
     /// Writes the frame's uniforms; the previous frame using them must have completed.
@@ -165,23 +150,15 @@ pub fn render_offscreen(
     height: u32,
     samples: vk::SampleCountFlags,
 ) -> Result<Frame> {
-    let mut pass = PreviewPass::new(ctx, &scene.mesh, samples)?;
-    let result = (|| {
-        let target = OffscreenTarget::multisampled(ctx, width, height, COLOR_FORMAT, true, samples)?;
-        let frame = (|| {
-            pass.update(scene, width as f32 / height as f32)?;
-            let gpu_ms = ctx.one_shot_timed(PreviewPass::NAME, |cmd| {
-                target.begin(ctx, cmd);
-                pass.record(ctx, cmd, &target.view(), scene.background);
-            })?;
-            let rgba8 = target.read(ctx)?;
-            Ok(Frame { width, height, rgba8, gpu_ms })
-        })();
-        // SAFETY: one_shot_timed and read waited for all work.
-        unsafe { target.destroy(ctx) };
-        frame
-    })();
-    // SAFETY: all work using the pass has completed (or failed and been waited for).
-    unsafe { pass.destroy(ctx) };
-    result
+    let mut pass = Guard::new(ctx, PreviewPass::new(ctx, &scene.mesh, samples)?);
+    let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, COLOR_FORMAT, true, samples)?);
+    pass.update(scene, width as f32 / height as f32)?;
+    let gpu_ms = ctx.one_shot_timed(PreviewPass::NAME, |cmd| {
+        target.begin(ctx, cmd);
+        pass.record(ctx, cmd, &target.view(), scene.background);
+    })?;
+    let rgba8 = target.read(ctx)?;
+    Ok(Frame { width, height, rgba8, gpu_ms })
 }
+
+crate::impl_destroy!(PreviewPass);

@@ -16,8 +16,8 @@ use crate::shaders;
 use crate::shaders::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, ImageDesc, ImageState, MemoryState,
-    PassProfile, Pipeline, Sampler, Statistics,
+    Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard, ImageDesc, ImageState,
+    MemoryState, PassProfile, Pipeline, Statistics,
 };
 
 /// One frame's cost: GPU time (timestamps), wall time of record + submit + wait on the CPU, and fragment
@@ -99,38 +99,12 @@ pub struct MapWorkload {
 impl MapWorkload {
     /// `footprint`: a baked material averages over each pixel (else reads its point value).
     pub fn new(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<Self> {
-        let mut patch = PatchResources::new(ctx, material)?;
-        let parts = (|| {
-            patch.update(&light_params(material, light))?;
-            let pass = MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?;
-            let counting = match MapPass::counting(ctx, material, size, footprint) {
-                Ok(c) => c,
-                Err(e) => {
-                    // SAFETY: unused.
-                    unsafe { pass.destroy(ctx) };
-                    return Err(e);
-                }
-            };
-            match OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false) {
-                Ok(target) => Ok((pass, counting, target)),
-                Err(e) => {
-                    // SAFETY: unused.
-                    unsafe {
-                        pass.destroy(ctx);
-                        counting.destroy(ctx);
-                    }
-                    Err(e)
-                }
-            }
-        })();
-        match parts {
-            Ok((pass, counting, target)) => Ok(Self { patch, pass, counting, target, size }),
-            Err(e) => {
-                // SAFETY: nothing was submitted with the patch.
-                unsafe { patch.destroy(ctx) };
-                Err(e)
-            }
-        }
+        let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
+        patch.update(&light_params(material, light))?;
+        let pass = Guard::new(ctx, MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?);
+        let counting = Guard::new(ctx, MapPass::counting(ctx, material, size, footprint)?);
+        let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
+        Ok(Self { patch: patch.keep(), pass: pass.keep(), counting: counting.keep(), target, size })
     }
 }
 
@@ -193,67 +167,50 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
         return Err(Error::Invalid("the probe needs at least one frame".into()));
     }
     let desc = ImageDesc::texture_array(PROBE_SIDE, PROBE_SIDE, PROBE_LAYERS, vk::Format::R32G32_SFLOAT);
-    let texture = ctx.create_image(desc, "fetch probe texture")?;
-    let mut sampler: Option<Sampler> = None;
-    let mut pipeline: Option<Pipeline> = None;
-    let result = (|| {
-        // Deterministic non-trivial texels (a cheap hash), so the sums are not constant.
-        let texels: Vec<f32> = (0..PROBE_SIDE * PROBE_SIDE * PROBE_LAYERS * 2)
-            .map(|i| (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32)
-            .collect();
-        ctx.upload_image(&texture, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
-        let sampler = sampler.insert(ctx.create_sampler("fetch probe (nearest)")?);
-        let stages = vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
-        let pipeline = pipeline.insert(
-            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-                name: PROBE_NAME,
-                vertex: shaders::FULLSCREEN_VERT,
-                fragment: Some(shaders::FETCH_PROBE_FRAG),
-                specialization: crate::vk::SpecConstants::default()
-                    .u32(SPEC_PROBE_LAYERS, PROBE_LAYERS)
-                    .i32(SPEC_PROBE_TAPS, PROBE_TAPS as i32),
-                bindings: &bindings,
-                push_constant_size: 0,
-                vertex_stride: 0,
-                vertex_attributes: &[],
-                color_format: LINEAR_FORMAT,
-                depth: None,
-                cull_back_faces: false,
-                samples: vk::SampleCountFlags::TYPE_1,
-            })?,
-        );
-        let writes = [DescriptorWrite::SampledImage(BINDING_TABLE, &texture, sampler)];
-        let mut side = 256;
-        loop {
-            let target = OffscreenTarget::with_format(ctx, side, side, LINEAR_FORMAT, false)?;
-            let timed = probe_frames(ctx, &target, pipeline, &writes, frames);
-            // SAFETY: probe_frames waited for every frame.
-            unsafe { target.destroy(ctx) };
-            let Some(median_ms) = timed? else { return Ok(None) };
-            if median_ms >= PROBE_MIN_MS || side >= PROBE_MAX_SIDE {
-                let fetches_per_frame = u64::from(side) * u64::from(side) * u64::from(PROBE_TAPS.pow(2) * PROBE_LAYERS);
-                return Ok(Some(ProbeResult {
-                    fetches_per_s: fetches_per_frame as f64 / (median_ms * 1e-3),
-                    side,
-                    fetches_per_frame,
-                    median_gpu_ms: median_ms,
-                }));
-            }
-            side *= 2;
+    let texture = Guard::new(ctx, ctx.create_image(desc, "fetch probe texture")?);
+    // Deterministic non-trivial texels (a cheap hash), so the sums are not constant.
+    let texels: Vec<f32> = (0..PROBE_SIDE * PROBE_SIDE * PROBE_LAYERS * 2)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 8) as f32 / (1u32 << 24) as f32)
+        .collect();
+    ctx.upload_image(&texture, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
+    let sampler = Guard::new(ctx, ctx.create_sampler("fetch probe (nearest)")?);
+    let stages = vk::ShaderStageFlags::FRAGMENT;
+    let bindings = [Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
+    let pipeline = Guard::new(
+        ctx,
+        ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+            name: PROBE_NAME,
+            vertex: shaders::FULLSCREEN_VERT,
+            fragment: Some(shaders::FETCH_PROBE_FRAG),
+            specialization: crate::vk::SpecConstants::default()
+                .u32(SPEC_PROBE_LAYERS, PROBE_LAYERS)
+                .i32(SPEC_PROBE_TAPS, PROBE_TAPS as i32),
+            bindings: &bindings,
+            push_constant_size: 0,
+            vertex_stride: 0,
+            vertex_attributes: &[],
+            color_format: LINEAR_FORMAT,
+            depth: None,
+            cull_back_faces: false,
+            samples: vk::SampleCountFlags::TYPE_1,
+        })?,
+    );
+    let writes = [DescriptorWrite::SampledImage(BINDING_TABLE, &texture, &sampler)];
+    let mut side = 256;
+    loop {
+        let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, side, side, LINEAR_FORMAT, false)?);
+        let Some(median_ms) = probe_frames(ctx, &target, &pipeline, &writes, frames)? else { return Ok(None) };
+        if median_ms >= PROBE_MIN_MS || side >= PROBE_MAX_SIDE {
+            let fetches_per_frame = u64::from(side) * u64::from(side) * u64::from(PROBE_TAPS.pow(2) * PROBE_LAYERS);
+            return Ok(Some(ProbeResult {
+                fetches_per_s: fetches_per_frame as f64 / (median_ms * 1e-3),
+                side,
+                fetches_per_frame,
+                median_gpu_ms: median_ms,
+            }));
         }
-    })();
-    // SAFETY: every submission was waited for.
-    unsafe {
-        if let Some(p) = pipeline {
-            p.destroy(ctx);
-        }
-        if let Some(s) = sampler {
-            s.destroy(ctx);
-        }
-        texture.destroy(ctx);
+        side *= 2;
     }
-    result
 }
 
 const PROBE_NAME: &str = "fetch probe";
@@ -316,16 +273,10 @@ impl<'a> SceneWorkload<'a> {
         (width, height): (u32, u32),
         samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        let target = OffscreenTarget::multisampled(ctx, width, height, LINEAR_FORMAT, true, samples)?;
+        let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, LINEAR_FORMAT, true, samples)?);
         let shade = SurfaceVariant::Shade { display_output: false };
-        match Self::renderer(ctx, &inputs, &objects, &view, shade, &target) {
-            Ok(renderer) => Ok(Self { inputs, objects, view, renderer, target, width, height }),
-            Err(e) => {
-                // SAFETY: nothing was submitted.
-                unsafe { target.destroy(ctx) };
-                Err(e)
-            }
-        }
+        let renderer = Self::renderer(ctx, &inputs, &objects, &view, shade, &target)?;
+        Ok(Self { inputs, objects, view, renderer, target: target.keep(), width, height })
     }
 
     fn renderer(
@@ -337,14 +288,11 @@ impl<'a> SceneWorkload<'a> {
         target: &OffscreenTarget,
     ) -> Result<SceneRenderer> {
         let (extent, samples) = (target.color.extent(), target.view().samples);
-        let mut renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
+        let renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
+        let mut renderer = Guard::new(ctx, renderer);
         let aspect = extent.width as f32 / extent.height as f32;
-        if let Err(e) = renderer.update(&view.camera, view.light_dir, view.ambient, &view.models, aspect) {
-            // SAFETY: nothing was submitted.
-            unsafe { renderer.destroy(ctx) };
-            return Err(e);
-        }
-        Ok(renderer)
+        renderer.update(&view.camera, view.light_dir, view.ambient, &view.models, aspect)?;
+        Ok(renderer.keep())
     }
 }
 

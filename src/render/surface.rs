@@ -18,8 +18,8 @@ use crate::shaders;
 use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE};
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, Statistics,
-    VertexAttribute,
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
+    Statistics, VertexAttribute,
 };
 
 /// Mirrors `SurfaceUniforms` in `glsl/include/surface_frame.glsl`.
@@ -165,15 +165,10 @@ impl SceneRenderer {
         variant: SurfaceVariant,
         samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        let mut made = Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false, samples };
-        match made.fill(ctx, materials, objects, color_format, variant) {
-            Ok(()) => Ok(made),
-            Err(e) => {
-                // SAFETY: nothing was submitted with these.
-                unsafe { made.destroy(ctx) };
-                Err(e)
-            }
-        }
+        let mut made =
+            Guard::new(ctx, Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false, samples });
+        made.fill(ctx, materials, objects, color_format, variant)?;
+        Ok(made.keep())
     }
 
     fn fill(
@@ -208,7 +203,7 @@ impl SceneRenderer {
             bindings.push(super::diffraction::count_binding());
         }
         for input in materials {
-            let patch = PatchResources::new(ctx, input.material)?;
+            let patch = Guard::new(ctx, PatchResources::new(ctx, input.material)?);
             let baked = input.material.table.is_some();
             let (fragment, specialization) = match variant {
                 SurfaceVariant::Shade { display_output } => (
@@ -233,18 +228,10 @@ impl SceneRenderer {
                 depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
                 cull_back_faces,
                 samples: self.samples,
-            });
-            let pipeline = match pipeline {
-                Ok(p) => p,
-                Err(e) => {
-                    // SAFETY: unused.
-                    unsafe { patch.destroy(ctx) };
-                    return Err(e);
-                }
-            };
+            })?;
             self.materials.push(MaterialGpu {
                 pipeline,
-                patch,
+                patch: patch.keep(),
                 params: input.material.params,
                 orientation: orientation(input.orientation_deg),
                 pigment: input.pigment,
@@ -256,19 +243,11 @@ impl SceneRenderer {
                     "object {i} names material {material}, which does not exist"
                 )));
             }
-            let mesh = MeshBuffers::new(ctx, mesh, &format!("object {i}"))?;
+            let mesh = Guard::new(ctx, MeshBuffers::new(ctx, mesh, &format!("object {i}"))?);
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;
-            match ctx.create_buffer(
-                BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER),
-                &format!("object {i} uniforms"),
-            ) {
-                Ok(uniforms) => self.objects.push(ObjectGpu { mesh, uniforms, material }),
-                Err(e) => {
-                    // SAFETY: unused.
-                    unsafe { mesh.destroy(ctx) };
-                    return Err(e);
-                }
-            }
+            let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
+            let uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms"))?;
+            self.objects.push(ObjectGpu { mesh: mesh.keep(), uniforms, material });
         }
         Ok(())
     }
@@ -448,17 +427,11 @@ pub fn render_surface(
     let format = OffscreenFrames::format(display_output);
     let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
     let one = vk::SampleCountFlags::TYPE_1;
-    let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output, one)?;
-    let result = (|| {
-        let frames = OffscreenFrames::new(ctx, width, height, display_output, one)?;
-        let frame = renderer
-            .update(&scene.camera, scene.light_dir, 0.0, &[scene.model], width as f32 / height as f32)
-            .and_then(|()| frames.render(ctx, &renderer, scene.background));
-        // SAFETY: render waited for its work.
-        unsafe { frames.destroy(ctx) };
-        frame
-    })();
-    // SAFETY: all work has completed.
-    unsafe { renderer.destroy(ctx) };
-    result
+    let mut renderer =
+        Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output, one)?);
+    let frames = Guard::new(ctx, OffscreenFrames::new(ctx, width, height, display_output, one)?);
+    renderer.update(&scene.camera, scene.light_dir, 0.0, &[scene.model], width as f32 / height as f32)?;
+    frames.render(ctx, &renderer, scene.background)
 }
+
+crate::impl_destroy!(SceneRenderer, OffscreenFrames);

@@ -4,7 +4,8 @@
 //! - One top-level [`Context`] owns the instance, the device, the allocator and a command pool; it has the
 //!   crate's only `Drop` for Vulkan state (wait idle, destroy in reverse order, allocator before device).
 //! - Leaves ([`Buffer`], [`Image`], [`Pipeline`], [`Sampler`], [`TimestampRing`]) are plain structs
-//!   `{ raw, allocation, desc }` without `Drop`; their `unsafe fn destroy(self, &Context)` consumes them.
+//!   `{ raw, allocation, desc }` without `Drop`; their `unsafe fn destroy(self, &Context)` consumes them
+//!   ([`Destroy`]). Objects under construction sit in a [`Guard`], which destroys them on an early return.
 //!   Tests assert that no allocation is live when the context goes.
 //! - Vulkan 1.3 only: synchronization2 barriers, dynamic rendering, push descriptors. One graphics+compute
 //!   queue; work is recorded and submitted with [`Context::one_shot`].
@@ -15,6 +16,7 @@ mod buffer;
 mod command;
 mod debug;
 pub mod device;
+mod guard;
 mod image;
 mod instance;
 mod pipeline;
@@ -31,6 +33,7 @@ pub use buffer::{Buffer, BufferDesc};
 pub use command::{ImageState, MemoryState};
 pub use device::{DeviceInfo, DeviceSelector};
 pub use gpu_allocator::MemoryLocation;
+pub use guard::{Destroy, Guard};
 pub use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
 pub use pipeline::{
@@ -38,6 +41,8 @@ pub use pipeline::{
     VertexAttribute,
 };
 pub use query::{PassProfile, ScopeTiming, Statistics, TimestampRing};
+
+crate::impl_destroy!(Buffer, Image, Sampler, Pipeline, TimestampRing);
 
 use crate::error::{Error, Result, VkResultExt};
 

@@ -46,6 +46,26 @@ fn leak_check_sees_a_live_allocation() {
 }
 
 #[test]
+fn a_guard_destroys_what_it_holds_unless_kept() {
+    use diffract::vk::Guard;
+    gpu_test(|ctx| {
+        let failed_build = || -> Result<(), String> {
+            let a = Guard::new(ctx, ctx.create_buffer(BufferDesc::readback(256), "a").unwrap());
+            let b = Guard::new(ctx, vec![ctx.create_buffer(BufferDesc::readback(64), "b").unwrap()]);
+            assert_eq!(ctx.live_allocations().len(), 2);
+            let _ = (&a, &b);
+            Err("a later step failed".into())
+        };
+        assert!(failed_build().is_err());
+        assert!(ctx.live_allocations().is_empty(), "an early return destroys the guarded objects");
+        let kept = Guard::new(ctx, Some(ctx.create_buffer(BufferDesc::readback(256), "kept").unwrap())).keep();
+        assert_eq!(ctx.live_allocations(), vec!["kept".to_string()]);
+        // SAFETY: unused by the GPU.
+        unsafe { diffract::vk::Destroy::destroy(kept, ctx) };
+    });
+}
+
+#[test]
 fn compute_pipeline_with_push_descriptors_and_specialization() {
     gpu_test(|ctx| {
         let n = 1000u32;
