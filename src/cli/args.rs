@@ -57,12 +57,6 @@ pub struct MaterialArgs {
     pub coherence_um: f64,
 }
 
-impl Default for MaterialArgs {
-    fn default() -> Self {
-        Self { tolerance: DEFAULT_TOLERANCE, coherence_um: DEFAULT_COHERENCE_UM }
-    }
-}
-
 impl MaterialArgs {
     /// [`Settings::default`] with this tolerance and coherence.
     pub fn settings(&self) -> Settings {

@@ -15,6 +15,7 @@ use crate::profile::run::{self, Options, Progress, ReferenceOptions, Report, Sub
 use crate::profile::{self as prof, exact_image, Config, Row, Sweep};
 use crate::render::profile::{fetch_probe, ProbeResult};
 use crate::scene::Scene;
+use crate::shading::Settings;
 use crate::vk::Context;
 
 #[derive(Args, Debug)]
@@ -149,12 +150,13 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
         return Ok(Subject::Map {
             heightfield: heightfield.load()?,
             light: optics::direction(theta, phi),
-            settings: args.material.clone().unwrap_or_default().settings(),
+            settings: args.material.as_ref().map_or_else(Settings::default, MaterialArgs::settings),
             name: path.display().to_string(),
             light_deg: (theta, phi),
         });
     }
-    // Refused here, not by clap: a `requires` on an argument with a default fires when it is left out.
+    // Refused here, not by clap: a `requires = "heightfield"` lets them through beside SCENE (which conflicts
+    // with --heightfield), tried with clap 4.6.
     if args.material.is_some() || args.light_theta != 0.0 || args.light_phi != 0.0 {
         bail!(
             "--light-theta, --light-phi, --tolerance and --coherence-um are a BRDF map's (--heightfield); a scene has \
