@@ -1,7 +1,7 @@
 //! Frames: offscreen targets, the passes that draw into them, and readback to CPU images.
 //!
 //! Offscreen capture and the window share everything but the final target: a pass records into a
-//! [`TargetView`], which either an [`OffscreenTarget`] or a swapchain image provides.
+//! [`TargetView`], which either an [`OffscreenTarget`] or a [`window::WindowTarget`]'s frame provides.
 
 pub mod capture;
 pub mod diffraction;
@@ -9,6 +9,7 @@ pub mod gbuffer;
 pub mod preview;
 pub mod profile;
 pub mod surface;
+pub mod window;
 
 use ash::vk;
 

@@ -25,10 +25,12 @@ pub struct Surface {
 impl Surface {
     /// # Safety
     /// Every swapchain of the surface must be destroyed.
-    pub unsafe fn destroy(self) {
+    pub unsafe fn destroy(self, _ctx: &Context) {
         self.loader.destroy_surface(self.raw, None);
     }
 }
+
+crate::impl_destroy!(Surface, Swapchain, FrameSync);
 
 /// The images a window presents, with a depth buffer of the same extent and, when multisampled, the image drawn
 /// into and resolved into the presented one.
@@ -78,8 +80,8 @@ impl Context {
         Ok(Surface { raw, loader })
     }
 
-    /// Creates (or re-creates, retiring `old`) a swapchain of about `width`×`height` with 8-bit UNORM images
-    /// (the shaders encode sRGB themselves). `vsync`: FIFO; otherwise MAILBOX or IMMEDIATE where offered.
+    /// Creates (or re-creates, retiring `old`, which the caller still destroys) a swapchain of about
+    /// `width`×`height` with 8-bit UNORM images (the shaders encode sRGB themselves). `vsync`: FIFO; otherwise MAILBOX or IMMEDIATE where offered.
     /// `samples` per pixel (refused if the device cannot) are drawn into a multisampled image and depth buffer.
     pub fn create_swapchain(
         &self,
@@ -87,7 +89,7 @@ impl Context {
         (width, height): (u32, u32),
         vsync: bool,
         samples: u32,
-        old: Option<Swapchain>,
+        old: Option<&Swapchain>,
     ) -> Result<Swapchain> {
         let sl = &surface.loader;
         // SAFETY: plain queries on live objects.
@@ -144,13 +146,8 @@ impl Context {
             .present_mode(mode)
             .clipped(true)
             .old_swapchain(old.as_ref().map_or(vk::SwapchainKHR::null(), |o| o.raw));
-        // SAFETY: every pointer in `info` outlives the call; `old` is retired by it.
-        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR");
-        if let Some(old) = old {
-            // SAFETY: the caller waited for the device to be idle before recreating.
-            unsafe { old.destroy(self) };
-        }
-        let raw = raw?;
+        // SAFETY: every pointer in `info` outlives the call; `old` is retired by it (even if it fails).
+        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
         let (w, h) = (extent.width.max(1), extent.height.max(1));
         let attachments = self
             .sample_count(samples, format.format)
@@ -365,6 +362,12 @@ impl FrameSync {
             let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device.begin_command_buffer(self.cmd, &begin).vk("vkBeginCommandBuffer")
         }
+    }
+
+    /// Ends the command buffer's recording (before [`Context::submit_frame`]).
+    pub fn end(&self, ctx: &Context) -> Result<()> {
+        // SAFETY: the command buffer was begun by `begin`.
+        unsafe { ctx.device().end_command_buffer(self.cmd) }.vk("vkEndCommandBuffer")
     }
 
     /// Waits for the frame in flight (before rewriting its uniforms or reading back what it drew).

@@ -1,0 +1,546 @@
+//! `diffract view`: a scene in a window (winit + a Vulkan swapchain), with an orbit camera, light control and
+//! the speed/accuracy settings changed live; the title shows the approach, its settings, the GPU time per frame
+//! (timestamp queries) and the frame rate. `--frames N --screenshot FILE` renders N frames, writes the last and
+//! exits, for tests and demos.
+
+mod controls;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use ash::vk;
+use glam::{DVec3, Vec3};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::window::{Window, WindowId};
+
+pub use controls::BINDINGS;
+use controls::{Input, Live, Request};
+
+use crate::error::{Error, Result};
+use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
+use crate::render::diffraction::{light_params, MapPass, PatchResources};
+use crate::render::surface::SceneRenderer;
+use crate::render::window::{WindowFrame, WindowTarget};
+use crate::scene::Scene;
+use crate::shading::{Approach, Material, Overrides, Reach};
+use crate::vk::swapchain;
+use crate::vk::{Context, ContextDesc, Guard};
+
+/// What `diffract view` was asked for.
+pub struct ViewOptions {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    pub vsync: bool,
+    pub context: ContextDesc,
+    pub overrides: Overrides,
+    pub exposure_ev: f64,
+    /// Render this many frames, write the last to `screenshot` and exit.
+    pub frames: Option<u32>,
+    pub screenshot: Option<PathBuf>,
+    /// Ask the window to shrink after this many frames (tests that a resize is survived).
+    pub resize_after: Option<u32>,
+    /// Every [`SOAK_PERIOD`] frames: a new window size and the next approach; resident memory printed.
+    pub soak: bool,
+    /// Samples per pixel of the scene's frames (multisample anti-aliasing; 1: none); None: the scene's, except
+    /// on a CPU implementation (see [`CPU_MSAA_NOTE`]).
+    pub samples: Option<u32>,
+}
+
+/// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe shades every sample, so
+/// 4× multisampling costs about 4× the frame time there (`diffract render --samples 1|4` on the default scene:
+/// 80–85 → 328–439 ms per 800² frame).
+pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 4× the frame time: \
+                                 edges are not anti-aliased (--samples 4 turns it on)";
+
+/// Frames between the soak's resizes and approach switches.
+pub const SOAK_PERIOD: u32 = 50;
+/// The soak's window sizes, as fractions (numerator, denominator) of the requested size, in turn.
+const SOAK_SIZES: [(u32, u32); 4] = [(3, 4), (1, 2), (5, 4), (1, 1)];
+
+/// What the soak saw: resizes and switches made, resident memory (MiB) after the first frame, after the first
+/// round of every approach, and at the end.
+#[derive(Default)]
+struct Soak {
+    resizes: u32,
+    switches: u32,
+    rss_first: Option<f64>,
+    rss_round: Option<f64>,
+    /// The frame of the last step (a frame that is not presented, e.g. out of date, keeps the count).
+    stepped_at: u32,
+}
+
+/// This process's resident memory in MiB (Linux: /proc/self/status), or None elsewhere.
+fn resident_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kib: f64 =
+        status.lines().find_map(|l| l.strip_prefix("VmRSS:"))?.trim().trim_end_matches("kB").trim().parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Opens the window and runs until it is closed (or the scripted frames are done); returns the number of
+/// validation messages (0 without `--validation`).
+pub fn run(options: ViewOptions) -> Result<usize> {
+    let event_loop = EventLoop::new().map_err(|e| {
+        Error::Invalid(format!("cannot open a window ({e}); `diffract view` needs a desktop (DISPLAY or WAYLAND_DISPLAY) — use `diffract render` for headless images"))
+    })?;
+    let mut app = App { options, state: None, error: None, log: None };
+    event_loop.run_app(&mut app).map_err(|e| Error::Invalid(format!("the window's event loop failed: {e}")))?;
+    if let Some(e) = app.error {
+        return Err(e);
+    }
+    Ok(app.log.map_or(0, |l| l.count()))
+}
+
+struct App {
+    options: ViewOptions,
+    state: Option<State>,
+    error: Option<Error>,
+    log: Option<std::sync::Arc<crate::vk::ValidationLog>>,
+}
+
+/// What the window draws with: the materials prepared for the live settings and the passes built for them.
+struct Gpu {
+    materials: Vec<Material>,
+    renderer: SceneRenderer,
+    map: MapPass,
+    map_patch: PatchResources,
+}
+
+/// The viewer's frame counts and timings.
+struct Timing {
+    /// Frames presented.
+    frame: u32,
+    /// The GPU time of the last frame measured.
+    gpu_ms: Option<f64>,
+    /// GPU ms of every frame after the first (the first includes the driver's shader compilation).
+    frame_times: Vec<f64>,
+    /// When the scripted frames started (after the first).
+    timed_since: Option<Instant>,
+    /// The title's frame rate: when it was last shown, frames since, and its value.
+    last_title: Instant,
+    fps_frames: u32,
+    fps: f64,
+}
+
+struct State {
+    /// Dropped after the target (its surface), which [`State::destroy`] destroys first.
+    window: Window,
+    ctx: Context,
+    target: WindowTarget,
+    gpu: Gpu,
+    live: Live,
+    input: Input,
+    timing: Timing,
+    screenshots_taken: u32,
+    soak: Soak,
+}
+
+impl App {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        if self.error.is_none() {
+            self.error = Some(e);
+        }
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.state.is_some() {
+            return;
+        }
+        match State::new(event_loop, &self.options) {
+            Ok(state) => {
+                self.log = Some(state.ctx.validation());
+                println!("{BINDINGS}");
+                self.state = Some(state);
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(state) = self.state.as_mut() else { return };
+        let result = match event {
+            WindowEvent::CloseRequested => {
+                event_loop.exit();
+                Ok(())
+            }
+            WindowEvent::Resized(_) => {
+                state.target.mark_stale();
+                Ok(())
+            }
+            WindowEvent::ModifiersChanged(m) => {
+                state.input.modifiers = m.state();
+                Ok(())
+            }
+            WindowEvent::KeyboardInput { event, .. } => state.key(event_loop, &event, &self.options),
+            WindowEvent::MouseInput { state: pressed, button, .. } => {
+                state.input.dragging = (pressed == ElementState::Pressed).then_some(button);
+                Ok(())
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                state.input.drag(&mut state.live, position.x, position.y);
+                Ok(())
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                state.live.zoom(delta);
+                Ok(())
+            }
+            WindowEvent::RedrawRequested => state.draw(event_loop, &self.options),
+            _ => Ok(()),
+        };
+        if let Err(e) = result {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = &self.state {
+            state.window.request_redraw();
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(state) = self.state.take() {
+            let live = state.destroy();
+            if self.options.soak {
+                println!("soak: {} GPU allocations live at teardown", live.len());
+            }
+            if !live.is_empty() && self.error.is_none() {
+                self.error = Some(Error::Invalid(format!(
+                    "a bug in diffract: {} GPU allocations still live when the window closed ({})",
+                    live.len(),
+                    live.join(", ")
+                )));
+            }
+        }
+    }
+}
+
+impl Gpu {
+    /// Prepares the scene's materials for the live settings and builds the passes for the window's target.
+    fn new(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -> Result<Self> {
+        let mut materials = prepare_materials(scene, &live.overrides, &[Reach::ANY])?;
+        for m in &mut materials {
+            m.params.display[0] = live.exposure_scale() as f32;
+        }
+        let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
+        let (format, samples) = (target.format(), target.samples());
+        let renderer = Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &objects, format, true, samples)?);
+        let first = &materials[scene.objects[0].material];
+        let map = Guard::new(ctx, MapPass::new(ctx, first, format, true, false)?);
+        let map_patch = PatchResources::new(ctx, first)?;
+        Ok(Self { renderer: renderer.keep(), map: map.keep(), map_patch, materials })
+    }
+
+    /// # Safety
+    /// No pending work may use the passes.
+    unsafe fn destroy(self, ctx: &Context) {
+        self.renderer.destroy(ctx);
+        self.map.destroy(ctx);
+        self.map_patch.destroy(ctx);
+    }
+}
+
+crate::impl_destroy!(Gpu);
+
+impl Timing {
+    fn new() -> Self {
+        Self {
+            frame: 0,
+            gpu_ms: None,
+            frame_times: Vec::new(),
+            timed_since: None,
+            last_title: Instant::now(),
+            fps_frames: 0,
+            fps: 0.0,
+        }
+    }
+
+    /// Notes the GPU time of the frame before the one begun now.
+    fn measured(&mut self, previous_gpu_ms: Option<f64>) {
+        let Some(ms) = previous_gpu_ms else { return };
+        self.gpu_ms = Some(ms);
+        if self.frame > 1 {
+            self.frame_times.push(ms);
+        } else {
+            self.timed_since = Some(Instant::now());
+        }
+    }
+
+    /// Counts a presented frame; true when the title's frame rate is due for an update (every half second).
+    fn presented(&mut self) -> bool {
+        self.frame += 1;
+        self.fps_frames += 1;
+        let elapsed = self.last_title.elapsed().as_secs_f64();
+        if elapsed < 0.5 && self.frame > 1 {
+            return false;
+        }
+        self.fps = f64::from(self.fps_frames) / elapsed.max(1e-9);
+        self.fps_frames = 0;
+        self.last_title = Instant::now();
+        true
+    }
+}
+
+impl State {
+    fn new(event_loop: &ActiveEventLoop, options: &ViewOptions) -> Result<Self> {
+        let attributes = Window::default_attributes()
+            .with_title("diffract")
+            .with_inner_size(PhysicalSize::new(options.width, options.height));
+        let window =
+            event_loop.create_window(attributes).map_err(|e| Error::Invalid(format!("cannot open a window: {e}")))?;
+        let display = window.display_handle().map_err(|e| Error::Invalid(format!("no display handle: {e}")))?.as_raw();
+        let handle = window.window_handle().map_err(|e| Error::Invalid(format!("no window handle: {e}")))?.as_raw();
+        let extensions = swapchain::required_instance_extensions(display)?;
+        let desc = ContextDesc { window: true, ..options.context.clone() };
+        let ctx = Context::with_instance_extensions(&desc, &extensions)?;
+        let samples = options.samples.unwrap_or_else(|| {
+            let wanted = options.scene.render.samples;
+            if ctx.info.kind == vk::PhysicalDeviceType::CPU && wanted > 1 {
+                eprintln!("view: {} {CPU_MSAA_NOTE}", ctx.info.name);
+                1
+            } else {
+                wanted
+            }
+        });
+        let size = window.inner_size();
+        let target = WindowTarget::new(&ctx, (display, handle), (size.width, size.height), options.vsync, samples)?;
+        let target = Guard::new(&ctx, target);
+        let live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev);
+        let gpu = Gpu::new(&ctx, &options.scene, &live, &target)?;
+        let target = target.keep();
+        Ok(Self {
+            window,
+            ctx,
+            target,
+            gpu,
+            live,
+            input: Input::default(),
+            timing: Timing::new(),
+            screenshots_taken: 0,
+            soak: Soak::default(),
+        })
+    }
+
+    /// Re-prepares the materials and passes for the live settings (the old ones stay if that fails).
+    fn rebuild(&mut self, options: &ViewOptions) -> Result<()> {
+        let gpu = Gpu::new(&self.ctx, &options.scene, &self.live, &self.target)?;
+        // The frame in flight must finish before the old resources go.
+        self.ctx.wait_idle()?;
+        let old = std::mem::replace(&mut self.gpu, gpu);
+        // SAFETY: the device is idle.
+        unsafe { old.destroy(&self.ctx) };
+        Ok(())
+    }
+
+    fn key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent, options: &ViewOptions) -> Result<()> {
+        if event.state != ElementState::Pressed {
+            return Ok(());
+        }
+        let before = self.live.overrides;
+        let shift = self.input.modifiers.shift_key();
+        match self.live.key(&event.logical_key, shift, &self.gpu.materials[0]) {
+            Request::Nothing => {}
+            Request::Quit => event_loop.exit(),
+            Request::Help => println!("{BINDINGS}"),
+            Request::Screenshot => {
+                self.screenshots_taken += 1;
+                let path = PathBuf::from(format!("diffract-{:04}.png", self.screenshots_taken));
+                return self.draw_and_save(options, &path);
+            }
+        }
+        if self.live.overrides != before {
+            // Accept f32 trouble while exploring: the title says when the plan refused it.
+            self.live.overrides.accept_f32_error = true;
+            self.rebuild(options)?;
+        } else {
+            self.gpu.renderer.set_exposure(self.live.exposure_ev)?;
+        }
+        Ok(())
+    }
+
+    fn draw_and_save(&mut self, options: &ViewOptions, path: &Path) -> Result<()> {
+        self.render(options, true)?;
+        self.save_screenshot(path)
+    }
+
+    fn draw(&mut self, event_loop: &ActiveEventLoop, options: &ViewOptions) -> Result<()> {
+        let last = options.frames.is_some_and(|n| self.timing.frame + 1 >= n);
+        self.render(options, last && options.screenshot.is_some())?;
+        if let Some(n) = options.resize_after {
+            if self.timing.frame == n {
+                let size = self.window.inner_size();
+                let _ = self.window.request_inner_size(PhysicalSize::new(size.width * 3 / 4, size.height * 3 / 4));
+            }
+        }
+        if options.soak {
+            self.soak_step(options, last)?;
+        }
+        if last {
+            if let Some(path) = &options.screenshot {
+                self.save_screenshot(path)?;
+            }
+            self.print_frame_times();
+            event_loop.exit();
+        }
+        Ok(())
+    }
+
+    /// The soak: after every [`SOAK_PERIOD`] frames a new window size and the next approach (rebuilt as a key
+    /// press would); resident memory noted after the first frame and after the first round of approaches, and
+    /// printed with the end's on the last frame.
+    fn soak_step(&mut self, options: &ViewOptions, last: bool) -> Result<()> {
+        let approaches = Approach::ALL.len() as u32;
+        let frame = self.timing.frame;
+        if frame == 1 {
+            self.soak.rss_first = resident_mib();
+        }
+        if frame == SOAK_PERIOD * (approaches + 1) {
+            self.soak.rss_round = resident_mib();
+        }
+        if last {
+            let mib = |m: Option<f64>| m.map_or("n/a".to_string(), |m| format!("{m:.1} MiB"));
+            println!(
+                "soak: {frame} frames, {} resizes, {} approach switches; resident memory {} after the first frame, \
+                 {} after the first round of approaches, {} at the end",
+                self.soak.resizes,
+                self.soak.switches,
+                mib(self.soak.rss_first),
+                mib(self.soak.rss_round),
+                mib(resident_mib())
+            );
+            return Ok(());
+        }
+        if frame % SOAK_PERIOD != 0 || frame == self.soak.stepped_at {
+            return Ok(());
+        }
+        self.soak.stepped_at = frame;
+        let (num, den) = SOAK_SIZES[(frame / SOAK_PERIOD - 1) as usize % SOAK_SIZES.len()];
+        let size = PhysicalSize::new((options.width * num / den).max(16), (options.height * num / den).max(16));
+        let _ = self.window.request_inner_size(size);
+        self.soak.resizes += 1;
+        let current = self.gpu.materials[0].settings.approach;
+        let next = Approach::ALL.iter().position(|&a| a == current).map_or(0, |i| (i + 1) % Approach::ALL.len());
+        self.live.overrides.approach = Some(Approach::ALL[next]);
+        self.live.overrides.accept_f32_error = true;
+        self.rebuild(options)?;
+        self.soak.switches += 1;
+        Ok(())
+    }
+
+    /// The scripted frames' cost, after the first: GPU ms (median, p10, p90) and the frame rate of the window.
+    fn print_frame_times(&self) {
+        let size = self.window.inner_size();
+        let t = &self.timing;
+        let Some(spread) = crate::stats::Spread::of(&t.frame_times) else { return };
+        let fps = t.timed_since.map(|since| (t.frame_times.len() + 1) as f64 / since.elapsed().as_secs_f64());
+        println!(
+            "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",
+            t.frame_times.len(),
+            size.width,
+            size.height,
+            spread.median,
+            spread.p10,
+            spread.p90,
+            fps.map(|f| format!(", {f:.1} fps in the window")).unwrap_or_default()
+        );
+    }
+
+    /// Draws one frame (if the window can show one now); with `copy`, also copies it for a screenshot.
+    fn render(&mut self, options: &ViewOptions, copy: bool) -> Result<()> {
+        let size = self.window.inner_size();
+        let scope = if self.live.map_mode { MapPass::NAME } else { SceneRenderer::NAME };
+        let Some(frame) = self.target.begin_frame(&self.ctx, (size.width, size.height), scope)? else {
+            return Ok(());
+        };
+        self.timing.measured(frame.previous_gpu_ms);
+        self.record(options, &frame)?;
+        self.target.end_frame(&self.ctx, frame, copy)?;
+        if self.timing.presented() {
+            self.update_title();
+        }
+        Ok(())
+    }
+
+    /// Updates the uniforms for the live camera and light and records the frame's pass: the scene, or the first
+    /// object's BRDF map.
+    fn record(&mut self, options: &ViewOptions, frame: &WindowFrame) -> Result<()> {
+        let (ctx, gpu, scene) = (&self.ctx, &mut self.gpu, &options.scene);
+        let camera = self.live.camera(&scene.camera);
+        let light = self.live.light();
+        let extent = frame.extent();
+        let models: Vec<_> = scene.objects.iter().map(|o| o.model).collect();
+        gpu.renderer.update(&camera, light, scene.ambient, &models, extent.width as f32 / extent.height as f32)?;
+        let exposure = self.live.exposure_scale();
+        if self.live.map_mode {
+            // The map shows the first object's material as a horizontal patch with its x axis along the world's x:
+            // patch (x, y, z) = world (x, −z, y).
+            let map_light = Vec3::new(light.x, -light.z, light.y);
+            let mut params = light_params(&gpu.materials[scene.objects[0].material], map_light.as_dvec3());
+            params.display[0] = exposure as f32;
+            gpu.map_patch.update(&params)?;
+            gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None);
+        } else {
+            let [r, g, b] = scene.render.background.map(f64::from);
+            let bg = DVec3::new(r, g, b) * exposure;
+            let encode = |c: f64| crate::physics::spectrum::srgb_oetf(c) as f32;
+            gpu.renderer.record(ctx, frame.cmd, &frame.scene(), [encode(bg.x), encode(bg.y), encode(bg.z), 1.0]);
+        }
+        Ok(())
+    }
+
+    fn save_screenshot(&self, path: &Path) -> Result<()> {
+        self.target.save_screenshot(&self.ctx, path)?;
+        println!("wrote {}", path.display());
+        Ok(())
+    }
+
+    /// The title: the approach and what its accuracy is made of, the exposure, the mode, the GPU time and the
+    /// frame rate.
+    fn update_title(&self) {
+        let m = &self.gpu.materials[0];
+        // What the approach's accuracy is made of: the baked table's texels and terms in w, or the Taylor order,
+        // wavelength step and window radius.
+        let settings = match (&m.table, m.plan) {
+            (Some(t), _) => format!("table {}×{} w:{}", t.grid.nu, t.grid.nv, t.terms),
+            (None, plan) => format!(
+                "{} Δλ={} nm r={}",
+                plan.map_or("no terms".into(), |p| format!("N={}", p.order)),
+                m.sampling.step_nm,
+                m.window.radius_x
+            ),
+        };
+        let gpu_ms = self.timing.gpu_ms.map(|ms| format!("GPU {ms:.1} ms")).unwrap_or_else(|| "GPU –".into());
+        self.window.set_title(&format!(
+            "diffract — {} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
+            m.settings.approach.name(),
+            self.live.exposure_ev,
+            if self.live.map_mode { "BRDF map" } else { "geometry" },
+            self.timing.fps
+        ));
+    }
+
+    /// Destroys everything the window made; returns the names of allocations still live after it (none
+    /// unless something leaked).
+    fn destroy(self) -> Vec<String> {
+        let Self { window, ctx, target, gpu, .. } = self;
+        let _ = ctx.wait_idle();
+        // SAFETY: the device is idle; everything is destroyed once, children before their parents, the surface
+        // (in the target) before the window.
+        unsafe {
+            gpu.destroy(&ctx);
+            target.destroy(&ctx);
+        }
+        let live = ctx.live_allocations();
+        drop(ctx);
+        drop(window);
+        live
+    }
+}
