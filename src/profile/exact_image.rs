@@ -311,7 +311,7 @@ fn quadrature_check(
 /// CIEDE2000 between two XYZ colours (relative to a D65 mirror) as displayed at `exposure_ev`.
 pub fn delta_e(a: DVec3, b: DVec3, exposure_ev: f64) -> f64 {
     let scale = exposure_ev.exp2();
-    ciede2000(xyz_to_lab(a * scale, D65_WHITE), xyz_to_lab(b * scale, D65_WHITE))
+    ciede2000(xyz_to_lab(a * scale), xyz_to_lab(b * scale))
 }
 
 /// An image's error against the reference.
