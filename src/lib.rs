@@ -8,11 +8,12 @@
 //! ## Architecture
 //! From the top down (each layer uses only those below it):
 //! - [`cli`]: the `diffract` command line (a thin binary calls [`cli::main`]); `anyhow` lives only there.
-//! - [`view`]: the interactive viewer (winit window, swapchain, live settings).
+//! - [`view`]: the interactive viewer (winit window, input, live settings); it draws through
+//!   [`render::window::WindowTarget`].
 //! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
 //!   [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, or the GPU's compute
 //!   shader through [`render`]), with the refusals every command shares.
-//! - [`render`]: frames, speaking in the project's terms: offscreen targets, passes (map, G-buffer, surface,
+//! - [`render`]: frames, speaking in the project's terms: offscreen and window targets, passes (map, G-buffer, surface,
 //!   preview), scene capture, readback.
 //! - [`scene`]: scene files (camera, light, objects, materials); [`camera`], [`mesh`]: geometry on the CPU
 //!   (built-in shapes, the procedural snake, OBJ meshes).
@@ -25,7 +26,8 @@
 //!   are destroyed explicitly. Validation is on demand and every message is counted. [`shaders`]: the SPIR-V
 //!   that `build.rs` compiled from `glsl/`.
 //! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR), [`cache`] (the
-//!   on-disk cache of tables and references), [`stats`] (quantiles, the finite-pixel check), [`error`], and
+//!   on-disk cache of tables and references), [`stats`] (quantiles, the finite-pixel check), [`progress`]
+//!   (progress bars on stderr), [`error`], and
 //!   [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.
@@ -42,6 +44,7 @@ pub mod mesh;
 pub mod output;
 pub mod physics;
 pub mod profile;
+pub mod progress;
 pub mod render;
 pub mod scene;
 pub mod shaders;

@@ -6,7 +6,6 @@
 //! Approaches are selected by name; the thesis's four are specialization constants of one shader (term count,
 //! wavelength count, window radius, approach), the baked table a second build of the same shaders (`BAKED`).
 
-use std::io::IsTerminal;
 use std::time::Instant;
 
 use bytemuck::{Pod, Zeroable};
@@ -19,6 +18,7 @@ use crate::physics::spectrum::{self, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLERANCE};
 use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};
 use crate::physics::HeightField;
+use crate::progress::Progress;
 
 /// The thesis's shading approaches (model.md §3.1–§3.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
@@ -279,7 +279,9 @@ impl Material {
         if s.approach == Approach::Baked {
             let plan = TablePlan::new(hf, s.coherence_um, &reach.table_request(), s.table_tolerance)?;
             let start = Instant::now();
-            let (built, cached) = baked::load_or_build(hf, &plan, progress().as_deref())?;
+            let bar = Progress::new("baking the colour table", 0);
+            let (built, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;
+            bar.finish();
             table_ms = start.elapsed().as_secs_f64() * 1e3;
             table_cached = cached;
             let g = built.grid;
@@ -391,22 +393,6 @@ impl Material {
 
 /// Texels a trilinear sample reads: 2 × 2 in each of two mip levels (what the counting shaders add per fetch).
 pub const TRILINEAR_TEXELS: usize = 8;
-
-/// A progress line for long table builds, on a terminal only.
-fn progress() -> Option<Box<dyn Fn(usize, usize) + Sync>> {
-    std::io::stderr().is_terminal().then(|| {
-        let start = Instant::now();
-        Box::new(move |done: usize, total: usize| {
-            let elapsed = start.elapsed().as_secs_f64();
-            if elapsed > 1.0 || done == total {
-                eprint!("\rbaking the colour table: {:3.0} % ", 100.0 * done as f64 / total as f64);
-                if done == total {
-                    eprint!("\r{:40}\r", "");
-                }
-            }
-        }) as Box<dyn Fn(usize, usize) + Sync>
-    })
-}
 
 const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
 

@@ -1,7 +1,6 @@
 //! `diffract profile`: GPU timings, fetch counts and the error against an exact reference for a list of
 //! settings. This file parses and prints; the loop is [`crate::profile::run`].
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -126,8 +125,15 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     let samples = ctx.sample_count(frame_samples, crate::render::LINEAR_FORMAT)?;
     let probe = if args.roofline { roofline(&ctx, args.frames)? } else { None };
     let options = Options { frames: args.frames, warmup: args.warmup, exposure, samples, reference, probe };
-    let show = std::io::stderr().is_terminal();
-    let report = run::run(&ctx, &subject, &configs, &options, &|p| print_progress(p, show))?;
+    let bar = crate::progress::Progress::new("profiling", configs.len());
+    let report = run::run(&ctx, &subject, &configs, &options, &|p| match p {
+        Progress::Step { index, count: _, label, what } => {
+            bar.set(index - 1, configs.len());
+            bar.detail(format!("{label}: {what}"));
+        }
+        Progress::Line(line) => bar.line(&line),
+    })?;
+    bar.finish();
     print_report(&ctx, args, &subject, &options, &report)?;
     let log = ctx.validation();
     drop(ctx);
@@ -182,22 +188,6 @@ fn roofline(ctx: &Context, frames: u32) -> anyhow::Result<Option<ProbeResult>> {
         eprintln!("roofline: the device has no timestamps; no throughput figures");
     }
     Ok(p)
-}
-
-/// Progress on stderr: steps overwrite one line where stderr is a terminal; lines are kept.
-fn print_progress(p: Progress<'_>, show: bool) {
-    match p {
-        Progress::Step { index, count, label, what } if show => {
-            eprint!("\r[{index}/{count}] {label}: {what}{:20}", "");
-        }
-        Progress::Step { .. } => {}
-        Progress::Line(line) => {
-            if show {
-                eprint!("\r{:100}\r", "");
-            }
-            eprintln!("{line}");
-        }
-    }
 }
 
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.

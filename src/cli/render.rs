@@ -1,7 +1,6 @@
 //! `diffract render`: scenes captured offscreen to PNG (display-referred) and EXR (linear), single frames or
 //! sequences (turntables and light sweeps).
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -12,6 +11,7 @@ use glam::{Mat4, Quat, Vec3};
 use super::args::SceneOverrideArgs;
 use super::GpuArgs;
 use crate::mesh::Mesh;
+use crate::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
 use crate::scene::Scene;
@@ -165,7 +165,7 @@ fn render_frames(
     (width, height): (u32, u32),
     exposure: f64,
 ) -> anyhow::Result<Vec<f64>> {
-    let progress = std::io::stderr().is_terminal() && args.frames > 1;
+    let bar = Progress::new_if(args.frames > 1, "rendering frames", args.frames as usize);
     let mut times = Vec::new();
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
@@ -179,14 +179,10 @@ fn render_frames(
             crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, &linear)?;
         }
         times.extend(frame.gpu_ms);
-        if progress {
-            let done = (f + 1) as usize * 30 / args.frames as usize;
-            eprint!("\rframe {:>5}/{} [{}{}]", f + 1, args.frames, "#".repeat(done), " ".repeat(30 - done));
-        }
+        bar.detail(png.display().to_string());
+        bar.step();
     }
-    if progress {
-        eprintln!();
-    }
+    bar.finish();
     Ok(times)
 }
 

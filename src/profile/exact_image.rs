@@ -12,21 +12,20 @@
 //! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
 //! surface count (the hemisphere disk of a map, covered pixels of a scene).
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use glam::DVec3;
 
 use crate::cache::Fnv;
 use crate::error::{Error, Result};
-use crate::physics::colour::{ciede2000, xyz_to_lab, D65_WHITE};
+use crate::physics::colour::{ciede2000, xyz_to_lab};
 use crate::physics::exact::{window_gain, Method, Reference};
 use crate::physics::spectrum::{linear_srgb_to_xyz, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 use crate::physics::window::Window;
 use crate::physics::HeightField;
+use crate::progress::Progress;
 
 /// The reference's bound on the Taylor amplitude error |P − P_N| (a flat mirror has |P| = 1 at specular).
 pub const REFERENCE_TOLERANCE: f64 = 1e-10;
@@ -251,28 +250,20 @@ impl ReferenceImage {
 fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync) -> Vec<DVec3> {
     use rayon::prelude::*;
     let (w, h) = (job.width as usize, job.height as usize);
-    let done = AtomicUsize::new(0);
-    let show = std::io::stderr().is_terminal();
+    let bar = Progress::new(format!("exact reference {w}×{h}"), h);
+    bar.detail("rows");
     let start = Instant::now();
     let mut xyz = vec![DVec3::ZERO; w * h];
     xyz.par_chunks_mut(w).zip(job.pixels.par_chunks(w)).for_each(|(out, row)| {
         for (o, p) in out.iter_mut().zip(row) {
             *o = p.as_ref().map_or(DVec3::ZERO, &f);
         }
-        let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
-        // About a hundred updates in all, whichever thread finishes the row.
-        if show && finished % h.div_ceil(100) == 0 {
-            let elapsed = start.elapsed().as_secs_f64();
-            let eta = elapsed / finished as f64 * (h - finished) as f64;
-            eprint!(
-                "\rexact reference {w}×{h}: {:3.0} % (about {eta:.0} s left)  ",
-                100.0 * finished as f64 / h as f64
-            );
-        }
+        bar.step();
     });
-    if show {
-        eprintln!("\rexact reference {}×{}: done in {:.1} s{:20}", w, h, start.elapsed().as_secs_f64(), "");
+    if bar.is_drawn() {
+        bar.line(&format!("exact reference {w}×{h}: done in {:.1} s", start.elapsed().as_secs_f64()));
     }
+    bar.finish();
     xyz
 }
 
@@ -403,6 +394,7 @@ fn read_cached(file: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
 mod tests {
     use super::*;
 
+    use crate::physics::colour::D65_WHITE;
     use crate::physics::spectrum::xyz_to_linear_srgb;
 
     #[test]

@@ -2,8 +2,6 @@
 //! baked colour table as a mip-mapped RGBA32F 2D-array image; the spectral table, the `DiffractionParams`
 //! uniforms), the BRDF-map pass and the compute evaluation behind `diffract brdf --gpu`.
 
-use std::io::IsTerminal;
-
 use ash::vk;
 use glam::DVec3;
 
@@ -11,6 +9,7 @@ use super::{begin_rendering, end_rendering, OffscreenTarget, TargetView, LINEAR_
 use crate::error::{Error, Result};
 use crate::physics::spectrum;
 use crate::physics::Query;
+use crate::progress::Progress;
 use crate::shaders;
 use crate::shaders::interface::{
     EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS, BINDING_SPECTRUM,
@@ -290,9 +289,10 @@ pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, f
 
 fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u32) -> Result<MapImage> {
     let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?);
-    let show_progress = std::io::stderr().is_terminal() && size >= 128;
     let mut gpu_ms = Some(0.0);
     let bands = size.div_ceil(MAP_BAND_ROWS);
+    let bar = Progress::new_if(size >= 128, format!("rendering map {size}²"), bands as usize);
+    bar.detail(format!("bands of {MAP_BAND_ROWS} rows"));
     for band in 0..bands {
         let y0 = band * MAP_BAND_ROWS;
         let area = vk::Rect2D {
@@ -308,13 +308,9 @@ fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u
             pass.record(ctx, cmd, patch, &target.view(), Some(area));
         })?;
         gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
-        if show_progress {
-            eprint!("\rrendering map: {:3.0} %", 100.0 * f64::from(band + 1) / f64::from(bands));
-        }
+        bar.step();
     }
-    if show_progress {
-        eprintln!();
-    }
+    bar.finish();
     let bytes = target.read(ctx)?;
     Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
 }
