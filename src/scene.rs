@@ -271,36 +271,7 @@ impl Scene {
                 None => loc.whole(message.trim()),
             }
         })?;
-        let c = &file.camera;
-        let cam_span = c.position.span();
-        check_coords(&loc, cam_span.clone(), "[camera] position", c.position.get_ref())?;
-        check_coords(&loc, cam_span.clone(), "[camera] target", &c.target)?;
-        check_coords(&loc, cam_span.clone(), "[camera] up", &c.up)?;
-        let forward = Vec3::from(c.target) - Vec3::from(*c.position.get_ref());
-        if forward.length() > 0.0 && forward.normalize().cross(Vec3::from(c.up)).length() < 1e-6 {
-            return Err(loc.at(cam_span.clone(), "[camera] up is parallel to the line of sight (or zero)"));
-        }
-        if c.position.get3() == c.target {
-            return Err(loc.at(c.position.span(), "the camera position equals its target"));
-        }
-        let fov = *c.fov_y_deg.get_ref();
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(loc.at(
-                c.fov_y_deg.span(),
-                format!("fov_y_deg = {fov}: expected a field of view between 0 and 180 degrees"),
-            ));
-        }
-        if !(c.near > 0.0 && c.far > c.near && c.far.is_finite() && c.far / c.near <= 1e7) {
-            return Err(loc.whole("the camera needs 0 < near < far, finite, with far/near at most 1e7"));
-        }
-        let camera = Camera {
-            position: Vec3::from(*c.position.get_ref()),
-            target: Vec3::from(c.target),
-            up: Vec3::from(c.up),
-            fov_y_deg: fov,
-            near: c.near,
-            far: c.far,
-        };
+        let camera = camera(&loc, &file.camera)?;
         let light_dir = Vec3::from(*file.light.direction.get_ref())
             .try_normalize()
             .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
@@ -322,26 +293,7 @@ impl Scene {
         for def in &file.objects {
             objects.push(object(&loc, base, def, &index)?);
         }
-        let r = &file.render;
-        let render = RenderSettings {
-            width: r.width.unwrap_or(512),
-            height: r.height.unwrap_or(512),
-            exposure_ev: r.exposure_ev.unwrap_or(0.0),
-            background: r.background.unwrap_or([0.0; 3]),
-            samples: r.samples.unwrap_or(DEFAULT_SAMPLES),
-        };
-        if !(render.samples.is_power_of_two() && render.samples <= 64) {
-            return Err(loc.whole("[render] samples is a power of two: 1 (no anti-aliasing), 2, 4, 8, …"));
-        }
-        if !render.exposure_ev.is_finite() || render.exposure_ev.abs() > 100.0 {
-            return Err(loc.whole("[render] exposure_ev must be a number of stops within ±100"));
-        }
-        if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-            return Err(loc.whole("[render] background is a linear RGB colour: three non-negative numbers"));
-        }
-        if render.width == 0 || render.height == 0 || render.width > 16384 || render.height > 16384 {
-            return Err(loc.whole("[render] width and height must lie in 1..=16384"));
-        }
+        let render = render_settings(&loc, &file.render)?;
         let ambient = file.light.ambient;
         if !(ambient.is_finite() && ambient >= 0.0) {
             return Err(loc.whole("[light] ambient must be a non-negative number"));
@@ -364,6 +316,62 @@ fn check_coords(loc: &Locator<'_>, span: std::ops::Range<usize>, what: &str, v: 
 
 trait Get3 {
     fn get3(&self) -> [f32; 3];
+}
+
+/// The `[camera]` table, checked: finite coordinates, an up vector off the line of sight, a field of view inside
+/// (0°, 180°) and a usable depth range.
+fn camera(loc: &Locator<'_>, c: &CameraDef) -> Result<Camera> {
+    let cam_span = c.position.span();
+    check_coords(loc, cam_span.clone(), "[camera] position", c.position.get_ref())?;
+    check_coords(loc, cam_span.clone(), "[camera] target", &c.target)?;
+    check_coords(loc, cam_span.clone(), "[camera] up", &c.up)?;
+    let forward = Vec3::from(c.target) - Vec3::from(*c.position.get_ref());
+    if forward.length() > 0.0 && forward.normalize().cross(Vec3::from(c.up)).length() < 1e-6 {
+        return Err(loc.at(cam_span.clone(), "[camera] up is parallel to the line of sight (or zero)"));
+    }
+    if c.position.get3() == c.target {
+        return Err(loc.at(c.position.span(), "the camera position equals its target"));
+    }
+    let fov = *c.fov_y_deg.get_ref();
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(loc
+            .at(c.fov_y_deg.span(), format!("fov_y_deg = {fov}: expected a field of view between 0 and 180 degrees")));
+    }
+    if !(c.near > 0.0 && c.far > c.near && c.far.is_finite() && c.far / c.near <= 1e7) {
+        return Err(loc.whole("the camera needs 0 < near < far, finite, with far/near at most 1e7"));
+    }
+    Ok(Camera {
+        position: Vec3::from(*c.position.get_ref()),
+        target: Vec3::from(c.target),
+        up: Vec3::from(c.up),
+        fov_y_deg: fov,
+        near: c.near,
+        far: c.far,
+    })
+}
+
+/// The `[render]` table with its defaults, checked.
+fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<RenderSettings> {
+    let render = RenderSettings {
+        width: r.width.unwrap_or(512),
+        height: r.height.unwrap_or(512),
+        exposure_ev: r.exposure_ev.unwrap_or(0.0),
+        background: r.background.unwrap_or([0.0; 3]),
+        samples: r.samples.unwrap_or(DEFAULT_SAMPLES),
+    };
+    if !(render.samples.is_power_of_two() && render.samples <= 64) {
+        return Err(loc.whole("[render] samples is a power of two: 1 (no anti-aliasing), 2, 4, 8, …"));
+    }
+    if !render.exposure_ev.is_finite() || render.exposure_ev.abs() > 100.0 {
+        return Err(loc.whole("[render] exposure_ev must be a number of stops within ±100"));
+    }
+    if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+        return Err(loc.whole("[render] background is a linear RGB colour: three non-negative numbers"));
+    }
+    if render.width == 0 || render.height == 0 || render.width > 16384 || render.height > 16384 {
+        return Err(loc.whole("[render] width and height must lie in 1..=16384"));
+    }
+    Ok(render)
 }
 
 impl Get3 for Spanned<[f32; 3]> {

@@ -232,71 +232,21 @@ impl Material {
     /// Precomputes what `settings.approach` needs of `hf` for the views of `reach`.
     pub fn prepare(hf: &HeightField, settings: Settings, reach: &Reach) -> Result<Self> {
         let s = settings;
-        let w_max = reach.w_max();
-        if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
-            return Err(Error::Invalid(format!(
-                "the wavelength step must be positive, got {} nm",
-                crate::error::number(s.lambda_step_nm)
-            )));
-        }
-        let sampling = Sampling::visible(s.lambda_step_nm);
-        if sampling.count > MAX_LAMBDA_COUNT {
-            return Err(Error::Invalid(format!(
-                "a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})",
-                s.lambda_step_nm, sampling.count
-            )));
-        }
-        if s.window_radius.is_some_and(|r| r > MAX_WINDOW_RADIUS) {
-            return Err(Error::Invalid(format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
-        }
-        let (lx, ly) = hf.size_um();
-        let full = Window::new(lx, ly, s.coherence_um, None)?;
-        let radius = s.window_radius.unwrap_or_else(|| {
-            let r = |sigma: f64| ((-2.0 * RENDER_WINDOW_CUTOFF.ln()).sqrt() * sigma - 0.5).ceil().max(0.0) as u32;
-            r(full.sigma_x).max(r(full.sigma_y)).min(MAX_WINDOW_RADIUS)
-        });
-        let window = Window::new(lx, ly, s.coherence_um, Some(radius))?;
-        let (plan, texels, layers) = if s.approach.uses_terms() {
-            let gain = window_gain(&window, hf);
-            let plan = TaylorPlan::new(VISIBLE_MIN_UM, w_max, &HeightStats::of(hf), gain, s.tolerance, s.order)?;
-            if !plan.f32_suffices() && !s.accept_f32_error {
-                return Err(Error::Invalid(format!(
-                    "the GPU's f32 sums cannot reach the tolerance for this patch ({}); raise --tolerance, lower the \
-                     heights, or pass --accept-f32-error",
-                    plan.describe()
-                )));
-            }
-            let terms = TaylorTerms::compute(hf, plan.order, None)?;
-            (Some(plan), terms.to_f32_texels(plan.order), plan.order as u32 + 1)
+        let sampling = checked_sampling(&s)?;
+        let window = render_window(hf, &s)?;
+        let (plan, texels, mut layers) = if s.approach.uses_terms() {
+            let (plan, texels) = taylor_texels(hf, &s, &window, reach.w_max())?;
+            (Some(plan), texels, plan.order as u32 + 1)
         } else if s.approach == Approach::Baked {
             (None, Vec::new(), 0)
         } else {
             (None, vec![0.0; hf.nx * hf.ny * 2], 1)
         };
-        let (mut table, mut table_plan, mut table_ms, mut table_cached) = (None, None, 0.0, false);
-        let mut layers = layers;
-        let (mut table_uv, mut table_w) = ([0.0; 4], [0.0; 4]);
-        if s.approach == Approach::Baked {
-            let plan = TablePlan::new(hf, s.coherence_um, &reach.table_request(), s.table_tolerance)?;
-            let start = Instant::now();
-            let bar = Progress::new("baking the colour table", 0);
-            let (built, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;
-            bar.finish();
-            table_ms = start.elapsed().as_secs_f64() * 1e3;
-            table_cached = cached;
-            let g = built.grid;
-            let half = 0.5 * (g.w.1 - g.w.0);
-            table_uv = [g.u0 as f32, g.v0 as f32, (g.nu as f64 * g.texel) as f32, (g.nv as f64 * g.texel) as f32];
-            table_w = [
-                (0.5 * (g.w.0 + g.w.1)) as f32,
-                if half > 0.0 { (1.0 / half) as f32 } else { 0.0 },
-                g.texel as f32,
-                (built.levels.len() - 1) as f32,
-            ];
-            layers = built.layers() as u32;
-            table = Some(built);
-            table_plan = Some(plan);
+        let baked = if s.approach == Approach::Baked { Some(Baked::prepare(hf, &s, reach)?) } else { None };
+        if let Some(b) = &baked {
+            layers = b.table.layers() as u32;
         }
+        let (lx, ly) = hf.size_um();
         let sigma_s = s.coherence_um / 4.0;
         let sigma_f = 1.0 / (2.0 * std::f64::consts::PI * sigma_s);
         let (gx, gy, spacing) = if s.approach == Approach::Gem { dominant_grating(hf) } else { (1.0, 0.0, 0.0) };
@@ -314,8 +264,12 @@ impl Material {
             pq: [(s.coherence_um / lx).ceil().max(1.0) as f32, (s.coherence_um / ly).ceil().max(1.0) as f32, 0.0, 0.0],
             gem: [gx as f32, gy as f32, spacing as f32, GEM_ORDER_EFFICIENCY],
             display: [s.exposure_ev.exp2() as f32, 0.0, 0.0, 0.0],
-            table_uv,
-            table_w,
+            table_uv: baked.as_ref().map_or([0.0; 4], |b| b.uv),
+            table_w: baked.as_ref().map_or([0.0; 4], |b| b.w),
+        };
+        let (table, table_plan, table_ms, table_cached) = match baked {
+            Some(b) => (Some(b.table), Some(b.plan), b.ms, b.cached),
+            None => (None, None, 0.0, false),
         };
         let material = Self {
             settings,
@@ -388,6 +342,88 @@ impl Material {
         let (plan, table) = (self.table_plan.as_ref()?, self.table.as_ref()?);
         let how = if self.table_cached { "loaded from the cache" } else { "built" };
         Some(format!("{}; {how} in {:.0} ms ({})", plan.describe(), self.table_ms, table.report))
+    }
+}
+
+/// The wavelengths of `s`'s step, refused when the step or the window radius is out of range.
+fn checked_sampling(s: &Settings) -> Result<Sampling> {
+    if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
+        return Err(Error::Invalid(format!(
+            "the wavelength step must be positive, got {} nm",
+            crate::error::number(s.lambda_step_nm)
+        )));
+    }
+    let sampling = Sampling::visible(s.lambda_step_nm);
+    if sampling.count > MAX_LAMBDA_COUNT {
+        return Err(Error::Invalid(format!(
+            "a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})",
+            s.lambda_step_nm, sampling.count
+        )));
+    }
+    if s.window_radius.is_some_and(|r| r > MAX_WINDOW_RADIUS) {
+        return Err(Error::Invalid(format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
+    }
+    Ok(sampling)
+}
+
+/// The coherence window the shaders sum over: `s`'s radius, or the smallest that keeps the taps left out below
+/// [`RENDER_WINDOW_CUTOFF`].
+fn render_window(hf: &HeightField, s: &Settings) -> Result<Window> {
+    let (lx, ly) = hf.size_um();
+    let full = Window::new(lx, ly, s.coherence_um, None)?;
+    let radius = s.window_radius.unwrap_or_else(|| {
+        let r = |sigma: f64| ((-2.0 * RENDER_WINDOW_CUTOFF.ln()).sqrt() * sigma - 0.5).ceil().max(0.0) as u32;
+        r(full.sigma_x).max(r(full.sigma_y)).min(MAX_WINDOW_RADIUS)
+    });
+    Window::new(lx, ly, s.coherence_um, Some(radius))
+}
+
+/// The Taylor plan for views up to `w_max` and its terms as f32 texels; refused where the GPU's f32 sums cannot
+/// reach the tolerance, unless `s` accepts it.
+fn taylor_texels(hf: &HeightField, s: &Settings, window: &Window, w_max: f64) -> Result<(TaylorPlan, Vec<f32>)> {
+    let gain = window_gain(window, hf);
+    let plan = TaylorPlan::new(VISIBLE_MIN_UM, w_max, &HeightStats::of(hf), gain, s.tolerance, s.order)?;
+    if !plan.f32_suffices() && !s.accept_f32_error {
+        return Err(Error::Invalid(format!(
+            "the GPU's f32 sums cannot reach the tolerance for this patch ({}); raise --tolerance, lower the heights, \
+             or pass --accept-f32-error",
+            plan.describe()
+        )));
+    }
+    let terms = TaylorTerms::compute(hf, plan.order, None)?;
+    Ok((plan, terms.to_f32_texels(plan.order)))
+}
+
+/// The baked approach's table (built, or read from the cache) and the parameters the shader reads it by.
+struct Baked {
+    table: BakedTable,
+    plan: TablePlan,
+    ms: f64,
+    cached: bool,
+    /// The table's (u0, v0, width, height) in direction space.
+    uv: [f32; 4],
+    /// The centre of its w range, 1 / its half-width, the texel size and the top mip level.
+    w: [f32; 4],
+}
+
+impl Baked {
+    fn prepare(hf: &HeightField, s: &Settings, reach: &Reach) -> Result<Self> {
+        let plan = TablePlan::new(hf, s.coherence_um, &reach.table_request(), s.table_tolerance)?;
+        let start = Instant::now();
+        let bar = Progress::new("baking the colour table", 0);
+        let (table, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;
+        bar.finish();
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        let g = table.grid;
+        let half = 0.5 * (g.w.1 - g.w.0);
+        let uv = [g.u0 as f32, g.v0 as f32, (g.nu as f64 * g.texel) as f32, (g.nv as f64 * g.texel) as f32];
+        let w = [
+            (0.5 * (g.w.0 + g.w.1)) as f32,
+            if half > 0.0 { (1.0 / half) as f32 } else { 0.0 },
+            g.texel as f32,
+            (table.levels.len() - 1) as f32,
+        ];
+        Ok(Self { table, plan, ms, cached, uv, w })
     }
 }
 

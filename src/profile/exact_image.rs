@@ -141,54 +141,8 @@ impl ReferenceJob<'_> {
                 q.material
             )));
         }
-        let mut references = Vec::with_capacity(self.materials.len());
-        let mut descriptions = Vec::with_capacity(self.materials.len());
-        for (i, m) in self.materials.iter().enumerate() {
-            let hf = m.heightfield;
-            let (lx, ly) = hf.size_um();
-            let window = Window::new(lx, ly, m.coherence_um, None)?;
-            let w_max = self
-                .pixels
-                .iter()
-                .flatten()
-                .filter(|q| q.material == i)
-                .map(|q| (q.omega_i.z + q.omega_r.z).abs())
-                .fold(0.0, f64::max);
-            let plan = TaylorPlan::new(
-                crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
-                w_max.max(1e-3),
-                &HeightStats::of(hf),
-                window_gain(&window, hf),
-                REFERENCE_TOLERANCE,
-                None,
-            );
-            let taps =
-                format!("full window {}×{} taps (weights ≥ 1e-17)", 2 * window.radius_x + 1, 2 * window.radius_y + 1);
-            // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too
-            // would lose the digits the comparison needs, or need more terms than a plan allows. There the
-            // reference sums exp(i·k·w·h) itself (the exact method: no series, slower by about the patch's pixel
-            // count over the terms' texel reads).
-            let plan = match plan {
-                Ok(plan) if plan.f64_error <= MAX_REFERENCE_ROUNDING => plan,
-                deep => {
-                    let why = match deep {
-                        Ok(plan) => format!(
-                            "an f64 Taylor sum would round by about {:.0e} at x_max = {:.1}",
-                            plan.f64_error, plan.x_max
-                        ),
-                        Err(e) => e.to_string(),
-                    };
-                    references.push(Reference::new(hf, window, Method::Exact, None)?);
-                    descriptions.push(format!("exact DFT of exp(i·k·w·h) (no series: {why}), {taps}"));
-                    continue;
-                }
-            };
-            references.push(Reference::new(hf, window, Method::Taylor, Some(plan))?);
-            descriptions.push(format!(
-                "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), {taps}",
-                plan.order, REFERENCE_TOLERANCE, plan.f64_error
-            ));
-        }
+        let made = (0..self.materials.len()).map(|i| self.material_reference(i)).collect::<Result<Vec<_>>>()?;
+        let (references, descriptions): (Vec<Reference>, Vec<String>) = made.into_iter().unzip();
         let sampling = Sampling::visible(REFERENCE_STEP_NM);
         let pixel = |q: &PixelQuery, sampling: &Sampling| {
             references[q.material].flss_xyz(q.omega_i, q.omega_r, sampling) + q.extra_xyz
@@ -213,6 +167,55 @@ impl ReferenceJob<'_> {
             }
         }
         Ok(image)
+    }
+
+    /// The exact reference of material `i` for the views its pixels need, and how it is computed: an f64
+    /// Taylor sum where its rounding is small enough, the exact sum of exp(i·k·w·h) elsewhere.
+    fn material_reference(&self, i: usize) -> Result<(Reference, String)> {
+        let m = &self.materials[i];
+        let hf = m.heightfield;
+        let (lx, ly) = hf.size_um();
+        let window = Window::new(lx, ly, m.coherence_um, None)?;
+        let w_max = self
+            .pixels
+            .iter()
+            .flatten()
+            .filter(|q| q.material == i)
+            .map(|q| (q.omega_i.z + q.omega_r.z).abs())
+            .fold(0.0, f64::max);
+        let plan = TaylorPlan::new(
+            crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
+            w_max.max(1e-3),
+            &HeightStats::of(hf),
+            window_gain(&window, hf),
+            REFERENCE_TOLERANCE,
+            None,
+        );
+        let taps =
+            format!("full window {}×{} taps (weights ≥ 1e-17)", 2 * window.radius_x + 1, 2 * window.radius_y + 1);
+        // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too
+        // would lose the digits the comparison needs, or need more terms than a plan allows. There the
+        // reference sums exp(i·k·w·h) itself (the exact method: no series, slower by about the patch's pixel
+        // count over the terms' texel reads).
+        let plan = match plan {
+            Ok(plan) if plan.f64_error <= MAX_REFERENCE_ROUNDING => plan,
+            deep => {
+                let why = match deep {
+                    Ok(plan) => format!(
+                        "an f64 Taylor sum would round by about {:.0e} at x_max = {:.1}",
+                        plan.f64_error, plan.x_max
+                    ),
+                    Err(e) => e.to_string(),
+                };
+                let description = format!("exact DFT of exp(i·k·w·h) (no series: {why}), {taps}");
+                return Ok((Reference::new(hf, window, Method::Exact, None)?, description));
+            }
+        };
+        let description = format!(
+            "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), {taps}",
+            plan.order, REFERENCE_TOLERANCE, plan.f64_error
+        );
+        Ok((Reference::new(hf, window, Method::Taylor, Some(plan))?, description))
     }
 }
 

@@ -155,6 +155,37 @@ impl Context {
         Ok(module)
     }
 
+    /// The shader modules (`(SPIR-V, name)` in stage order) and the layouts of a pipeline; nothing is left
+    /// behind on failure.
+    fn prepare(
+        &self,
+        name: &str,
+        shaders: &[(&[u8], String)],
+        bindings: &[Binding],
+        push_size: u32,
+        stages: vk::ShaderStageFlags,
+    ) -> Result<Partial> {
+        let mut partial = Partial {
+            modules: Vec::new(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+        };
+        let prepared = (|| {
+            for (spirv, module_name) in shaders {
+                partial.modules.push(self.create_shader_module(spirv, module_name)?);
+            }
+            self.create_layouts(name, bindings, push_size, stages, &mut partial)
+        })();
+        match prepared {
+            Ok(()) => Ok(partial),
+            Err(e) => {
+                // SAFETY: nothing uses them.
+                unsafe { partial.destroy(self, false) };
+                Err(e)
+            }
+        }
+    }
+
     fn create_layouts(
         &self,
         name: &str,
@@ -219,23 +250,9 @@ impl Context {
 
     pub fn create_graphics_pipeline(&self, desc: &GraphicsPipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let mut partial = Partial {
-            modules: Vec::new(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            layout: vk::PipelineLayout::null(),
-        };
-        let prepared = (|| {
-            partial.modules.push(self.create_shader_module(desc.vertex, &format!("{} (vertex)", desc.name))?);
-            if let Some(fragment) = desc.fragment {
-                partial.modules.push(self.create_shader_module(fragment, &format!("{} (fragment)", desc.name))?);
-            }
-            self.create_layouts(desc.name, desc.bindings, desc.push_constant_size, stages, &mut partial)
-        })();
-        if let Err(e) = prepared {
-            // SAFETY: nothing uses them.
-            unsafe { partial.destroy(self, false) };
-            return Err(e);
-        }
+        let mut shaders = vec![(desc.vertex, format!("{} (vertex)", desc.name))];
+        shaders.extend(desc.fragment.map(|f| (f, format!("{} (fragment)", desc.name))));
+        let partial = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let shader_stages: Vec<_> = [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT]
             .into_iter()
@@ -267,17 +284,10 @@ impl Context {
         let assembly =
             vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
         let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
-            .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(if desc.cull_back_faces { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
-            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-            .line_width(1.0);
+        let raster = raster_state(desc.cull_back_faces);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
         let (depth_format, test) = desc.depth.unzip();
-        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(test.is_some())
-            .depth_write_enable(test == Some(DepthTest::Write))
-            .depth_compare_op(if test == Some(DepthTest::Equal) { vk::CompareOp::EQUAL } else { vk::CompareOp::LESS });
+        let depth = depth_state(test);
         let writes =
             if desc.fragment.is_some() { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes)];
@@ -307,20 +317,8 @@ impl Context {
 
     pub fn create_compute_pipeline(&self, desc: &ComputePipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::COMPUTE;
-        let mut partial = Partial {
-            modules: Vec::new(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            layout: vk::PipelineLayout::null(),
-        };
-        let prepared = (|| {
-            partial.modules.push(self.create_shader_module(desc.shader, desc.name)?);
-            self.create_layouts(desc.name, desc.bindings, desc.push_constant_size, stages, &mut partial)
-        })();
-        if let Err(e) = prepared {
-            // SAFETY: nothing uses them.
-            unsafe { partial.destroy(self, false) };
-            return Err(e);
-        }
+        let shaders = [(desc.shader, desc.name.to_string())];
+        let partial = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(stages)
@@ -394,4 +392,21 @@ impl Context {
             }
         }
     }
+}
+
+/// Fills triangles; back faces culled where asked (counter-clockwise is front).
+fn raster_state(cull_back_faces: bool) -> vk::PipelineRasterizationStateCreateInfo<'static> {
+    vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(if cull_back_faces { vk::CullModeFlags::BACK } else { vk::CullModeFlags::NONE })
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0)
+}
+
+/// No depth test (None), a test that writes (LESS), or one that only passes the pre-pass's depth (EQUAL).
+fn depth_state(test: Option<DepthTest>) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+    vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(test.is_some())
+        .depth_write_enable(test == Some(DepthTest::Write))
+        .depth_compare_op(if test == Some(DepthTest::Equal) { vk::CompareOp::EQUAL } else { vk::CompareOp::LESS })
 }

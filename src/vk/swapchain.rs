@@ -52,6 +52,18 @@ pub struct Swapchain {
     pub render_finished: Vec<vk::Semaphore>,
 }
 
+/// The properties a new swapchain is created with.
+struct SwapchainChoice {
+    format: vk::SurfaceFormatKHR,
+    extent: vk::Extent2D,
+    mode: vk::PresentModeKHR,
+    /// Whether images can be copied out (screenshots).
+    readable: bool,
+    usage: vk::ImageUsageFlags,
+    count: u32,
+    transform: vk::SurfaceTransformFlagsKHR,
+}
+
 /// What acquiring an image gave.
 pub enum Acquired {
     Image { index: u32, suboptimal: bool },
@@ -91,6 +103,60 @@ impl Context {
         samples: u32,
         old: Option<&Swapchain>,
     ) -> Result<Swapchain> {
+        let choice = self.swapchain_choice(surface, (width, height), vsync)?;
+        let (format, extent, readable) = (choice.format, choice.extent, choice.readable);
+        let loader = ash::khr::swapchain::Device::new(self.instance(), self.device());
+        let info = vk::SwapchainCreateInfoKHR::default()
+            .surface(surface.raw)
+            .min_image_count(choice.count)
+            .image_format(format.format)
+            .image_color_space(format.color_space)
+            .image_extent(extent)
+            .image_array_layers(1)
+            .image_usage(choice.usage)
+            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
+            .pre_transform(choice.transform)
+            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
+            .present_mode(choice.mode)
+            .clipped(true)
+            .old_swapchain(old.as_ref().map_or(vk::SwapchainKHR::null(), |o| o.raw));
+        // SAFETY: every pointer in `info` outlives the call; `old` is retired by it (even if it fails).
+        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
+        let (w, h) = (extent.width.max(1), extent.height.max(1));
+        let attachments = self
+            .sample_count(samples, format.format)
+            .and_then(|n| Ok((n, self.create_image(ImageDesc::depth(w, h).multisampled(n), "window depth")?)));
+        let (samples, depth) = match attachments {
+            Ok(made) => made,
+            Err(e) => {
+                // SAFETY: no image of it was acquired.
+                unsafe { loader.destroy_swapchain(raw, None) };
+                return Err(e);
+            }
+        };
+        let mut made = Swapchain {
+            raw,
+            loader,
+            images: Vec::new(),
+            views: Vec::new(),
+            format: format.format,
+            extent,
+            depth,
+            msaa: None,
+            samples,
+            readable,
+            render_finished: Vec::new(),
+        };
+        if let Err(e) = self.fill_swapchain(&mut made) {
+            // SAFETY: nothing was submitted with it.
+            unsafe { made.destroy(self) };
+            return Err(e);
+        }
+        Ok(made)
+    }
+
+    /// What a swapchain on `surface` will be: its format, extent, present mode, usage and image count.
+    fn swapchain_choice(&self, surface: &Surface, (width, height): (u32, u32), vsync: bool) -> Result<SwapchainChoice> {
         let sl = &surface.loader;
         // SAFETY: plain queries on live objects.
         let (caps, formats, modes) = unsafe {
@@ -131,54 +197,7 @@ impl Context {
         }
         let count =
             (caps.min_image_count + 1).min(if caps.max_image_count == 0 { u32::MAX } else { caps.max_image_count });
-        let loader = ash::khr::swapchain::Device::new(self.instance(), self.device());
-        let info = vk::SwapchainCreateInfoKHR::default()
-            .surface(surface.raw)
-            .min_image_count(count)
-            .image_format(format.format)
-            .image_color_space(format.color_space)
-            .image_extent(extent)
-            .image_array_layers(1)
-            .image_usage(usage)
-            .image_sharing_mode(vk::SharingMode::EXCLUSIVE)
-            .pre_transform(caps.current_transform)
-            .composite_alpha(vk::CompositeAlphaFlagsKHR::OPAQUE)
-            .present_mode(mode)
-            .clipped(true)
-            .old_swapchain(old.as_ref().map_or(vk::SwapchainKHR::null(), |o| o.raw));
-        // SAFETY: every pointer in `info` outlives the call; `old` is retired by it (even if it fails).
-        let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
-        let (w, h) = (extent.width.max(1), extent.height.max(1));
-        let attachments = self
-            .sample_count(samples, format.format)
-            .and_then(|n| Ok((n, self.create_image(ImageDesc::depth(w, h).multisampled(n), "window depth")?)));
-        let (samples, depth) = match attachments {
-            Ok(made) => made,
-            Err(e) => {
-                // SAFETY: no image of it was acquired.
-                unsafe { loader.destroy_swapchain(raw, None) };
-                return Err(e);
-            }
-        };
-        let mut made = Swapchain {
-            raw,
-            loader,
-            images: Vec::new(),
-            views: Vec::new(),
-            format: format.format,
-            extent,
-            depth,
-            msaa: None,
-            samples,
-            readable,
-            render_finished: Vec::new(),
-        };
-        if let Err(e) = self.fill_swapchain(&mut made) {
-            // SAFETY: nothing was submitted with it.
-            unsafe { made.destroy(self) };
-            return Err(e);
-        }
-        Ok(made)
+        Ok(SwapchainChoice { format, extent, mode, readable, usage, count, transform: caps.current_transform })
     }
 
     fn fill_swapchain(&self, s: &mut Swapchain) -> Result<()> {

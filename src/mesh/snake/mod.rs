@@ -7,8 +7,13 @@
 //! across every scale, as on a real snake's skin. The pattern is carried as vertex pigment tints (relative to
 //! [`CORN_GROUND`], the material's pigment in the default scene).
 
+mod eye;
+mod pattern;
+
 use glam::{Quat, Vec3};
 
+use self::eye::eye;
+use self::pattern::PatternField;
 use super::shapes::grid_indices;
 use super::{Mesh, Vertex, UNTINTED};
 
@@ -300,131 +305,6 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
     m
 }
 
-/// Where the eyes sit: along the body (t) and their angle from the middle of the back, radians.
-const EYE_T: f32 = 0.972;
-const EYE_FROM_TOP: f32 = 1.0;
-/// The eye's radius as a length along the body in t, and its rings: the pupil's edge (a sharp colour edge, two
-/// rings at one radius), the rim where the dome meets the head, and a skirt that tucks under the head's surface.
-const EYE_RADIUS_T: f32 = 0.0042;
-const EYE_RINGS: [(f32, bool); 6] = [(0.3, true), (0.6, true), (0.6, false), (0.8, false), (1.0, false), (1.0, false)];
-const EYE_SECTORS: u32 = 24;
-
-/// One eye (`side` −1 or 1: which side of the head): a round dome on the head's surface, raised up to 0.42 of its
-/// radius, with a black pupil in a coloured iris — geometry, so that its edges stay round at any distance, where
-/// a painted eye would follow the head's grid.
-fn eye(spec: &SnakeSpec, m: &mut Mesh, pattern: &PatternField, side: f32) {
-    let (t0, a0) = (EYE_T, std::f32::consts::FRAC_PI_2 + side * EYE_FROM_TOP);
-    // The head's surface derivatives at the eye, in t and in the angle; (x, y) in eye radii along an orthonormal
-    // frame of the tangent plane (T along the body) become parameter offsets through them, so the eye is round in
-    // the world although the tapering head's parameters are neither isotropic nor orthogonal.
-    const STEP: f32 = 1e-3;
-    let at = |t: f32, a: f32| body_surface(spec, t, a).0;
-    let e_t = (at(t0 + STEP, a0) - at(t0 - STEP, a0)) / (2.0 * STEP);
-    let e_a = (at(t0, a0 + STEP) - at(t0, a0 - STEP)) / (2.0 * STEP);
-    let tangent_t = e_t.normalize();
-    let tangent_b = (e_a - tangent_t * tangent_t.dot(e_a)).normalize();
-    let radius = EYE_RADIUS_T * e_t.length();
-    let centre = at(t0, a0);
-    // Parameter offsets for an offset (u, v) in the tangent plane, to first order.
-    let solve = move |u: f32, v: f32| {
-        let da = v / tangent_b.dot(e_a);
-        ((u - da * tangent_t.dot(e_a)) / e_t.length(), da)
-    };
-    // The point of the head that the tangent plane's (x, y) lies over (seen along the normal), by a few Newton
-    // steps from the first-order guess: the head's section curves too fast round the jaw for that guess alone.
-    let params = move |x: f32, y: f32| {
-        let (mut t, mut a) = (t0, a0);
-        for _ in 0..4 {
-            let d = at(t, a) - centre;
-            let (dt, da) = solve(x * radius - d.dot(tangent_t), side * y * radius - d.dot(tangent_b));
-            (t, a) = (t + dt, a + da);
-        }
-        (t, a)
-    };
-    // The dome at (x, y) in eye radii; `lift` in eye radii along the head's normal (the skirt: below it).
-    let surface = |x: f32, y: f32, lift: f32| {
-        let (t, a) = params(x, y);
-        let (p, n, _) = body_surface(spec, t, a);
-        p + n * (lift * radius)
-    };
-    let dome = |r: f32| 0.12 + 0.3 * (1.0 - r * r).max(0.0);
-    let (pupil, iris) = pattern.eye_tints();
-    let base = m.vertices.len() as u32;
-    let mut push = |x: f32, y: f32, lift: f32, tint: [f32; 3], flat: bool| {
-        let (t, a) = params(x, y);
-        let (on_head, body_normal, body_along) = body_surface(spec, t, a);
-        let p = on_head + body_normal * (lift * radius);
-        let n = if flat {
-            body_normal
-        } else {
-            const D: f32 = 1e-3;
-            let r = |x: f32, y: f32| (x * x + y * y).sqrt();
-            let dx = surface(x + D, y, dome(r(x + D, y))) - surface(x - D, y, dome(r(x - D, y)));
-            let dy = surface(x, y + D, dome(r(x, y + D))) - surface(x, y - D, dome(r(x, y - D)));
-            let n = dx.cross(dy).try_normalize().unwrap_or(body_normal);
-            if n.dot(body_normal) < 0.0 {
-                -n
-            } else {
-                n
-            }
-        };
-        let tangent =
-            (body_along - n * n.dot(body_along)).try_normalize().unwrap_or_else(|| n.any_orthonormal_vector());
-        m.vertices.push(Vertex {
-            position: p.to_array(),
-            normal: n.to_array(),
-            tangent: [tangent.x, tangent.y, tangent.z, 1.0],
-            uv: [t, (a0 / std::f32::consts::TAU + 0.25).rem_euclid(1.0)],
-            pigment: tint,
-        });
-    };
-    push(0.0, 0.0, dome(0.0), pupil, false);
-    for (ring, &(r, is_pupil)) in EYE_RINGS.iter().enumerate() {
-        let skirt = ring == EYE_RINGS.len() - 1;
-        for k in 0..EYE_SECTORS {
-            let (sin, cos) = (std::f32::consts::TAU * k as f32 / EYE_SECTORS as f32).sin_cos();
-            let lift = if skirt { -0.1 } else { dome(r) };
-            push(r * cos, r * sin, lift, if is_pupil { pupil } else { iris }, skirt);
-        }
-    }
-    let triangles = eye_triangles(base);
-    // Fronts outwards: the winding that the first triangle's normal agrees with.
-    let position = |i: u32| Vec3::from(m.vertices[i as usize].position);
-    let [a, b, c] = triangles[0];
-    let face = (position(b) - position(a)).cross(position(c) - position(a));
-    let flip = face.dot(Vec3::from(m.vertices[a as usize].normal)) < 0.0;
-    for [a, b, c] in triangles {
-        m.indices.extend_from_slice(&if flip { [a, c, b] } else { [a, b, c] });
-    }
-}
-
-/// An eye's triangles, its centre at vertex `base` and its rings after it: the centre's fan, then a band of quads
-/// between consecutive rings (none across the pupil's doubled ring).
-fn eye_triangles(base: u32) -> Vec<[u32; 3]> {
-    let ring_start = |ring: u32| base + 1 + ring * EYE_SECTORS;
-    let mut triangles = Vec::new();
-    for k in 0..EYE_SECTORS {
-        triangles.push([base, ring_start(0) + k, ring_start(0) + (k + 1) % EYE_SECTORS]);
-    }
-    for ring in 0..EYE_RINGS.len() as u32 - 1 {
-        if EYE_RINGS[ring as usize].1 != EYE_RINGS[ring as usize + 1].1 {
-            continue;
-        }
-        for k in 0..EYE_SECTORS {
-            let (a, b) = (ring_start(ring) + k, ring_start(ring) + (k + 1) % EYE_SECTORS);
-            let (c, d) = (ring_start(ring + 1) + k, ring_start(ring + 1) + (k + 1) % EYE_SECTORS);
-            triangles.push([a, c, b]);
-            triangles.push([b, c, d]);
-        }
-    }
-    triangles
-}
-
-/// A pattern colour as a tint of the material's pigment, the corn snake's ground colour.
-fn relative_to_ground(colour: [f32; 3]) -> [f32; 3] {
-    [colour[0] / CORN_GROUND[0], colour[1] / CORN_GROUND[1], colour[2] / CORN_GROUND[2]]
-}
-
 /// The angle around the body of v ∈ [0, 1) (v = 0 under the belly, ½ on the back).
 fn angle(v: f32) -> f32 {
     (v - 0.25) * std::f32::consts::TAU
@@ -461,84 +341,10 @@ fn scale_vertex(
     }
 }
 
-/// The skin's pattern over the body: per scale, a tint of [`CORN_GROUND`].
-struct PatternField {
-    pattern: Pattern,
-    /// Saddle centres along the body and their sideways wobble (radians).
-    saddles: Vec<(f32, f32)>,
-}
-
-/// Saddles on the body and tail (a corn snake has some 30–45 on a body of ~230 scale rows; this body has fewer
-/// rows, and a saddle must span several of them to read as one).
-const SADDLES: usize = 24;
-/// Where the saddles run along the body (t).
-const SADDLE_SPAN: (f32, f32) = (0.06, 0.9);
-
-impl PatternField {
-    fn new(pattern: Pattern, seed: u64) -> Self {
-        let mut random = Random::new(seed ^ 0x5ADD1E);
-        let spacing = (SADDLE_SPAN.1 - SADDLE_SPAN.0) / SADDLES as f32;
-        let saddles = (0..SADDLES)
-            .map(|k| (SADDLE_SPAN.0 + (k as f32 + 0.5 + 0.15 * random.next()) * spacing, 0.12 * random.next()))
-            .collect();
-        Self { pattern, saddles }
-    }
-
-    /// The tints of an eye's pupil and iris (none for the plain pattern).
-    fn eye_tints(&self) -> ([f32; 3], [f32; 3]) {
-        if self.pattern == Pattern::Plain {
-            return (UNTINTED, UNTINTED);
-        }
-        (relative_to_ground(CORN_BORDER), relative_to_ground(CORN_SADDLE))
-    }
-
-    /// The tint at t along the body and angle a around it.
-    fn tint(&self, t: f32, a: f32) -> [f32; 3] {
-        if self.pattern == Pattern::Plain {
-            return UNTINTED;
-        }
-        relative_to_ground(self.colour(t, a))
-    }
-
-    fn colour(&self, t: f32, a: f32) -> [f32; 3] {
-        // Angle from the middle of the back, −π..π.
-        let from_top = (a - std::f32::consts::FRAC_PI_2 + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU)
-            - std::f32::consts::PI;
-        if from_top.abs() > 2.3 {
-            return CORN_BELLY;
-        }
-        // (The eyes are geometry: `eye`.) A dark-edged stripe from each eye back to the jaw, and the spear point on the crown, pointing at the snout.
-        let stripe = ((t - 0.952) / 0.02).powi(2) + ((from_top.abs() - 1.2) / 0.14).powi(2);
-        if stripe < 1.0 {
-            return if stripe < 0.45 { CORN_SADDLE } else { CORN_BORDER };
-        }
-        if (HEAD_START - 0.01..0.975).contains(&t) {
-            let half = 0.7 * (0.975 - t) / (0.975 - HEAD_START);
-            match from_top.abs() / half {
-                d if d < 0.8 => return CORN_SADDLE,
-                d if d < 1.0 => return CORN_BORDER,
-                _ => {}
-            }
-        }
-        let spacing = (SADDLE_SPAN.1 - SADDLE_SPAN.0) / SADDLES as f32;
-        // The nearest saddle on the back, and the nearest blotch on the flanks (between two saddles).
-        let mut nearest = f32::INFINITY;
-        for &(centre, wobble) in &self.saddles {
-            let dorsal = ((t - centre) / (0.3 * spacing)).powi(2) + ((from_top - wobble) / 0.85).powi(2);
-            let lateral =
-                ((t - centre - 0.5 * spacing) / (0.18 * spacing)).powi(2) + ((from_top.abs() - 1.65) / 0.3).powi(2);
-            nearest = nearest.min(dorsal).min(lateral);
-        }
-        match nearest.sqrt() {
-            d if d < 1.0 => CORN_SADDLE,
-            d if d < 1.3 => CORN_BORDER,
-            _ => CORN_GROUND,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::eye::{EYE_RINGS, EYE_SECTORS};
+    use super::pattern::relative_to_ground;
     use super::*;
     use crate::mesh::shapes::tests::check_outward_and_frames;
 
