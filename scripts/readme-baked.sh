@@ -9,12 +9,7 @@
 #   view-800.txt      the viewer on the default scene at 800² under Xvfb (needs Xvfb)
 #   table-cold.txt    the default scene's table built cold (empty cache), then loaded from the cache
 # Usage: scripts/readme-baked.sh [TAG] [extra diffract options, e.g. --device 0]   (default tag: lavapipe)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-source scripts/lib/xvfb.sh
-tag=${1:-lavapipe}
-shift || true
-cargo build --release -q
+source "$(dirname "$0")/lib/readme.sh"
 d=target/release/diffract
 out=docs/profile/baked-$tag
 mkdir -p "$out"

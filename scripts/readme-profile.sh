@@ -3,11 +3,7 @@
 # tiled to 65 µm, normal incidence) at 256², across the five approaches, Taylor orders and wavelength steps,
 # with the roofline probe. Writes docs/profile/elaphe-256-<tag>.csv and docs/images/profile-elaphe-<tag>.png.
 # Usage: scripts/readme-profile.sh [TAG] [extra diffract options, e.g. --device 0]   (default tag: lavapipe)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-tag=${1:-lavapipe}
-shift || true
-cargo build --release -q
+source "$(dirname "$0")/lib/readme.sh"
 mkdir -p docs/profile docs/images
 target/release/diffract profile "$@" \
   --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \

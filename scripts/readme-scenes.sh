@@ -9,12 +9,7 @@
 #   docs/images/view.png             the viewer's window on the default scene, 480×320 under Xvfb
 # Needs ImageMagick (montage, convert) and the DejaVu fonts to compose them, Xvfb for the viewer.
 # Usage: scripts/readme-scenes.sh [TAG] [extra diffract options]   (default tag: lavapipe)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-source scripts/lib/xvfb.sh
-tag=${1:-lavapipe}
-shift || true
-cargo build --release -q
+source "$(dirname "$0")/lib/readme.sh"
 d=$PWD/target/release/diffract
 img=docs/images
 log=docs/profile/scenes-$tag.txt

@@ -172,11 +172,11 @@ fn render_frames(
         let frame = capture
             .render(ctx, &camera, light, scene.ambient, scene.render.background)
             .with_context(|| format!("frame {}", f + 1))?;
-        let linear = frame.linear.expect("a linear target");
+        let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
-        crate::output::write_png_rgba8(&png, width, height, &crate::output::linear_to_rgba8(&linear, exposure))?;
+        crate::output::write_png_rgba8(&png, width, height, &crate::output::linear_to_rgba8(linear, exposure))?;
         if let Some(exr) = &args.exr {
-            crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, &linear)?;
+            crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
         }
         times.extend(frame.gpu_ms);
         bar.detail(png.display().to_string());
@@ -218,7 +218,12 @@ fn preview(
             background: [bg[0], bg[1], bg[2], 1.0],
         };
         let frame = render_offscreen(ctx, &preview, width, height, samples)?;
-        crate::output::write_png_rgba8(&numbered(&args.out, f, args.frames), width, height, &frame.rgba8)?;
+        crate::output::write_png_rgba8(
+            &numbered(&args.out, f, args.frames),
+            width,
+            height,
+            frame.rgba8().expect("preview frames are RGBA8"),
+        )?;
     }
     println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
     Ok(super::validation_status(&ctx.validation()))

@@ -103,11 +103,11 @@ pub fn srgb_oetf(c: f64) -> f64 {
     }
 }
 
-/// Linear scene-referred RGB → display-referred 8-bit sRGB, after an exposure of `exposure_ev` stops.
+/// Linear scene-referred RGB → display-referred 8-bit sRGB, after scaling by `exposure_scale` (2^EV): the CPU
+/// twin of `display_encode` in `glsl/include/spectrum.glsl`, which takes the same scale (and returns [0, 1]).
 /// A NaN channel becomes 0 in the clamp; the renderer never produces one (see the GPU tests).
-pub fn display_encode(linear: DVec3, exposure_ev: f64) -> [u8; 3] {
-    let scale = exposure_ev.exp2();
-    [linear.x, linear.y, linear.z].map(|c| (srgb_oetf(c * scale) * 255.0).round() as u8)
+pub fn display_encode(linear: DVec3, exposure_scale: f64) -> [u8; 3] {
+    [linear.x, linear.y, linear.z].map(|c| (srgb_oetf(c * exposure_scale) * 255.0).round() as u8)
 }
 
 #[cfg(test)]
@@ -149,7 +149,8 @@ mod tests {
         assert_eq!(srgb_oetf(0.0), 0.0);
         assert!((srgb_oetf(1.0) - 1.0).abs() < 1e-12);
         assert!((srgb_oetf(0.18) - 0.46135).abs() < 1e-4);
-        assert_eq!(display_encode(DVec3::splat(0.5), 1.0), [255, 255, 255]);
+        assert_eq!(display_encode(DVec3::splat(0.5), 2.0), [255, 255, 255]);
+        assert_eq!(display_encode(DVec3::splat(0.5), 1.0), [188; 3], "0.5 encodes to 0.735 · 255");
     }
 
     #[test]

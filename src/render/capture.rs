@@ -4,7 +4,8 @@
 use glam::{Mat4, Vec3};
 
 use super::gbuffer::{merge_reaches, GBuffer};
-use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceFrame};
+use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+use super::Frame;
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -97,10 +98,10 @@ impl SceneCapture {
         light_dir: Vec3,
         ambient: f32,
         background: [f32; 3],
-    ) -> Result<SurfaceFrame> {
+    ) -> Result<Frame> {
         self.renderer.update(camera, light_dir, ambient, &self.models, self.width as f32 / self.height as f32)?;
         let frame = self.frames.render(ctx, &self.renderer, [background[0], background[1], background[2], 1.0])?;
-        let bad = frame.linear.as_deref().map_or(0, crate::stats::non_finite_pixels);
+        let bad = frame.linear().map_or(0, crate::stats::non_finite_pixels);
         if bad > 0 {
             return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
         }

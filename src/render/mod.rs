@@ -41,6 +41,44 @@ pub struct TargetView {
     pub samples: vk::SampleCountFlags,
 }
 
+/// A frame read back to the CPU, rows top first: what every offscreen pass but the BRDF map (a
+/// [`diffraction::MapImage`], square and in direction space) gives.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Pixels,
+    /// GPU time of the frame's pass from timestamp queries, where the device has them.
+    pub gpu_ms: Option<f64>,
+}
+
+/// A frame's pixels, four channels each.
+#[derive(Clone, Debug)]
+pub enum Pixels {
+    /// 8-bit, display-encoded (sRGB).
+    Rgba8(Vec<u8>),
+    /// Linear, scene-referred float.
+    Linear(Vec<f32>),
+}
+
+impl Frame {
+    /// The display-encoded pixels, if the frame has them.
+    pub fn rgba8(&self) -> Option<&[u8]> {
+        match &self.pixels {
+            Pixels::Rgba8(p) => Some(p),
+            Pixels::Linear(_) => None,
+        }
+    }
+
+    /// The linear pixels, if the frame has them.
+    pub fn linear(&self) -> Option<&[f32]> {
+        match &self.pixels {
+            Pixels::Linear(p) => Some(p),
+            Pixels::Rgba8(_) => None,
+        }
+    }
+}
+
 /// A colour and (optionally) a depth image for headless rendering, multisampled or not.
 pub struct OffscreenTarget {
     /// The single-sampled image read back (the resolve target when multisampled).

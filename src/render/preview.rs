@@ -6,7 +6,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use super::surface::VERTEX_ATTRIBUTES;
-use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, TargetView, COLOR_FORMAT, DEPTH_FORMAT};
+use super::{
+    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, COLOR_FORMAT, DEPTH_FORMAT,
+};
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
@@ -131,17 +133,6 @@ impl PreviewPass {
     }
 }
 
-/// A rendered frame read back to the CPU.
-#[derive(Clone, Debug)]
-pub struct Frame {
-    pub width: u32,
-    pub height: u32,
-    /// RGBA8, sRGB-encoded, top row first.
-    pub rgba8: Vec<u8>,
-    /// GPU time of the pass from timestamp queries, where the device has them.
-    pub gpu_ms: Option<f64>,
-}
-
 /// Renders `scene` headless at `width`×`height`, `samples` per pixel.
 pub fn render_offscreen(
     ctx: &Context,
@@ -157,8 +148,8 @@ pub fn render_offscreen(
         target.begin(ctx, cmd);
         pass.record(ctx, cmd, &target.view(), scene.background);
     })?;
-    let rgba8 = target.read(ctx)?;
-    Ok(Frame { width, height, rgba8, gpu_ms })
+    let pixels = Pixels::Rgba8(target.read(ctx)?);
+    Ok(Frame { width, height, pixels, gpu_ms })
 }
 
 crate::impl_destroy!(PreviewPass);

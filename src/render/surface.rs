@@ -10,7 +10,10 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use super::diffraction::{patch_bindings, PatchResources};
-use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, TargetView, DEPTH_FORMAT, LINEAR_FORMAT};
+use super::{
+    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, DEPTH_FORMAT,
+    LINEAR_FORMAT,
+};
 use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
@@ -356,15 +359,6 @@ impl SceneRenderer {
     }
 }
 
-/// A surface frame read back: linear RGBA float rows (top first), or display RGBA8 when asked.
-pub struct SurfaceFrame {
-    pub width: u32,
-    pub height: u32,
-    pub linear: Option<Vec<f32>>,
-    pub rgba8: Option<Vec<u8>>,
-    pub gpu_ms: Option<f64>,
-}
-
 /// An offscreen target for a [`SceneRenderer`]: renders frames and reads them back.
 pub struct OffscreenFrames {
     target: OffscreenTarget,
@@ -395,16 +389,19 @@ impl OffscreenFrames {
     }
 
     /// Draws one frame (uniforms already updated) and reads it back.
-    pub fn render(&self, ctx: &Context, renderer: &SceneRenderer, background: [f32; 4]) -> Result<SurfaceFrame> {
+    pub fn render(&self, ctx: &Context, renderer: &SceneRenderer, background: [f32; 4]) -> Result<Frame> {
         let gpu_ms = ctx.one_shot_timed(SceneRenderer::NAME, |cmd| {
             self.target.begin(ctx, cmd);
             renderer.record(ctx, cmd, &self.target.view(), background);
         })?;
         let bytes = self.target.read(ctx)?;
         let extent = self.target.color.extent();
-        let (linear, rgba8) =
-            if self.display_output { (None, Some(bytes)) } else { (Some(bytemuck::pod_collect_to_vec(&bytes)), None) };
-        Ok(SurfaceFrame { width: extent.width, height: extent.height, linear, rgba8, gpu_ms })
+        let pixels = if self.display_output {
+            Pixels::Rgba8(bytes)
+        } else {
+            Pixels::Linear(bytemuck::pod_collect_to_vec(&bytes))
+        };
+        Ok(Frame { width: extent.width, height: extent.height, pixels, gpu_ms })
     }
 
     /// # Safety
@@ -423,7 +420,7 @@ pub fn render_surface(
     width: u32,
     height: u32,
     display_output: bool,
-) -> Result<SurfaceFrame> {
+) -> Result<Frame> {
     let format = OffscreenFrames::format(display_output);
     let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
     let one = vk::SampleCountFlags::TYPE_1;

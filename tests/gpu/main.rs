@@ -157,7 +157,7 @@ fn preview_scene_matches_golden_image() {
         render_offscreen(ctx, &PreviewScene::default_scene(), 128, 128, ash::vk::SampleCountFlags::TYPE_1).unwrap()
     });
     assert!(frame.gpu_ms.is_some(), "lavapipe has timestamps");
-    golden::check("preview_128", frame.width, frame.height, &frame.rgba8);
+    golden::check("preview_128", frame.width, frame.height, frame.rgba8().expect("RGBA8"));
 }
 
 #[test]
@@ -165,5 +165,5 @@ fn odd_sized_frames_render() {
     let frame = gpu_test(|ctx| {
         render_offscreen(ctx, &PreviewScene::default_scene(), 33, 7, ash::vk::SampleCountFlags::TYPE_1).unwrap()
     });
-    assert_eq!(frame.rgba8.len(), 33 * 7 * 4);
+    assert_eq!(frame.rgba8().expect("RGBA8").len(), 33 * 7 * 4);
 }

@@ -25,7 +25,7 @@ fn every_asset_scene_renders_in_colour() {
             let frame = capture.render(ctx, &scene.camera, scene.light_dir, scene.ambient, scene.render.background);
             // SAFETY: render waited.
             unsafe { capture.destroy(ctx) };
-            frame.unwrap().linear.unwrap()
+            frame.unwrap().linear().unwrap().to_vec()
         });
         let rgba8 = diffract::output::linear_to_rgba8(&linear, scene.render.exposure_ev);
         let coloured =
