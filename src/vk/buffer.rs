@@ -4,7 +4,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
-use super::{Context, MemoryState};
+use super::{Context, Guard, MemoryState};
 use crate::error::{Error, Result, VkResultExt};
 
 /// What a buffer is for and where its memory lives.
@@ -78,65 +78,46 @@ impl Context {
         }
         let info = vk::BufferCreateInfo::default().size(desc.size).usage(desc.usage);
         // SAFETY: a plain create on a live device.
-        let raw = unsafe { self.device().create_buffer(&info, None) }.vk("vkCreateBuffer")?;
+        let raw = Guard::new(self, unsafe { self.device().create_buffer(&info, None) }.vk("vkCreateBuffer")?);
         // SAFETY: `raw` is a live buffer.
-        let requirements = unsafe { self.device().get_buffer_memory_requirements(raw) };
-        let allocation = self.allocator().allocate(&AllocationCreateDesc {
-            name,
-            requirements,
-            location: desc.location,
-            linear: true,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        });
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(cause) => {
-                // SAFETY: the buffer was never bound or used.
-                unsafe { self.device().destroy_buffer(raw, None) };
-                return Err(Error::Allocation { name: name.into(), cause });
-            }
-        };
+        let requirements = unsafe { self.device().get_buffer_memory_requirements(*raw) };
+        let allocation = self
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: desc.location,
+                linear: true,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|cause| Error::Allocation { name: name.into(), cause })?;
+        let allocation = Guard::new(self, allocation);
         // SAFETY: memory and offset come from an allocation made for this buffer's requirements.
-        if let Err(result) = unsafe { self.device().bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
-        {
-            // SAFETY: unbound and unused.
-            unsafe { self.device().destroy_buffer(raw, None) };
-            let _ = self.allocator().free(allocation);
-            return Err(Error::Vulkan { call: "vkBindBufferMemory", result });
-        }
-        self.set_name(raw, name);
-        Ok(Buffer { raw, allocation, desc })
+        unsafe { self.device().bind_buffer_memory(*raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindBufferMemory")?;
+        self.set_name(*raw, name);
+        Ok(Buffer { raw: raw.keep(), allocation: allocation.keep(), desc })
     }
 
     /// A GPU-only buffer filled with `data` through a staging copy.
     pub fn create_buffer_init(&self, usage: vk::BufferUsageFlags, data: &[u8], name: &str) -> Result<Buffer> {
-        let buffer = self.create_buffer(BufferDesc::gpu_only(data.len() as u64, usage), name)?;
-        match self.upload_to_buffer(&buffer, data) {
-            Ok(()) => Ok(buffer),
-            Err(e) => {
-                // SAFETY: the failed upload was waited for (or never submitted).
-                unsafe { buffer.destroy(self) };
-                Err(e)
-            }
-        }
+        let buffer = Guard::new(self, self.create_buffer(BufferDesc::gpu_only(data.len() as u64, usage), name)?);
+        // A failed upload was waited for (or never submitted): the guard may destroy the buffer.
+        self.upload_to_buffer(&buffer, data)?;
+        Ok(buffer.keep())
     }
 
     fn upload_to_buffer(&self, buffer: &Buffer, data: &[u8]) -> Result<()> {
-        let mut staging = self.create_buffer(
-            BufferDesc::upload(data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC),
-            "staging (buffer upload)",
-        )?;
-        let result = staging.write(data).and_then(|()| {
-            self.one_shot("buffer upload", |cmd| {
-                let region = vk::BufferCopy::default().size(data.len() as u64);
-                // SAFETY: both buffers are live and large enough.
-                unsafe { self.device().cmd_copy_buffer(cmd, staging.raw, buffer.raw, &[region]) };
-                self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::ALL_READS);
-            })
-        });
-        // SAFETY: one_shot waited for the copy.
-        unsafe { staging.destroy(self) };
-        result
+        let desc = BufferDesc::upload(data.len() as u64, vk::BufferUsageFlags::TRANSFER_SRC);
+        // Destroyed at the scope's end: one_shot waits for the copy.
+        let mut staging = Guard::new(self, self.create_buffer(desc, "staging (buffer upload)")?);
+        staging.write(data)?;
+        self.one_shot("buffer upload", |cmd| {
+            let region = vk::BufferCopy::default().size(data.len() as u64);
+            // SAFETY: both buffers are live and large enough.
+            unsafe { self.device().cmd_copy_buffer(cmd, staging.raw, buffer.raw, &[region]) };
+            self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::ALL_READS);
+        })
     }
 
     /// Copies a buffer's contents back to the CPU (directly if it is host-visible).
@@ -144,17 +125,16 @@ impl Context {
         if let Some(bytes) = buffer.mapped() {
             return Ok(bytes.to_vec());
         }
-        let readback = self.create_buffer(BufferDesc::readback(buffer.desc.size), "readback (buffer)")?;
-        let result = self.one_shot("buffer readback", |cmd| {
+        // Destroyed at the scope's end: one_shot waits for the copy.
+        let readback =
+            Guard::new(self, self.create_buffer(BufferDesc::readback(buffer.desc.size), "readback (buffer)")?);
+        self.one_shot("buffer readback", |cmd| {
             self.barrier_memory(cmd, MemoryState::ALL_WRITES, MemoryState::TRANSFER_READ);
             let region = vk::BufferCopy::default().size(buffer.desc.size);
             // SAFETY: both buffers are live and the same size.
             unsafe { self.device().cmd_copy_buffer(cmd, buffer.raw, readback.raw, &[region]) };
             self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
-        });
-        let bytes = result.map(|()| readback.mapped().map(<[u8]>::to_vec).unwrap_or_default());
-        // SAFETY: one_shot waited for the copy.
-        unsafe { readback.destroy(self) };
-        bytes
+        })?;
+        Ok(readback.mapped().map(<[u8]>::to_vec).unwrap_or_default())
     }
 }

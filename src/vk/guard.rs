@@ -2,8 +2,17 @@
 //! `Option`, `Vec` and pairs of them), and a [`Guard`] that destroys what it holds when it is dropped — on an
 //! early return with `?` — unless [`Guard::keep`] hands it on. Leaves keep having no `Drop` of their own: a
 //! finished object is destroyed explicitly, by its owner, when the GPU is done with it.
+//!
+//! The raw handles that `vk/` itself creates on the way to a leaf (an image before its memory is bound, the
+//! layouts before a pipeline, a fence before a frame's sync) and memory allocations implement [`Destroy`] too, so
+//! the leaves' own constructors are written with guards like everything above them. Two places clean up by
+//! hand, on purpose: opening the [`Context`] itself (there is no context to guard with yet) and
+//! [`Context::one_shot`] (a failed submission must be waited for before its fence and command buffer go).
 
 use std::ops::{Deref, DerefMut};
+
+use ash::vk;
+use gpu_allocator::vulkan::Allocation;
 
 use super::Context;
 
@@ -34,6 +43,38 @@ impl<A: Destroy, B: Destroy> Destroy for (A, B) {
     unsafe fn destroy(self, ctx: &Context) {
         self.1.destroy(ctx);
         self.0.destroy(ctx);
+    }
+}
+
+/// Raw handles, destroyed by the device call of their kind.
+macro_rules! impl_destroy_raw {
+    ($($t:ty => $call:ident),* $(,)?) => {$(
+        impl Destroy for $t {
+            unsafe fn destroy(self, ctx: &Context) {
+                ctx.device().$call(self, None);
+            }
+        }
+    )*};
+}
+
+impl_destroy_raw!(
+    vk::Buffer => destroy_buffer,
+    vk::Image => destroy_image,
+    vk::ImageView => destroy_image_view,
+    vk::ShaderModule => destroy_shader_module,
+    vk::DescriptorSetLayout => destroy_descriptor_set_layout,
+    vk::PipelineLayout => destroy_pipeline_layout,
+    vk::Fence => destroy_fence,
+    vk::Semaphore => destroy_semaphore,
+    vk::CommandPool => destroy_command_pool,
+    vk::QueryPool => destroy_query_pool,
+);
+
+/// Memory goes back to the allocator (a failure to free is the allocator's bookkeeping, reported by the leak
+/// check at teardown).
+impl Destroy for Allocation {
+    unsafe fn destroy(self, ctx: &Context) {
+        let _ = ctx.allocator().free(self);
     }
 }
 

@@ -5,7 +5,7 @@ use ash::vk;
 use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
-use super::{BufferDesc, Context, ImageState, MemoryState};
+use super::{BufferDesc, Context, Guard, ImageState, MemoryState};
 use crate::error::{Error, Result, VkResultExt};
 
 /// Size, format and use of a GPU-only 2D (array) image.
@@ -166,24 +166,23 @@ impl Context {
             .usage(desc.usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: a plain create on a live device.
-        let raw = unsafe { self.device().create_image(&info, None) }.vk("vkCreateImage")?;
+        let raw = Guard::new(self, unsafe { self.device().create_image(&info, None) }.vk("vkCreateImage")?);
         // SAFETY: `raw` is live.
-        let requirements = unsafe { self.device().get_image_memory_requirements(raw) };
-        let allocation = self.allocator().allocate(&AllocationCreateDesc {
-            name,
-            requirements,
-            location: MemoryLocation::GpuOnly,
-            linear: false,
-            allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-        });
-        let allocation = match allocation {
-            Ok(a) => a,
-            Err(cause) => {
-                // SAFETY: unbound and unused.
-                unsafe { self.device().destroy_image(raw, None) };
-                return Err(Error::Allocation { name: name.into(), cause });
-            }
-        };
+        let requirements = unsafe { self.device().get_image_memory_requirements(*raw) };
+        let allocation = self
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location: MemoryLocation::GpuOnly,
+                linear: false,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|cause| Error::Allocation { name: name.into(), cause })?;
+        let allocation = Guard::new(self, allocation);
+        // SAFETY: memory fits the requirements.
+        unsafe { self.device().bind_image_memory(*raw, allocation.memory(), allocation.offset()) }
+            .vk("vkBindImageMemory")?;
         let aspect = if desc.format == vk::Format::D32_SFLOAT {
             vk::ImageAspectFlags::DEPTH
         } else {
@@ -191,38 +190,18 @@ impl Context {
         };
         let view_type =
             if desc.array || desc.layers > 1 { vk::ImageViewType::TYPE_2D_ARRAY } else { vk::ImageViewType::TYPE_2D };
-        // SAFETY: memory fits the requirements; the view describes the image just created.
-        let view = unsafe {
-            self.device()
-                .bind_image_memory(raw, allocation.memory(), allocation.offset())
-                .vk("vkBindImageMemory")
-                .and_then(|()| {
-                    let view_info = vk::ImageViewCreateInfo::default()
-                        .image(raw)
-                        .view_type(view_type)
-                        .format(desc.format)
-                        .subresource_range(
-                            vk::ImageSubresourceRange::default()
-                                .aspect_mask(aspect)
-                                .level_count(desc.mip_levels)
-                                .layer_count(desc.layers),
-                        );
-                    self.device().create_image_view(&view_info, None).vk("vkCreateImageView")
-                })
-        };
-        match view {
-            Ok(view) => {
-                self.set_name(raw, name);
-                self.set_name(view, name);
-                Ok(Image { raw, view, allocation, desc })
-            }
-            Err(e) => {
-                // SAFETY: unused.
-                unsafe { self.device().destroy_image(raw, None) };
-                let _ = self.allocator().free(allocation);
-                Err(e)
-            }
-        }
+        let view_info =
+            vk::ImageViewCreateInfo::default().image(*raw).view_type(view_type).format(desc.format).subresource_range(
+                vk::ImageSubresourceRange::default()
+                    .aspect_mask(aspect)
+                    .level_count(desc.mip_levels)
+                    .layer_count(desc.layers),
+            );
+        // SAFETY: the view describes the image just created.
+        let view = unsafe { self.device().create_image_view(&view_info, None) }.vk("vkCreateImageView")?;
+        self.set_name(*raw, name);
+        self.set_name(view, name);
+        Ok(Image { raw: raw.keep(), view, allocation: allocation.keep(), desc })
     }
 
     /// Fills every layer of every mip level of `image` from `data` (tightly packed: level after level, each
@@ -232,8 +211,9 @@ impl Context {
         if data.len() as u64 != size {
             return Err(Error::Invalid(format!("image upload of {} bytes, expected {size}", data.len())));
         }
-        let mut staging =
-            self.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::TRANSFER_SRC), "staging (image upload)")?;
+        // Destroyed at the scope's end: one_shot waits for the copy.
+        let desc = BufferDesc::upload(size, vk::BufferUsageFlags::TRANSFER_SRC);
+        let mut staging = Guard::new(self, self.create_buffer(desc, "staging (image upload)")?);
         let result = staging.write(data).and_then(|()| {
             self.one_shot("image upload", |cmd| {
                 self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
@@ -263,8 +243,6 @@ impl Context {
                 self.barrier_image(cmd, image, ImageState::TRANSFER_DST, final_state);
             })
         });
-        // SAFETY: one_shot waited for the copy.
-        unsafe { staging.destroy(self) };
         result
     }
 
@@ -272,7 +250,8 @@ impl Context {
     /// current state, and the image is left in it.
     pub fn read_image(&self, image: &Image, state: ImageState) -> Result<Vec<u8>> {
         let size = ImageDesc { mip_levels: 1, ..image.desc }.byte_size()?;
-        let readback = self.create_buffer(BufferDesc::readback(size), "readback (image)")?;
+        // Destroyed at the scope's end: one_shot waits for the copy.
+        let readback = Guard::new(self, self.create_buffer(BufferDesc::readback(size), "readback (image)")?);
         let result =
             self.one_shot("image readback", |cmd| {
                 self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
@@ -292,10 +271,7 @@ impl Context {
                 self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
                 self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
             });
-        let bytes = result.map(|()| readback.mapped().map(<[u8]>::to_vec).unwrap_or_default());
-        // SAFETY: one_shot waited for the copy.
-        unsafe { readback.destroy(self) };
-        bytes
+        result.map(|()| readback.mapped().map(<[u8]>::to_vec).unwrap_or_default())
     }
 
     /// Whether the device filters `format` linearly when sampling (the baked table's trilinear fetches need it).

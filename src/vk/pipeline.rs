@@ -5,7 +5,7 @@ use std::ffi::CStr;
 
 use ash::vk;
 
-use super::{Buffer, Context, Image, Sampler};
+use super::{Buffer, Context, Guard, Image, Sampler};
 use crate::error::{Error, Result, VkResultExt};
 
 const ENTRY: &CStr = c"main";
@@ -123,25 +123,12 @@ impl Pipeline {
     }
 }
 
-/// Everything created before the pipeline itself, destroyed again if a later step fails.
-struct Partial {
-    modules: Vec<vk::ShaderModule>,
-    set_layout: vk::DescriptorSetLayout,
-    layout: vk::PipelineLayout,
-}
-
-impl Partial {
-    /// # Safety
-    /// The objects must be unused.
-    unsafe fn destroy(self, ctx: &Context, keep_layouts: bool) {
-        for m in self.modules {
-            ctx.device().destroy_shader_module(m, None);
-        }
-        if !keep_layouts {
-            ctx.device().destroy_pipeline_layout(self.layout, None);
-            ctx.device().destroy_descriptor_set_layout(self.set_layout, None);
-        }
-    }
+/// Everything created before the pipeline itself, each guarded: destroyed again if a later step fails; the
+/// modules also once the pipeline exists (it no longer needs them).
+struct Parts<'a> {
+    layout: Guard<'a, vk::PipelineLayout>,
+    set_layout: Guard<'a, vk::DescriptorSetLayout>,
+    modules: Guard<'a, Vec<vk::ShaderModule>>,
 }
 
 impl Context {
@@ -155,8 +142,7 @@ impl Context {
         Ok(module)
     }
 
-    /// The shader modules (`(SPIR-V, name)` in stage order) and the layouts of a pipeline; nothing is left
-    /// behind on failure.
+    /// The shader modules (`(SPIR-V, name)` in stage order) and the layouts of a pipeline.
     fn prepare(
         &self,
         name: &str,
@@ -164,36 +150,11 @@ impl Context {
         bindings: &[Binding],
         push_size: u32,
         stages: vk::ShaderStageFlags,
-    ) -> Result<Partial> {
-        let mut partial = Partial {
-            modules: Vec::new(),
-            set_layout: vk::DescriptorSetLayout::null(),
-            layout: vk::PipelineLayout::null(),
-        };
-        let prepared = (|| {
-            for (spirv, module_name) in shaders {
-                partial.modules.push(self.create_shader_module(spirv, module_name)?);
-            }
-            self.create_layouts(name, bindings, push_size, stages, &mut partial)
-        })();
-        match prepared {
-            Ok(()) => Ok(partial),
-            Err(e) => {
-                // SAFETY: nothing uses them.
-                unsafe { partial.destroy(self, false) };
-                Err(e)
-            }
+    ) -> Result<Parts<'_>> {
+        let mut modules = Guard::new(self, Vec::with_capacity(shaders.len()));
+        for (spirv, module_name) in shaders {
+            modules.push(self.create_shader_module(spirv, module_name)?);
         }
-    }
-
-    fn create_layouts(
-        &self,
-        name: &str,
-        bindings: &[Binding],
-        push_size: u32,
-        stages: vk::ShaderStageFlags,
-        partial: &mut Partial,
-    ) -> Result<()> {
         let raw_bindings: Vec<_> = bindings
             .iter()
             .map(|b| {
@@ -208,55 +169,48 @@ impl Context {
             .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
             .bindings(&raw_bindings);
         // SAFETY: plain creates on a live device.
-        partial.set_layout =
+        let set_layout =
             unsafe { self.device().create_descriptor_set_layout(&set_info, None) }.vk("vkCreateDescriptorSetLayout")?;
-        self.set_name(partial.set_layout, name);
+        let set_layout = Guard::new(self, set_layout);
+        self.set_name(*set_layout, name);
         let ranges = [vk::PushConstantRange::default().stage_flags(stages).size(push_size)];
-        let set_layouts = [partial.set_layout];
+        let set_layouts = [*set_layout];
         let mut layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
         if push_size > 0 {
             layout_info = layout_info.push_constant_ranges(&ranges);
         }
         // SAFETY: as above.
-        partial.layout =
+        let layout =
             unsafe { self.device().create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
-        self.set_name(partial.layout, name);
-        Ok(())
+        let layout = Guard::new(self, layout);
+        self.set_name(*layout, name);
+        Ok(Parts { layout, set_layout, modules })
     }
 
     fn finish_pipeline(
         &self,
         name: &str,
         created: std::result::Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
-        partial: Partial,
+        parts: Parts<'_>,
         bind_point: vk::PipelineBindPoint,
         push_stages: vk::ShaderStageFlags,
     ) -> Result<Pipeline> {
-        match created {
-            Ok(p) => {
-                let (layout, set_layout) = (partial.layout, partial.set_layout);
-                // SAFETY: modules may be destroyed once the pipeline exists.
-                unsafe { partial.destroy(self, true) };
-                self.set_name(p[0], name);
-                Ok(Pipeline { raw: p[0], layout, set_layout, bind_point, push_stages })
-            }
-            Err((_, result)) => {
-                // SAFETY: nothing uses them.
-                unsafe { partial.destroy(self, false) };
-                Err(Error::Vulkan { call: "vkCreate*Pipelines", result })
-            }
-        }
+        // On failure every part is destroyed; on success the modules are (the pipeline no longer needs them).
+        let raw = created.map_err(|(_, result)| Error::Vulkan { call: "vkCreate*Pipelines", result })?[0];
+        self.set_name(raw, name);
+        let (layout, set_layout) = (parts.layout.keep(), parts.set_layout.keep());
+        Ok(Pipeline { raw, layout, set_layout, bind_point, push_stages })
     }
 
     pub fn create_graphics_pipeline(&self, desc: &GraphicsPipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let mut shaders = vec![(desc.vertex, format!("{} (vertex)", desc.name))];
         shaders.extend(desc.fragment.map(|f| (f, format!("{} (fragment)", desc.name))));
-        let partial = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
+        let parts = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let shader_stages: Vec<_> = [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT]
             .into_iter()
-            .zip(&partial.modules)
+            .zip(parts.modules.iter())
             .map(|(stage, &module)| {
                 vk::PipelineShaderStageCreateInfo::default()
                     .stage(stage)
@@ -308,27 +262,27 @@ impl Context {
             .depth_stencil_state(&depth)
             .color_blend_state(&blend)
             .dynamic_state(&dynamic)
-            .layout(partial.layout)
+            .layout(*parts.layout)
             .push_next(&mut rendering);
         // SAFETY: every pointer in `info` outlives the call.
         let created = unsafe { self.device().create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
-        self.finish_pipeline(desc.name, created, partial, vk::PipelineBindPoint::GRAPHICS, stages)
+        self.finish_pipeline(desc.name, created, parts, vk::PipelineBindPoint::GRAPHICS, stages)
     }
 
     pub fn create_compute_pipeline(&self, desc: &ComputePipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::COMPUTE;
         let shaders = [(desc.shader, desc.name.to_string())];
-        let partial = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
+        let parts = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(stages)
-            .module(partial.modules[0])
+            .module(parts.modules[0])
             .name(ENTRY)
             .specialization_info(&spec);
-        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(partial.layout);
+        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(*parts.layout);
         // SAFETY: every pointer in `info` outlives the call.
         let created = unsafe { self.device().create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-        self.finish_pipeline(desc.name, created, partial, vk::PipelineBindPoint::COMPUTE, stages)
+        self.finish_pipeline(desc.name, created, parts, vk::PipelineBindPoint::COMPUTE, stages)
     }
 
     /// Binds `pipeline`, pushes its descriptors and its push constants.

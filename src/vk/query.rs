@@ -151,6 +151,8 @@ impl Context {
             .query_count(1);
         // SAFETY: a plain create on a live device that enabled pipelineStatisticsQuery.
         let pool = unsafe { self.device().create_query_pool(&info, None) }.vk("vkCreateQueryPool")?;
+        // Destroyed at the scope's end: one_shot waits for the work that writes the query.
+        let _destroyed_at_the_end = super::Guard::new(self, pool);
         self.set_name(pool, name);
         let statistics = Statistics { ctx: self, pool, state: Default::default() };
         let timed = self.one_shot_timed(name, |cmd| {
@@ -177,18 +179,18 @@ impl Context {
             .vk("vkGetQueryPoolResults")?;
             Ok(PassProfile { gpu_ms, fragment_invocations: Some(count[0]) })
         });
-        // SAFETY: no pending work uses the pool.
-        unsafe { self.device().destroy_query_pool(pool, None) };
         result
     }
 
     /// [`Context::one_shot`] with the recorded work inside one timed scope named `name` (its debug label too);
     /// returns its GPU time in ms where the queue has timestamps.
     pub fn one_shot_timed(&self, name: &str, record: impl FnOnce(vk::CommandBuffer)) -> Result<Option<f64>> {
-        let Some(mut ring) = self.create_timestamp_ring(1, 1, name)? else {
+        let Some(ring) = self.create_timestamp_ring(1, 1, name)? else {
             self.one_shot(name, record)?;
             return Ok(None);
         };
+        // Destroyed at the scope's end: one_shot waits for the work that writes the queries.
+        let mut ring = super::Guard::new(self, ring);
         let mut scope_error = None;
         let submitted = self.one_shot(name, |cmd| {
             ring.begin_frame(self, cmd, 0);
@@ -200,13 +202,10 @@ impl Context {
                 Err(e) => scope_error = Some(e),
             }
         });
-        let timing = submitted.and_then(|()| match scope_error {
+        submitted.and_then(|()| match scope_error {
             Some(e) => Err(e),
             None => ring.read(self, 0).map(|t| t.first().map(|s| s.ms)),
-        });
-        // SAFETY: one_shot waited for the work that wrote the queries.
-        unsafe { ring.destroy(self) };
-        timing
+        })
     }
 
     /// A ring of `frames` slots with room for `scopes_per_frame` timed scopes each; `None` where the queue has

@@ -8,7 +8,7 @@
 use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
-use super::{Buffer, Context, Image, ImageDesc, ImageState, MemoryState};
+use super::{Buffer, Context, Guard, Image, ImageDesc, ImageState, MemoryState};
 use crate::error::{Error, Result, VkResultExt};
 
 /// Instance extensions a window on this display needs.
@@ -81,20 +81,20 @@ impl Context {
         // SAFETY: plain query on live objects.
         let supported = unsafe { loader.get_physical_device_surface_support(self.info.raw, self.queue_family(), raw) }
             .unwrap_or(false);
+        let surface = Guard::new(self, Surface { raw, loader });
         if !supported {
-            // SAFETY: no swapchain was made.
-            unsafe { loader.destroy_surface(raw, None) };
             return Err(Error::UnsuitableDevice {
                 name: self.info.name.clone(),
                 reason: "it cannot present to this window".into(),
             });
         }
-        Ok(Surface { raw, loader })
+        Ok(surface.keep())
     }
 
     /// Creates (or re-creates, retiring `old`, which the caller still destroys) a swapchain of about
-    /// `width`×`height` with 8-bit UNORM images (the shaders encode sRGB themselves). `vsync`: FIFO; otherwise MAILBOX or IMMEDIATE where offered.
-    /// `samples` per pixel (refused if the device cannot) are drawn into a multisampled image and depth buffer.
+    /// `width`×`height` with 8-bit UNORM images (the shaders encode sRGB themselves). `vsync`: FIFO; otherwise
+    /// MAILBOX or IMMEDIATE where offered. `samples` per pixel (refused, before `old` is retired, if the device
+    /// cannot) are drawn into a multisampled image and depth buffer.
     pub fn create_swapchain(
         &self,
         surface: &Surface,
@@ -105,6 +105,9 @@ impl Context {
     ) -> Result<Swapchain> {
         let choice = self.swapchain_choice(surface, (width, height), vsync)?;
         let (format, extent, readable) = (choice.format, choice.extent, choice.readable);
+        let samples = self.sample_count(samples, format.format)?;
+        let (w, h) = (extent.width.max(1), extent.height.max(1));
+        let depth = Guard::new(self, self.create_image(ImageDesc::depth(w, h).multisampled(samples), "window depth")?);
         let loader = ash::khr::swapchain::Device::new(self.instance(), self.device());
         let info = vk::SwapchainCreateInfoKHR::default()
             .surface(surface.raw)
@@ -122,37 +125,25 @@ impl Context {
             .old_swapchain(old.as_ref().map_or(vk::SwapchainKHR::null(), |o| o.raw));
         // SAFETY: every pointer in `info` outlives the call; `old` is retired by it (even if it fails).
         let raw = unsafe { loader.create_swapchain(&info, None) }.vk("vkCreateSwapchainKHR")?;
-        let (w, h) = (extent.width.max(1), extent.height.max(1));
-        let attachments = self
-            .sample_count(samples, format.format)
-            .and_then(|n| Ok((n, self.create_image(ImageDesc::depth(w, h).multisampled(n), "window depth")?)));
-        let (samples, depth) = match attachments {
-            Ok(made) => made,
-            Err(e) => {
-                // SAFETY: no image of it was acquired.
-                unsafe { loader.destroy_swapchain(raw, None) };
-                return Err(e);
-            }
-        };
-        let mut made = Swapchain {
-            raw,
-            loader,
-            images: Vec::new(),
-            views: Vec::new(),
-            format: format.format,
-            extent,
-            depth,
-            msaa: None,
-            samples,
-            readable,
-            render_finished: Vec::new(),
-        };
-        if let Err(e) = self.fill_swapchain(&mut made) {
-            // SAFETY: nothing was submitted with it.
-            unsafe { made.destroy(self) };
-            return Err(e);
-        }
-        Ok(made)
+        let mut made = Guard::new(
+            self,
+            Swapchain {
+                raw,
+                loader,
+                images: Vec::new(),
+                views: Vec::new(),
+                format: format.format,
+                extent,
+                depth: depth.keep(),
+                msaa: None,
+                samples,
+                readable,
+                render_finished: Vec::new(),
+            },
+        );
+        // A swapchain that fails to fill was never presented from: the guard may destroy it.
+        self.fill_swapchain(&mut made)?;
+        Ok(made.keep())
     }
 
     /// What a swapchain on `surface` will be: its format, extent, present mode, usage and image count.
@@ -321,33 +312,18 @@ impl Context {
         let pool_info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(self.queue_family())
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        // SAFETY: plain creates on a live device; on failure the created objects are destroyed below.
+        // SAFETY: plain creates on a live device (each destroyed by its guard if a later one fails).
         unsafe {
-            let pool = device.create_command_pool(&pool_info, None).vk("vkCreateCommandPool")?;
-            let rest = (|| {
-                let alloc = vk::CommandBufferAllocateInfo::default().command_pool(pool).command_buffer_count(1);
-                let cmd = device.allocate_command_buffers(&alloc).vk("vkAllocateCommandBuffers")?[0];
-                let fence = device
-                    .create_fence(&vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED), None)
-                    .vk("vkCreateFence")?;
-                match device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) {
-                    Ok(image_available) => Ok((cmd, fence, image_available)),
-                    Err(result) => {
-                        device.destroy_fence(fence, None);
-                        Err(Error::Vulkan { call: "vkCreateSemaphore", result })
-                    }
-                }
-            })();
-            match rest {
-                Ok((cmd, fence, image_available)) => {
-                    self.set_name(cmd, "window frame");
-                    Ok(FrameSync { pool, cmd, fence, image_available })
-                }
-                Err(e) => {
-                    device.destroy_command_pool(pool, None);
-                    Err(e)
-                }
-            }
+            let pool = Guard::new(self, device.create_command_pool(&pool_info, None).vk("vkCreateCommandPool")?);
+            let alloc = vk::CommandBufferAllocateInfo::default().command_pool(*pool).command_buffer_count(1);
+            // Freed with the pool.
+            let cmd = device.allocate_command_buffers(&alloc).vk("vkAllocateCommandBuffers")?[0];
+            let signalled = vk::FenceCreateInfo::default().flags(vk::FenceCreateFlags::SIGNALED);
+            let fence = Guard::new(self, device.create_fence(&signalled, None).vk("vkCreateFence")?);
+            let image_available = device.create_semaphore(&vk::SemaphoreCreateInfo::default(), None);
+            let image_available = image_available.vk("vkCreateSemaphore")?;
+            self.set_name(cmd, "window frame");
+            Ok(FrameSync { pool: pool.keep(), cmd, fence: fence.keep(), image_available })
         }
     }
 
