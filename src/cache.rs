@@ -67,17 +67,6 @@ impl Fnv {
     pub fn f64(&mut self, v: f64) {
         self.u64(v.to_bits());
     }
-
-    /// Everything a height field's results depend on: size, pixel size and every height.
-    pub fn heightfield(&mut self, hf: &crate::physics::HeightField) {
-        self.u64(hf.nx as u64);
-        self.u64(hf.ny as u64);
-        self.f64(hf.dx_um);
-        self.f64(hf.dy_um);
-        for &z in &hf.heights_um {
-            self.f64(z);
-        }
-    }
 }
 
 /// A little-endian reader over a cached file's bytes: every read is bounds-checked (None past the end).

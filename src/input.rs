@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 
 /// The largest scene file read (a scene is a page of TOML).
 pub const MAX_SCENE_BYTES: u64 = 1 << 20;
-/// The largest OBJ file read (about the size of [`crate::mesh::obj::MAX_VERTICES`] vertices as text).
+/// The largest OBJ file read (about the size of the OBJ reader's vertex limit, `mesh::obj::MAX_VERTICES`, as text).
 pub const MAX_OBJ_BYTES: u64 = 2 << 30;
 
 /// Checks that `path` is a regular file and returns its length in bytes.

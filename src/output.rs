@@ -4,18 +4,6 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 
-/// Linear scene-referred RGBA floats → display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
-pub fn linear_to_rgba8(rgba: &[f32], exposure_ev: f64) -> Vec<u8> {
-    let scale = exposure_ev.exp2();
-    rgba.chunks(4)
-        .flat_map(|p| {
-            let linear = glam::DVec3::new(p[0].into(), p[1].into(), p[2].into());
-            let [r, g, b] = crate::physics::spectrum::display_encode(linear, scale);
-            [r, g, b, 255]
-        })
-        .collect()
-}
-
 /// Checks, before any expensive work, that `path` names a PNG in a folder that exists.
 pub fn check_png_path(path: &Path) -> Result<()> {
     check_path(path, "png")

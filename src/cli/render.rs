@@ -14,6 +14,7 @@ use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
+use crate::render::SceneView;
 use crate::scene::Scene;
 
 #[derive(Args, Debug)]
@@ -170,11 +171,16 @@ fn render_frames(
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
         let frame = capture
-            .render(ctx, &camera, light, scene.ambient, scene.render.background)
+            .render(ctx, &SceneView { camera, light_dir: light, ..SceneView::of(scene) })
             .with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
-        crate::output::write_png_rgba8(&png, width, height, &crate::output::linear_to_rgba8(linear, exposure))?;
+        crate::output::write_png_rgba8(
+            &png,
+            width,
+            height,
+            &crate::physics::spectrum::linear_to_rgba8(linear, exposure),
+        )?;
         if let Some(exr) = &args.exr {
             crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
         }

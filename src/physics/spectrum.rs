@@ -110,6 +110,18 @@ pub fn display_encode(linear: DVec3, exposure_scale: f64) -> [u8; 3] {
     [linear.x, linear.y, linear.z].map(|c| (srgb_oetf(c * exposure_scale) * 255.0).round() as u8)
 }
 
+/// Linear scene-referred RGBA floats → display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
+pub fn linear_to_rgba8(rgba: &[f32], exposure_ev: f64) -> Vec<u8> {
+    let scale = exposure_ev.exp2();
+    rgba.chunks(4)
+        .flat_map(|p| {
+            let linear = DVec3::new(p[0].into(), p[1].into(), p[2].into());
+            let [r, g, b] = display_encode(linear, scale);
+            [r, g, b, 255]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

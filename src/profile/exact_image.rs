@@ -104,7 +104,7 @@ impl ReferenceJob<'_> {
         let mut h = Fnv::default();
         h.u64(u64::from(CACHE_VERSION));
         for m in &self.materials {
-            h.heightfield(m.heightfield);
+            m.heightfield.hash_into(&mut h);
             h.f64(m.coherence_um);
         }
         h.u64(u64::from(self.width));

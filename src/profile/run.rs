@@ -14,7 +14,8 @@ use crate::error::{Error, Result};
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
 use crate::render::gbuffer::{GBuffer, Seen};
-use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneView, SceneWorkload, Workload};
+use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
+use crate::render::SceneView;
 use crate::scene::Scene;
 use crate::shading::{Material, Reach, Settings};
 use crate::stats::Spread;
@@ -151,14 +152,7 @@ impl Subject {
                 Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, footprint)?)
             }
             Subject::Scene { scene, .. } => {
-                let [r, g, b] = scene.render.background;
-                let view = SceneView {
-                    camera: scene.camera,
-                    light_dir: scene.light_dir,
-                    ambient: scene.ambient,
-                    models: scene.objects.iter().map(|o| o.model).collect(),
-                    background: [r, g, b, 1.0],
-                };
+                let view = SceneView::of(scene);
                 let inputs = material_inputs(scene, materials);
                 Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, options.samples)?)
             }

@@ -1,11 +1,11 @@
 //! Capturing a scene offscreen: its materials prepared (with the command line's overrides), one renderer and one
 //! linear float target reused for every frame of a sequence.
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use super::gbuffer::{merge_reaches, GBuffer};
 use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
-use super::Frame;
+use super::{Frame, SceneView};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -66,7 +66,6 @@ pub fn scene_objects(scene: &Scene) -> Vec<(&Mesh, usize)> {
 pub struct SceneCapture {
     renderer: SceneRenderer,
     frames: OffscreenFrames,
-    models: Vec<Mat4>,
     width: u32,
     height: u32,
 }
@@ -86,21 +85,13 @@ impl SceneCapture {
         let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false, samples)?;
         let renderer = Guard::new(ctx, renderer);
         let frames = OffscreenFrames::new(ctx, width, height, false, samples)?;
-        let models = scene.objects.iter().map(|o| o.model).collect();
-        Ok(Self { renderer: renderer.keep(), frames, models, width, height })
+        Ok(Self { renderer: renderer.keep(), frames, width, height })
     }
 
-    /// Renders one frame: linear scene-referred RGBA float, checked to be finite.
-    pub fn render(
-        &mut self,
-        ctx: &Context,
-        camera: &Camera,
-        light_dir: Vec3,
-        ambient: f32,
-        background: [f32; 3],
-    ) -> Result<Frame> {
-        self.renderer.update(camera, light_dir, ambient, &self.models, self.width as f32 / self.height as f32)?;
-        let frame = self.frames.render(ctx, &self.renderer, [background[0], background[1], background[2], 1.0])?;
+    /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.
+    pub fn render(&mut self, ctx: &Context, view: &SceneView) -> Result<Frame> {
+        self.renderer.update(view, self.width as f32 / self.height as f32)?;
+        let frame = self.frames.render(ctx, &self.renderer, view.background)?;
         let bad = frame.linear().map_or(0, crate::stats::non_finite_pixels);
         if bad > 0 {
             return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));

@@ -160,7 +160,7 @@ impl MapImage {
 
     /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
     pub fn to_rgba8(&self, exposure_ev: f64) -> Vec<u8> {
-        crate::output::linear_to_rgba8(&self.rgba, exposure_ev)
+        spectrum::linear_to_rgba8(&self.rgba, exposure_ev)
     }
 }
 

@@ -41,6 +41,34 @@ pub struct TargetView {
     pub samples: vk::SampleCountFlags,
 }
 
+/// What a scene's surface frame is drawn under: the camera, the light, the sky, each object's placement and the
+/// background (clear) colour.
+#[derive(Clone, Debug)]
+pub struct SceneView {
+    pub camera: crate::camera::Camera,
+    /// World-space unit vector towards the light.
+    pub light_dir: glam::Vec3,
+    /// The sky's radiance relative to the sun seen in a mirror.
+    pub ambient: f32,
+    /// One model matrix per object, in the order the renderer was built with.
+    pub models: Vec<glam::Mat4>,
+    pub background: [f32; 4],
+}
+
+impl SceneView {
+    /// The scene file's own camera, light, sky, placements and background.
+    pub fn of(scene: &crate::scene::Scene) -> Self {
+        let [r, g, b] = scene.render.background;
+        Self {
+            camera: scene.camera,
+            light_dir: scene.light_dir,
+            ambient: scene.ambient,
+            models: scene.objects.iter().map(|o| o.model).collect(),
+            background: [r, g, b, 1.0],
+        }
+    }
+}
+
 /// A frame read back to the CPU, rows top first: what every offscreen pass but the BRDF map (a
 /// [`diffraction::MapImage`], square and in direction space) gives.
 #[derive(Clone, Debug)]

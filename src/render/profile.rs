@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::diffraction::{light_params, MapPass, PatchResources};
 use super::surface::{MaterialInput, SceneRenderer, SurfaceVariant};
-use super::{OffscreenTarget, LINEAR_FORMAT};
+use super::{OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::shaders;
@@ -241,17 +241,6 @@ fn probe_frames(
     Ok(crate::stats::median(&times))
 }
 
-/// The camera, light and objects' placement of a profiled scene.
-#[derive(Clone, Debug)]
-pub struct SceneView {
-    pub camera: crate::camera::Camera,
-    /// World-space unit vector towards the light.
-    pub light_dir: glam::Vec3,
-    pub ambient: f32,
-    pub models: Vec<glam::Mat4>,
-    pub background: [f32; 4],
-}
-
 /// A scene drawn by the surface pass into a linear float target with depth, one submission per frame.
 pub struct SceneWorkload<'a> {
     inputs: Vec<MaterialInput<'a>>,
@@ -291,7 +280,7 @@ impl<'a> SceneWorkload<'a> {
         let renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
         let mut renderer = Guard::new(ctx, renderer);
         let aspect = extent.width as f32 / extent.height as f32;
-        renderer.update(&view.camera, view.light_dir, view.ambient, &view.models, aspect)?;
+        renderer.update(view, aspect)?;
         Ok(renderer.keep())
     }
 }

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 
 use super::diffraction::{patch_bindings, PatchResources};
 use super::{
-    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, DEPTH_FORMAT,
+    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView, DEPTH_FORMAT,
     LINEAR_FORMAT,
 };
 use crate::camera::Camera;
@@ -85,17 +85,6 @@ pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
     VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
     VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: 48 },
 ];
-
-/// One object under a directional light, seen by a camera (the single-object case of a scene).
-#[derive(Clone, Debug)]
-pub struct SurfaceScene {
-    pub mesh: Mesh,
-    pub model: Mat4,
-    pub camera: Camera,
-    /// World-space unit vector towards the light.
-    pub light_dir: Vec3,
-    pub background: [f32; 4],
-}
 
 /// What the renderer draws: a material (prepared patch) with its orientation on the surface and the pigment
 /// under it.
@@ -255,18 +244,11 @@ impl SceneRenderer {
         Ok(())
     }
 
-    /// Writes every object's uniforms for `camera`, `light_dir` (world, towards the light), the sky's `ambient`
-    /// radiance (relative to the sun seen in a mirror) and the objects' `models`; no submitted work may still
-    /// read them.
-    pub fn update(
-        &mut self,
-        camera: &Camera,
-        light_dir: Vec3,
-        ambient: f32,
-        models: &[Mat4],
-        aspect: f32,
-    ) -> Result<()> {
-        let view = ObjectView { camera, aspect, light_dir, ambient };
+    /// Writes every object's uniforms for `view` (its camera, light, sky and placements) at `aspect`; no submitted
+    /// work may still read them.
+    pub fn update(&mut self, view: &SceneView, aspect: f32) -> Result<()> {
+        let models = &view.models;
+        let view = ObjectView { camera: &view.camera, aspect, light_dir: view.light_dir, ambient: view.ambient };
         for (object, model) in self.objects.iter_mut().zip(models) {
             let material = &self.materials[object.material];
             let u = SurfaceUniforms::new(&view, *model, material.orientation, material.pigment, object.material);
@@ -411,12 +393,13 @@ impl OffscreenFrames {
     }
 }
 
-/// Renders one object with `material` headless, one sample per pixel: linear float RGB, or (with
-/// `display_output`) 8-bit sRGB from the shader's own exposure and transfer function.
+/// Renders `mesh` with `material` under `view` (its first model) headless, one sample per pixel: linear float
+/// RGB, or (with `display_output`) 8-bit sRGB from the shader's own exposure and transfer function.
 pub fn render_surface(
     ctx: &Context,
     material: &Material,
-    scene: &SurfaceScene,
+    mesh: &Mesh,
+    view: &SceneView,
     width: u32,
     height: u32,
     display_output: bool,
@@ -424,11 +407,10 @@ pub fn render_surface(
     let format = OffscreenFrames::format(display_output);
     let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
     let one = vk::SampleCountFlags::TYPE_1;
-    let mut renderer =
-        Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &[(&scene.mesh, 0)], format, display_output, one)?);
+    let mut renderer = Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &[(mesh, 0)], format, display_output, one)?);
     let frames = Guard::new(ctx, OffscreenFrames::new(ctx, width, height, display_output, one)?);
-    renderer.update(&scene.camera, scene.light_dir, 0.0, &[scene.model], width as f32 / height as f32)?;
-    frames.render(ctx, &renderer, scene.background)
+    renderer.update(view, width as f32 / height as f32)?;
+    frames.render(ctx, &renderer, view.background)
 }
 
 crate::impl_destroy!(SceneRenderer, OffscreenFrames);

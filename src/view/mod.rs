@@ -25,6 +25,7 @@ use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
 use crate::render::surface::SceneRenderer;
 use crate::render::window::{WindowFrame, WindowTarget};
+use crate::render::SceneView;
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Overrides, Reach};
 use crate::vk::swapchain;
@@ -473,11 +474,10 @@ impl State {
     /// object's BRDF map.
     fn record(&mut self, options: &ViewOptions, frame: &WindowFrame) -> Result<()> {
         let (ctx, gpu, scene) = (&self.ctx, &mut self.gpu, &options.scene);
-        let camera = self.live.camera(&scene.camera);
         let light = self.live.light();
+        let view = SceneView { camera: self.live.camera(&scene.camera), light_dir: light, ..SceneView::of(scene) };
         let extent = frame.extent();
-        let models: Vec<_> = scene.objects.iter().map(|o| o.model).collect();
-        gpu.renderer.update(&camera, light, scene.ambient, &models, extent.width as f32 / extent.height as f32)?;
+        gpu.renderer.update(&view, extent.width as f32 / extent.height as f32)?;
         let exposure = self.live.exposure_scale();
         if self.live.map_mode {
             // The map shows the first object's material as a horizontal patch with its x axis along the world's x:

@@ -22,12 +22,12 @@ fn every_asset_scene_renders_in_colour() {
             let materials = prepare_materials(&scene, &Overrides::default(), &reaches).unwrap();
             let samples = ctx.sample_count(scene.render.samples, diffract::render::LINEAR_FORMAT).unwrap();
             let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, samples).unwrap();
-            let frame = capture.render(ctx, &scene.camera, scene.light_dir, scene.ambient, scene.render.background);
+            let frame = capture.render(ctx, &diffract::render::SceneView::of(&scene));
             // SAFETY: render waited.
             unsafe { capture.destroy(ctx) };
             frame.unwrap().linear().unwrap().to_vec()
         });
-        let rgba8 = diffract::output::linear_to_rgba8(&linear, scene.render.exposure_ev);
+        let rgba8 = diffract::physics::spectrum::linear_to_rgba8(&linear, scene.render.exposure_ev);
         let coloured =
             rgba8.chunks(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 40).count();
         assert!(coloured > 5, "{}: only {coloured} coloured pixels", path.display());

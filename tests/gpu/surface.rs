@@ -4,7 +4,8 @@ use diffract::camera::Camera;
 use diffract::mesh::Mesh;
 use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
 use diffract::physics::{Method, PngScale, Reference};
-use diffract::render::surface::{render_surface, SurfaceScene};
+use diffract::render::surface::render_surface;
+use diffract::render::SceneView;
 use diffract::shading::{Material, Reach, Settings};
 use glam::{DVec3, Vec3, Vec4};
 
@@ -15,15 +16,14 @@ const ONE: ash::vk::SampleCountFlags = ash::vk::SampleCountFlags::TYPE_1;
 const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 const HALF: f32 = 1.0;
 
-fn scene(tangent_deg: f32, handedness: f32) -> SurfaceScene {
+/// A quad whose tangents are turned by `tangent_deg` (with `handedness`), and the view it is drawn under.
+fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
     let mut mesh = Mesh::quad(HALF);
     let (s, c) = tangent_deg.to_radians().sin_cos();
     for v in &mut mesh.vertices {
         v.tangent = [c, s, 0.0, handedness];
     }
-    SurfaceScene {
-        mesh,
-        model: glam::Mat4::IDENTITY,
+    let view = SceneView {
         camera: Camera {
             position: Vec3::new(0.35, -0.25, 2.4),
             target: Vec3::ZERO,
@@ -33,13 +33,16 @@ fn scene(tangent_deg: f32, handedness: f32) -> SurfaceScene {
             far: 10.0,
         },
         light_dir: Vec3::new(-0.3, 0.45, 0.84).normalize(),
+        ambient: 0.0,
+        models: vec![glam::Mat4::IDENTITY],
         background: [0.0, 0.0, 0.0, 1.0],
-    }
+    };
+    (mesh, view)
 }
 
 /// The world point under pixel (x, y) on the z = 0 plane, if it lies on the quad away from its border.
-fn unproject(scene: &SurfaceScene, w: u32, h: u32, x: u32, y: u32) -> Option<Vec3> {
-    let inv = scene.camera.view_projection(w as f32 / h as f32).inverse();
+fn unproject(view: &SceneView, w: u32, h: u32, x: u32, y: u32) -> Option<Vec3> {
+    let inv = view.camera.view_projection(w as f32 / h as f32).inverse();
     let ndc = |px: u32, n: u32| (px as f32 + 0.5) / n as f32 * 2.0 - 1.0;
     let (nx, ny) = (ndc(x, w), ndc(y, h));
     let near = inv * Vec4::new(nx, ny, 0.0, 1.0);
@@ -62,10 +65,10 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     let reference = Reference::new(&hf, material.window, Method::Taylor, material.plan).unwrap();
     let (w, h) = (64u32, 48u32);
-    let sc = scene(30.0, -1.0);
+    let (mesh, sc) = scene(30.0, -1.0);
     let (linear, display) = gpu_test(|ctx| {
-        let l = render_surface(ctx, &material, &sc, w, h, false).unwrap();
-        let d = render_surface(ctx, &material, &sc, w, h, true).unwrap();
+        let l = render_surface(ctx, &material, &mesh, &sc, w, h, false).unwrap();
+        let d = render_surface(ctx, &material, &mesh, &sc, w, h, true).unwrap();
         (l.linear().unwrap().to_vec(), d.rgba8().unwrap().to_vec())
     });
     // The patch frame: x = tangent, y = handedness · (n × t), z = n.
@@ -115,13 +118,13 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     let (w, h) = (48u32, 40u32);
     let render = |tangent_deg: f32, orientation_deg: f32| {
-        let sc = scene(tangent_deg, 1.0);
+        let (mesh, sc) = scene(tangent_deg, 1.0);
         gpu_test(|ctx| {
             let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3] }];
             let mut renderer =
-                SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
+                SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
             let frames = OffscreenFrames::new(ctx, w, h, false, ONE).unwrap();
-            renderer.update(&sc.camera, sc.light_dir, 0.0, &[sc.model], w as f32 / h as f32).unwrap();
+            renderer.update(&sc, w as f32 / h as f32).unwrap();
             let frame = frames.render(ctx, &renderer, sc.background).unwrap();
             // SAFETY: render waited.
             unsafe {
@@ -149,17 +152,18 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
 fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
     use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
     let (w, h) = (64u32, 64u32);
-    let mut sc = scene(0.0, 1.0);
+    let (mesh, mut sc) = scene(0.0, 1.0);
     sc.camera.position = Vec3::new(0.0, 0.0, 4.0);
-    sc.model = glam::Mat4::from_rotation_z(20f32.to_radians());
+    sc.models = vec![glam::Mat4::from_rotation_z(20f32.to_radians())];
     sc.light_dir = -Vec3::Z; // the sun behind the quad: no diffraction, no sunlit pigment
+    sc.ambient = 1.0; // lit by the sky alone
     let linear = gpu_test(|ctx| {
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
         let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.5, 0.5, 0.5] }];
         let format = OffscreenFrames::format(false);
-        let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&sc.mesh, 0)], format, false, samples).unwrap();
+        let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], format, false, samples).unwrap();
         let frames = OffscreenFrames::new(ctx, w, h, false, samples).unwrap();
-        renderer.update(&sc.camera, sc.light_dir, 1.0, &[sc.model], 1.0).unwrap();
+        renderer.update(&sc, 1.0).unwrap();
         let frame = frames.render(ctx, &renderer, sc.background).unwrap();
         // SAFETY: render waited.
         unsafe {

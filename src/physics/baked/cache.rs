@@ -15,7 +15,7 @@ const MAGIC: &[u8; 8] = b"DFRTAB01";
 fn key(hf: &HeightField, plan: &TablePlan) -> u64 {
     let mut h = Fnv::default();
     h.u64(VERSION);
-    h.heightfield(hf);
+    hf.hash_into(&mut h);
     h.f64(plan.coherence_um);
     h.f64(plan.tolerance);
     h.u64(plan.probe_terms as u64);
