@@ -62,7 +62,6 @@ impl HeightField {
         Ok(hf)
     }
 
-    /// Patch edge lengths in µm.
     /// Feeds everything a height field's results depend on into a cache key: size, pixel size and every height.
     pub fn hash_into(&self, h: &mut crate::cache::Fnv) {
         h.u64(self.nx as u64);
@@ -74,6 +73,7 @@ impl HeightField {
         }
     }
 
+    /// Patch edge lengths in µm.
     pub fn size_um(&self) -> (f64, f64) {
         (self.nx as f64 * self.dx_um, self.ny as f64 * self.dy_um)
     }
