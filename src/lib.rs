@@ -27,8 +27,7 @@
 //!   that `build.rs` compiled from `glsl/`.
 //! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR), [`cache`] (the
 //!   on-disk cache of tables and references), [`stats`] (quantiles, the finite-pixel check), [`progress`]
-//!   (progress bars on stderr), [`error`], and
-//!   [`fuzz`] (the fuzz targets' entry points).
+//!   (progress bars on stderr), [`error`], and [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.
 
