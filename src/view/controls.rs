@@ -95,7 +95,7 @@ impl Live {
 
     /// Unit vector from the target towards the camera.
     pub fn eye_direction(&self) -> Vec3 {
-        Vec3::new(self.pitch.cos() * self.yaw.sin(), self.pitch.sin(), self.pitch.cos() * self.yaw.cos())
+        direction(self.yaw, self.pitch)
     }
 
     /// `base` (its lens) moved to the orbit's position.
@@ -105,11 +105,7 @@ impl Live {
 
     /// Unit vector towards the light.
     pub fn light(&self) -> Vec3 {
-        Vec3::new(
-            self.light_elevation.cos() * self.light_azimuth.sin(),
-            self.light_elevation.sin(),
-            self.light_elevation.cos() * self.light_azimuth.cos(),
-        )
+        direction(self.light_azimuth, self.light_elevation)
     }
 
     /// The linear scale the exposure applies.
@@ -170,6 +166,12 @@ impl Live {
         };
         self.distance = (self.distance * ZOOM_PER_LINE.powf(lines)).clamp(DISTANCE_RANGE.0, DISTANCE_RANGE.1);
     }
+}
+
+/// The unit vector at `azimuth` about +y (0 along +z, π/2 along +x) and `elevation` above the x–z plane
+/// (radians): the camera's orbit and the light use the same angles.
+fn direction(azimuth: f32, elevation: f32) -> Vec3 {
+    Vec3::new(elevation.cos() * azimuth.sin(), elevation.sin(), elevation.cos() * azimuth.cos())
 }
 
 impl Input {

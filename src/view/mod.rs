@@ -21,6 +21,7 @@ pub use controls::BINDINGS;
 use controls::{Input, Live, Request};
 
 use crate::error::{Error, Result};
+use crate::physics::spectrum::display_encode;
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
 use crate::render::surface::SceneRenderer;
@@ -488,10 +489,10 @@ impl State {
             gpu.map_patch.update(&params)?;
             gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None);
         } else {
+            // Cleared to the code values the shaders give the background colour (the images are UNORM).
             let [r, g, b] = scene.render.background.map(f64::from);
-            let bg = DVec3::new(r, g, b) * exposure;
-            let encode = |c: f64| crate::physics::spectrum::srgb_oetf(c) as f32;
-            gpu.renderer.record(ctx, frame.cmd, &frame.scene(), [encode(bg.x), encode(bg.y), encode(bg.z), 1.0]);
+            let [r, g, b] = display_encode(DVec3::new(r, g, b), exposure).map(|c| f32::from(c) / 255.0);
+            gpu.renderer.record(ctx, frame.cmd, &frame.scene(), [r, g, b, 1.0]);
         }
         Ok(())
     }

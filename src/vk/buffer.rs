@@ -81,22 +81,34 @@ impl Context {
         let raw = Guard::new(self, unsafe { self.device().create_buffer(&info, None) }.vk("vkCreateBuffer")?);
         // SAFETY: `raw` is a live buffer.
         let requirements = unsafe { self.device().get_buffer_memory_requirements(*raw) };
-        let allocation = self
-            .allocator()
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: desc.location,
-                linear: true,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|cause| Error::Allocation { name: name.into(), cause })?;
-        let allocation = Guard::new(self, allocation);
+        let allocation = self.allocate(name, requirements, desc.location, true)?;
         // SAFETY: memory and offset come from an allocation made for this buffer's requirements.
         unsafe { self.device().bind_buffer_memory(*raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindBufferMemory")?;
         self.set_name(*raw, name);
         Ok(Buffer { raw: raw.keep(), allocation: allocation.keep(), desc })
+    }
+
+    /// Memory for a buffer or image of `requirements` (`linear`: a buffer, or an image with linear tiling), under
+    /// a guard that gives it back to the allocator unless kept.
+    pub(crate) fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: MemoryLocation,
+        linear: bool,
+    ) -> Result<Guard<'_, Allocation>> {
+        let allocation = self
+            .allocator()
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|cause| Error::Allocation { name: name.into(), cause })?;
+        Ok(Guard::new(self, allocation))
     }
 
     /// A GPU-only buffer filled with `data` through a staging copy.

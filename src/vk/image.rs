@@ -2,7 +2,7 @@
 //! and samplers.
 
 use ash::vk;
-use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
 use super::{BufferDesc, Context, Guard, ImageState, MemoryState};
@@ -169,17 +169,7 @@ impl Context {
         let raw = Guard::new(self, unsafe { self.device().create_image(&info, None) }.vk("vkCreateImage")?);
         // SAFETY: `raw` is live.
         let requirements = unsafe { self.device().get_image_memory_requirements(*raw) };
-        let allocation = self
-            .allocator()
-            .allocate(&AllocationCreateDesc {
-                name,
-                requirements,
-                location: MemoryLocation::GpuOnly,
-                linear: false,
-                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
-            })
-            .map_err(|cause| Error::Allocation { name: name.into(), cause })?;
-        let allocation = Guard::new(self, allocation);
+        let allocation = self.allocate(name, requirements, MemoryLocation::GpuOnly, false)?;
         // SAFETY: memory fits the requirements.
         unsafe { self.device().bind_image_memory(*raw, allocation.memory(), allocation.offset()) }
             .vk("vkBindImageMemory")?;
@@ -214,36 +204,34 @@ impl Context {
         // Destroyed at the scope's end: one_shot waits for the copy.
         let desc = BufferDesc::upload(size, vk::BufferUsageFlags::TRANSFER_SRC);
         let mut staging = Guard::new(self, self.create_buffer(desc, "staging (image upload)")?);
-        let result = staging.write(data).and_then(|()| {
-            self.one_shot("image upload", |cmd| {
-                self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
-                let texel = image.desc.texel_size().expect("checked by byte_size");
-                let mut offset = 0;
-                let regions: Vec<_> = (0..image.desc.mip_levels)
-                    .map(|level| {
-                        let (width, height) = image.desc.level_extent(level);
-                        let region = vk::BufferImageCopy::default()
-                            .buffer_offset(offset)
-                            .image_subresource(image.layers(level))
-                            .image_extent(vk::Extent3D { width, height, depth: 1 });
-                        offset += texel * u64::from(width * height) * u64::from(image.desc.layers);
-                        region
-                    })
-                    .collect();
-                // SAFETY: the staging buffer holds exactly the image's texels, level after level.
-                unsafe {
-                    self.device().cmd_copy_buffer_to_image(
-                        cmd,
-                        staging.raw,
-                        image.raw,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        &regions,
-                    )
-                };
-                self.barrier_image(cmd, image, ImageState::TRANSFER_DST, final_state);
-            })
-        });
-        result
+        staging.write(data)?;
+        self.one_shot("image upload", |cmd| {
+            self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
+            let texel = image.desc.texel_size().expect("checked by byte_size");
+            let mut offset = 0;
+            let regions: Vec<_> = (0..image.desc.mip_levels)
+                .map(|level| {
+                    let (width, height) = image.desc.level_extent(level);
+                    let region = vk::BufferImageCopy::default()
+                        .buffer_offset(offset)
+                        .image_subresource(image.layers(level))
+                        .image_extent(vk::Extent3D { width, height, depth: 1 });
+                    offset += texel * u64::from(width * height) * u64::from(image.desc.layers);
+                    region
+                })
+                .collect();
+            // SAFETY: the staging buffer holds exactly the image's texels, level after level.
+            unsafe {
+                self.device().cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.raw,
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &regions,
+                )
+            };
+            self.barrier_image(cmd, image, ImageState::TRANSFER_DST, final_state);
+        })
     }
 
     /// Reads every layer of a colour image's first mip level back (tightly packed); `state` is the image's
@@ -252,26 +240,27 @@ impl Context {
         let size = ImageDesc { mip_levels: 1, ..image.desc }.byte_size()?;
         // Destroyed at the scope's end: one_shot waits for the copy.
         let readback = Guard::new(self, self.create_buffer(BufferDesc::readback(size), "readback (image)")?);
-        let result =
-            self.one_shot("image readback", |cmd| {
-                self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
-                let region = vk::BufferImageCopy::default()
-                    .image_subresource(image.layers(0))
-                    .image_extent(vk::Extent3D { width: image.desc.width, height: image.desc.height, depth: 1 });
-                // SAFETY: the readback buffer is as large as the image's texels.
-                unsafe {
-                    self.device().cmd_copy_image_to_buffer(
-                        cmd,
-                        image.raw,
-                        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                        readback.raw,
-                        &[region],
-                    )
-                };
-                self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
-                self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
+        self.one_shot("image readback", |cmd| {
+            self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
+            let region = vk::BufferImageCopy::default().image_subresource(image.layers(0)).image_extent(vk::Extent3D {
+                width: image.desc.width,
+                height: image.desc.height,
+                depth: 1,
             });
-        result.map(|()| readback.mapped().map(<[u8]>::to_vec).unwrap_or_default())
+            // SAFETY: the readback buffer is as large as the image's texels.
+            unsafe {
+                self.device().cmd_copy_image_to_buffer(
+                    cmd,
+                    image.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    readback.raw,
+                    &[region],
+                )
+            };
+            self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
+            self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
+        })?;
+        Ok(readback.mapped().map(<[u8]>::to_vec).unwrap_or_default())
     }
 
     /// Whether the device filters `format` linearly when sampling (the baked table's trilinear fetches need it).
