@@ -1,11 +1,18 @@
-//! The on-disk cache of expensive results (the profiler's exact reference images, the baked tables): where it
-//! lives, the stable hash that names its files, and writes that never leave half a file behind.
+//! The on-disk cache of expensive results (the profiler's exact reference images, the baked tables and their
+//! estimates): where it lives, the stable hash that names its files, the verified entries it holds, and writes
+//! that never leave half a file behind ([`crate::output::write_atomic`]).
 //!
 //! Folder: `$DIFFRACT_CACHE` when set (empty or `off`: no cache), else `$XDG_CACHE_HOME/diffract`, else
-//! `~/.cache/diffract`. A file that cannot be read back as written is ignored and recomputed: the cache costs
-//! time when it fails, never correctness.
+//! `~/.cache/diffract`.
+//!
+//! Every entry ([`store`], [`load`]) carries its kind, the version of diffract that wrote it and the version of
+//! the kind's definition, the plan it was computed for (the bytes of everything it depends on), its length and a
+//! CRC-32 of all of it. A read opens the file without blocking (a FIFO put in its place cannot hang it), accepts
+//! only a regular file whose length is what its header says and at most what the caller expects, and checks
+//! every field and the checksum before the bytes are used; anything else is recomputed with a one-line note on
+//! stderr. The cache costs time when it fails, never correctness.
 
-use std::io::Write;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// The default cache folder (see the module documentation); None where caching is off or there is no home.
@@ -20,26 +27,144 @@ pub fn default_dir() -> Option<PathBuf> {
         .map(|d| d.join("diffract"))
 }
 
-/// Writes `bytes` to `file` through a temporary file in the same folder and a rename, so that an interrupted
-/// run leaves no half file behind.
-pub fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(dir) = file.parent() {
-        std::fs::create_dir_all(dir)?;
+const ENTRY_MAGIC: &[u8; 8] = b"DFRCACHE";
+/// The layout of an entry's header (bumped if the header itself changes).
+const ENTRY_FORMAT: u32 = 1;
+/// The version of diffract written into every entry.
+pub const PRODUCER: &str = concat!("diffract ", env!("CARGO_PKG_VERSION"));
+
+/// What an entry is: its kind (also its file name's prefix), the version of the kind's definition, and its plan.
+pub struct Stamp {
+    pub kind: &'static str,
+    /// What the entry is, for the note a rejected entry prints ("baked table", …).
+    pub what: &'static str,
+    pub version: u64,
+    pub plan: Vec<u8>,
+}
+
+impl Stamp {
+    /// The entry's file under `dir`: the kind and a hash of the version and plan.
+    pub fn file(&self, dir: &Path) -> PathBuf {
+        let mut h = Fnv::default();
+        h.u64(self.version);
+        h.bytes(&self.plan);
+        dir.join(format!("{}-{:016x}.bin", self.kind, h.0))
     }
-    // Unique per process and per call: two threads writing the same file each rename their own whole copy.
-    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = file.with_extension(format!("tmp{}-{n}", std::process::id()));
-    let written = std::fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(bytes)?;
-        f.sync_all()
-    });
-    match written.and_then(|()| std::fs::rename(&tmp, file)) {
-        Ok(()) => Ok(()),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
+
+    /// The header of this stamp's entry for a payload of `len` bytes, without the checksum.
+    fn header(&self, len: u64) -> Vec<u8> {
+        let mut out = Vec::with_capacity(64 + self.plan.len());
+        out.extend_from_slice(ENTRY_MAGIC);
+        out.extend_from_slice(&ENTRY_FORMAT.to_le_bytes());
+        for field in [self.kind.as_bytes(), PRODUCER.as_bytes()] {
+            out.extend_from_slice(&(field.len() as u64).to_le_bytes());
+            out.extend_from_slice(field);
         }
+        out.extend_from_slice(&self.version.to_le_bytes());
+        out.extend_from_slice(&(self.plan.len() as u64).to_le_bytes());
+        out.extend_from_slice(&self.plan);
+        out.extend_from_slice(&len.to_le_bytes());
+        out
+    }
+}
+
+/// Bytes of everything a cached result depends on, in a fixed order (what [`Stamp::plan`] holds).
+#[derive(Default)]
+pub struct PlanBytes(pub Vec<u8>);
+
+impl PlanBytes {
+    pub fn u64(&mut self, v: u64) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+
+    pub fn f64(&mut self, v: f64) -> &mut Self {
+        self.u64(v.to_bits())
+    }
+}
+
+/// Writes `payload` as the entry `stamp` names under `dir` (atomically: [`crate::output::write_atomic`]).
+pub fn store(dir: &Path, stamp: &Stamp, payload: &[u8]) -> std::io::Result<()> {
+    let mut bytes = stamp.header(payload.len() as u64);
+    let mut crc = crc32fast::Hasher::new();
+    crc.update(&bytes);
+    crc.update(payload);
+    bytes.extend_from_slice(&crc.finalize().to_le_bytes());
+    bytes.extend_from_slice(payload);
+    crate::output::write_atomic(&stamp.file(dir), &bytes)
+}
+
+/// The payload of the entry `stamp` names under `dir`, if there is one that checks out and is at most
+/// `max_payload` bytes; a file that is there but does not check out is reported in one line (and left for the
+/// caller's new entry to replace).
+pub fn load(dir: &Path, stamp: &Stamp, max_payload: u64) -> Option<Vec<u8>> {
+    let file = stamp.file(dir);
+    match read_entry(&file, stamp, max_payload) {
+        Ok(payload) => Some(payload),
+        Err(Some(reason)) => {
+            eprintln!("note: the cached {} {} {reason}; computing it again", stamp.what, file.display());
+            None
+        }
+        Err(None) => None,
+    }
+}
+
+/// Err(None): no entry; Err(Some(reason)): an entry that does not check out.
+fn read_entry(file: &Path, stamp: &Stamp, max_payload: u64) -> std::result::Result<Vec<u8>, Option<String>> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let mut f = match std::fs::OpenOptions::new().read(true).custom_flags(libc::O_NONBLOCK).open(file) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(None),
+        Err(e) => return Err(Some(format!("cannot be opened ({e})"))),
+    };
+    let meta = f.metadata().map_err(|e| Some(format!("cannot be read ({e})")))?;
+    if !meta.is_file() {
+        return Err(Some("is not a regular file".into()));
+    }
+    let expected = stamp.header(0);
+    let header_len = expected.len() as u64 + 4;
+    if meta.len() < header_len {
+        return Err(Some(format!("is {} bytes, shorter than its header", meta.len())));
+    }
+    let mut header = vec![0u8; header_len as usize];
+    f.read_exact(&mut header).map_err(|e| Some(format!("cannot be read ({e})")))?;
+    let fixed = expected.len() - 8;
+    if header[..fixed] != expected[..fixed] {
+        return Err(Some(mismatch(&header, stamp)));
+    }
+    let len = u64::from_le_bytes(header[fixed..fixed + 8].try_into().expect("8 bytes"));
+    if len > max_payload {
+        return Err(Some(format!("says it holds {len} bytes, more than the {max_payload} its plan can need")));
+    }
+    if meta.len() != header_len + len {
+        return Err(Some(format!("is {} bytes where its header says {}", meta.len(), header_len + len)));
+    }
+    let mut payload = vec![0u8; len as usize];
+    f.read_exact(&mut payload).map_err(|e| Some(format!("cannot be read ({e})")))?;
+    let mut crc = crc32fast::Hasher::new();
+    crc.update(&header[..header.len() - 4]);
+    crc.update(&payload);
+    let stored = u32::from_le_bytes(header[header.len() - 4..].try_into().expect("4 bytes"));
+    if crc.finalize() != stored {
+        return Err(Some("fails its checksum (changed or damaged since it was written)".into()));
+    }
+    Ok(payload)
+}
+
+/// Why a header that differs from the expected one does: another program, version, kind or plan.
+fn mismatch(header: &[u8], stamp: &Stamp) -> String {
+    let mut r = Reader::new(header);
+    if r.take(8) != Some(ENTRY_MAGIC.as_slice()) || r.u32() != Some(ENTRY_FORMAT) {
+        return "is not a diffract cache entry of this format".into();
+    }
+    let (kind, producer) = (r.string(), r.string());
+    if kind.as_deref() != Some(stamp.kind) {
+        return "holds another kind of result".into();
+    }
+    match producer {
+        Some(p) if p != PRODUCER => format!("was written by {p}, not {PRODUCER}"),
+        _ if r.u64() != Some(stamp.version) => "was written under another definition of its result".into(),
+        _ => "was computed for another plan".into(),
     }
 }
 

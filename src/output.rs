@@ -1,8 +1,108 @@
-//! Writing frames to files: 8-bit sRGB PNG (display-referred) and 32-bit float OpenEXR (linear, scene-referred).
+//! Writing files: frames as 8-bit sRGB PNG (display-referred) and 32-bit float OpenEXR (linear,
+//! scene-referred), and every file diffract writes through a temporary file and a rename.
+//!
+//! Temporary files are named `.diffract-tmp-<pid>-<n>-<name>` in the target's folder: a run killed while writing
+//! (SIGKILL, a power cut) leaves one behind, and the next run that writes in that folder removes every one whose
+//! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits ([`install_interrupt_cleanup`]).
 
-use std::path::Path;
+use std::collections::HashSet;
+use std::ffi::OsString;
+use std::io::Write as _;
+use std::os::unix::ffi::{OsStrExt, OsStringExt};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use crate::error::{Error, Result};
+
+/// The prefix of every temporary file diffract writes (then the writer's process id, a counter and the name).
+pub const TEMP_PREFIX: &str = ".diffract-tmp-";
+/// The most bytes of the target's name a temporary file's name repeats (names stay under the 255-byte limit).
+const TEMP_NAME_BYTES: usize = 128;
+
+/// Temporary files being written now (removed on Ctrl-C), and folders already swept of stale ones.
+static WRITING: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+
+/// Ctrl-C and SIGTERM remove the temporary files being written and end the process with status 130 (what a
+/// shell reports for Ctrl-C); without this a temporary file would be left until the next run in its folder.
+pub fn install_interrupt_cleanup() {
+    // A second handler (tests, a library user's own) is theirs to keep.
+    let _ = ctrlc::set_handler(|| {
+        let files = WRITING.lock().map(|w| w.clone().unwrap_or_default()).unwrap_or_default();
+        for f in files {
+            let _ = std::fs::remove_file(f);
+        }
+        // SAFETY: _exit ends the process at once, without running destructors of state other threads hold.
+        unsafe { libc::_exit(130) }
+    });
+}
+
+/// Writes `bytes` to `file` through a temporary file in the same folder, flushed to disk, then renamed over it:
+/// an interrupted or failed write leaves an existing file as it was.
+pub fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = file.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    sweep_stale_temporaries(dir);
+    // Unique per process and per call: two threads writing the same file each rename their own whole copy.
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let mut name = format!("{TEMP_PREFIX}{}-{n}-", std::process::id()).into_bytes();
+    let target = file.file_name().map(|f| f.as_bytes()).unwrap_or_default();
+    name.extend_from_slice(&target[..target.len().min(TEMP_NAME_BYTES)]);
+    let tmp = dir.join(OsString::from_vec(name));
+    set_writing(&tmp, true);
+    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    let result = written.and_then(|()| std::fs::rename(&tmp, file));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    set_writing(&tmp, false);
+    result
+}
+
+fn set_writing(tmp: &Path, on: bool) {
+    if let Ok(mut w) = WRITING.lock() {
+        let set = w.get_or_insert_with(HashSet::new);
+        if on {
+            set.insert(tmp.to_path_buf());
+        } else {
+            set.remove(tmp);
+        }
+    }
+}
+
+/// Removes the temporary files in `dir` left by diffract processes that no longer run (once per folder and
+/// process). A file whose writer still runs, or whose name is not ours, is left alone.
+fn sweep_stale_temporaries(dir: &Path) {
+    let key = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let first = SWEPT.lock().map(|mut s| s.get_or_insert_with(HashSet::new).insert(key)).unwrap_or(false);
+    if !first {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(rest) = name.as_bytes().strip_prefix(TEMP_PREFIX.as_bytes()) else { continue };
+        let pid = rest.iter().position(|&b| b == b'-').and_then(|end| std::str::from_utf8(&rest[..end]).ok());
+        let Some(pid) = pid.and_then(|p| p.parse::<libc::pid_t>().ok()).filter(|&p| p > 0) else { continue };
+        if !process_runs(pid) && entry.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Whether a process `pid` exists (a signal 0 reaches it, or it exists but is another user's).
+fn process_runs(pid: libc::pid_t) -> bool {
+    if pid as u32 == std::process::id() {
+        return true;
+    }
+    // SAFETY: kill with signal 0 only checks that the process exists; it sends nothing.
+    let r = unsafe { libc::kill(pid, 0) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
 
 /// Checks, before any expensive work, that `path` names a PNG in a folder that exists.
 pub fn check_png_path(path: &Path) -> Result<()> {
@@ -39,7 +139,7 @@ pub fn check_path(path: &Path, extension: &str) -> Result<()> {
 /// Writes `bytes` to `path` through a temporary file in the same folder, flushed to disk, then renamed over
 /// it: a full disk or a failed write reports the error and leaves an existing file as it was.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
-    crate::cache::write_atomic(path, bytes).map_err(|e| Error::output(path, e))
+    write_atomic(path, bytes).map_err(|e| Error::output(path, e))
 }
 
 /// Encodes an image in memory in `format`.

@@ -445,6 +445,8 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
         exposure_ev: 0.0,
         accept_f32_error: false,
         table_tolerance: d.table_tolerance.unwrap_or(defaults.table_tolerance),
+        // A scene that states its table tolerance means it: a table that cannot reach it is refused.
+        strict_table: d.table_tolerance.is_some(),
     };
     if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
         return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));

@@ -123,6 +123,9 @@ pub struct Settings {
     pub accept_f32_error: bool,
     /// Baked: tolerance on the Chebyshev tail in w, relative to each texel's brightest value.
     pub table_tolerance: f64,
+    /// Baked: refuse a table whose certified tail exceeds `table_tolerance` (memory or the term cap kept fewer
+    /// terms than it needs) instead of warning.
+    pub strict_table: bool,
 }
 
 impl Default for Settings {
@@ -137,6 +140,7 @@ impl Default for Settings {
             exposure_ev: 0.0,
             accept_f32_error: false,
             table_tolerance: DEFAULT_TABLE_TOLERANCE,
+            strict_table: false,
         }
     }
 }
@@ -151,6 +155,8 @@ pub struct Overrides {
     pub lambda_step_nm: Option<f64>,
     pub window_radius: Option<u32>,
     pub accept_f32_error: bool,
+    /// `--strict`: a baked table that misses its tolerance is refused.
+    pub strict_table: bool,
 }
 
 impl Overrides {
@@ -162,6 +168,7 @@ impl Overrides {
             lambda_step_nm: self.lambda_step_nm.unwrap_or(settings.lambda_step_nm),
             window_radius: self.window_radius.or(settings.window_radius),
             accept_f32_error: settings.accept_f32_error || self.accept_f32_error,
+            strict_table: settings.strict_table || self.strict_table,
             ..settings
         }
     }
@@ -293,9 +300,12 @@ impl Material {
     }
 
     /// Where the approach's own assumption fails for this patch and coherence length (so that its colours are off
-    /// by more than its usual error), the reason in one line; None where it holds. FLSS and baked model partial
-    /// coherence and carry no such caveat.
+    /// by more than its usual error), or its baked table misses its tolerance, the reason in one line; None where
+    /// it holds. FLSS and baked model partial coherence and carry no caveat of the first kind.
     pub fn caveat(&self) -> Option<String> {
+        if let Some(m) = self.table.as_ref().and_then(baked::shortfall) {
+            return Some(format!("{m}; {}", baked::TABLE_SHORTFALL_HINT));
+        }
         let approach = self.settings.approach;
         if !matches!(approach, Approach::Nmm | Approach::Pq | Approach::Gem) {
             return None;
@@ -341,7 +351,13 @@ impl Material {
     pub fn table_line(&self) -> Option<String> {
         let (plan, table) = (self.table_plan.as_ref()?, self.table.as_ref()?);
         let how = if self.table_cached { "loaded from the cache" } else { "built" };
-        Some(format!("{}; {how} in {:.0} ms ({})", plan.describe(), self.table_ms, table.report))
+        Some(format!(
+            "{}; {how} in {:.0} ms ({}; {})",
+            plan.describe(),
+            self.table_ms,
+            table.report,
+            table.certificate.describe()
+        ))
     }
 }
 
@@ -413,6 +429,10 @@ impl Baked {
         let bar = Progress::new("baking the colour table", 0);
         let (table, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;
         bar.finish();
+        // Refused here when strict; otherwise the material's caveat warns.
+        if s.strict_table {
+            baked::check_certificate(&table, true)?;
+        }
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let g = table.grid;
         let half = 0.5 * (g.w.1 - g.w.0);
@@ -476,11 +496,12 @@ mod tests {
             lambda_step_nm: Some(1.0),
             window_radius: None,
             accept_f32_error: true,
+            strict_table: true,
         };
         let s = set.apply(own);
         assert_eq!((s.approach, s.order, s.lambda_step_nm), (Approach::Baked, Some(2), 1.0));
         assert_eq!((s.window_radius, s.coherence_um), (Some(3), 20.0), "what is not overridden stays the material's");
-        assert!(s.accept_f32_error);
+        assert!(s.accept_f32_error && s.strict_table);
         let material_accepts = Settings { accept_f32_error: true, ..own };
         assert!(Overrides::default().apply(material_accepts).accept_f32_error, "an override cannot take it back");
     }

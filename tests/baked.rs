@@ -159,7 +159,11 @@ fn deeper_structures_need_more_terms_in_w() {
     let plan = |hf: &HeightField| TablePlan::new(hf, 6.4, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let (a, b) = (plan(&shallow), plan(&deep));
     assert!(b.terms > a.terms + 4, "{} vs {}", a.describe(), b.describe());
-    assert!(a.probe_tail <= 2.0 * DEFAULT_TABLE_TOLERANCE && b.probe_tail <= 2.0 * DEFAULT_TABLE_TOLERANCE);
+    assert!(b.nodes.count > a.nodes.count, "the build samples w more densely for the deeper structure");
+    for p in [&a, &b] {
+        assert!(p.estimate.tail <= DEFAULT_TABLE_TOLERANCE && p.estimate.every_lobe, "{}", p.describe());
+        assert!(p.nodes.unseen.iter().all(|&u| u <= 0.25e-10), "{:?}", p.nodes);
+    }
 }
 
 #[test]
@@ -167,16 +171,28 @@ fn a_cached_table_reads_back_as_built_and_only_for_its_plan() {
     let hf = dense();
     let (plan, table) = map_table(&hf, 2.4, 8);
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("baked-cache");
-    let file = cache::file(&dir, &hf, &plan);
-    cache::write(&file, &table).unwrap();
-    assert_eq!(cache::read(&file, &plan).as_ref(), Some(&table));
+    let _ = std::fs::remove_dir_all(&dir);
+    cache::write(&dir, &hf, &plan, &table).unwrap();
+    assert_eq!(cache::read(&dir, &hf, &plan).as_ref(), Some(&table));
+    let entries = || std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect::<Vec<_>>();
+    let files = entries();
+    assert_eq!(files.len(), 1, "{files:?}");
     let (other, _) = map_table(&hf, 2.4, 16);
-    assert_ne!(cache::file(&dir, &hf, &other), file, "another grid, another file");
-    assert_eq!(cache::read(&file, &other), None, "a file is read only for the grid it was built for");
-    // A truncated file is refused, not misread.
-    let bytes = std::fs::read(&file).unwrap();
-    std::fs::write(&file, &bytes[..bytes.len() - 4]).unwrap();
-    assert_eq!(cache::read(&file, &plan), None);
+    assert_eq!(cache::read(&dir, &hf, &other), None, "a file is read only for the grid it was built for");
+    // A changed byte anywhere, a truncated file and an appended one are refused, not misread.
+    let bytes = std::fs::read(&files[0]).unwrap();
+    for at in [9, bytes.len() / 2, bytes.len() - 1] {
+        let mut changed = bytes.clone();
+        changed[at] ^= 0x40;
+        std::fs::write(&files[0], &changed).unwrap();
+        assert_eq!(cache::read(&dir, &hf, &plan), None, "byte {at} changed");
+    }
+    std::fs::write(&files[0], &bytes[..bytes.len() - 4]).unwrap();
+    assert_eq!(cache::read(&dir, &hf, &plan), None);
+    std::fs::write(&files[0], [bytes.as_slice(), &[0; 4]].concat()).unwrap();
+    assert_eq!(cache::read(&dir, &hf, &plan), None);
+    std::fs::write(&files[0], &bytes).unwrap();
+    assert_eq!(cache::read(&dir, &hf, &plan).as_ref(), Some(&table), "restored, it reads back");
 }
 
 #[test]

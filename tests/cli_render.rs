@@ -76,7 +76,8 @@ fn a_users_obj_and_gsf_render_validation_clean() {
 
 /// `diffract render SCENE --out OUT` of a 24² sequence with `extra` flags.
 fn render_sequence(scene: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec!["render", s(scene), "--out", s(out), "--width", "24", "--height", "24"];
+    // Earlier runs of the test left the frames: this run replaces them.
+    let mut args = vec!["render", s(scene), "--out", s(out), "--width", "24", "--height", "24", "--overwrite"];
     args.extend_from_slice(extra);
     diffract(&args)
 }

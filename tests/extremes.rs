@@ -279,7 +279,7 @@ fn run(grid: &Grid, progress: bool) -> Vec<Record> {
 /// A refusal's reason in a few words (the class the summary counts).
 fn reason(message: &str) -> &'static str {
     const CLASSES: [(&str, &str); 8] = [
-        ("Chebyshev terms over w", "baked table: more than 64 Chebyshev terms in w"),
+        ("Chebyshev nodes over w", "baked table: more than 96 Chebyshev nodes in w"),
         ("f64 Taylor sum cannot reach", "f64 rounding of the Taylor sum above the tolerance"),
         ("f32 sums cannot reach", "f32 rounding above the tolerance"),
         ("GPU's f32 sums cannot reach", "f32 rounding above the tolerance"),

@@ -34,6 +34,7 @@ fn fixtures() -> &'static Path {
         nan_data[9] = f32::NAN;
         write("nan-data.gsf", &gsf("XRes = 8\nYRes = 8\nXReal = 8e-7\nYReal = 8e-7\n", &nan_data));
         write("deep.gsf", &gsf("XRes = 8\nYRes = 8\nXReal = 8e-7\nYReal = 8e-7\n", &deep_grating()));
+        write("twice.gsf", &gsf("XRes = 8\nYRes = 8\nXReal = 8e-7\nXReal = 8e-4\nYReal = 8e-7\n", &heights));
         write("no-magic.gsf", b"Gwyddion Complex Field\nXRes = 8\n\0\0\0");
         write("text.png", b"this is not a PNG");
         image::RgbImage::from_fn(4, 4, |x, _| image::Rgb([x as u8 * 60, 0, 0])).save(dir.join("colour.png")).unwrap();
@@ -227,6 +228,7 @@ fn hostile_height_field_files() {
         hf("NaN width", "nan-real.gsf", &[], "XReal"),
         hf("NaN height", "nan-data.gsf", &[], "not a finite number"),
         hf("no magic line", "no-magic.gsf", &[], "not a Gwyddion Simple Field"),
+        hf("a key given twice", "twice.gsf", &[], "XReal is given a second time"),
         hf("text named .png", "text.png", &png, "PNG"),
         hf("colour PNG", "colour.png", &png, "grey"),
         hf("PNG without units", "grey.png", &[], "--pixel-size-um"),

@@ -98,6 +98,9 @@ pub struct ShadingArgs {
     /// Baked: tolerance on the table's Chebyshev tail in w, relative to each texel's brightest value
     #[arg(value_parser = parse::finite, long, value_name = "T", default_value_t = DEFAULT_TABLE_TOLERANCE)]
     pub table_tolerance: f64,
+    /// Baked: refuse a table that cannot reach --table-tolerance (memory or the term cap) instead of warning
+    #[arg(long)]
+    pub strict: bool,
 }
 
 impl ShadingArgs {
@@ -110,6 +113,7 @@ impl ShadingArgs {
             exposure_ev: self.exposure,
             accept_f32_error: self.accept_f32_error,
             table_tolerance: self.table_tolerance,
+            strict_table: self.strict,
             ..self.accuracy.material.settings()
         }
     }
@@ -148,6 +152,10 @@ pub struct SceneOverrideArgs {
     /// Shade even where f32 cannot reach the tolerance
     #[arg(long)]
     pub accept_f32_error: bool,
+    /// Baked: refuse a table that cannot reach its tolerance (memory or the term cap) instead of warning (a scene
+    /// that sets table_tolerance asks for this itself)
+    #[arg(long)]
+    pub strict: bool,
     /// Samples per pixel: multisample anti-aliasing of edges, 1 for none (default: the scene's, else 4; a BRDF
     /// map has one)
     #[arg(long, value_name = "N", value_parser = parse::samples)]
@@ -173,6 +181,7 @@ impl SceneOverrideArgs {
             lambda_step_nm: self.lambda_step,
             window_radius: self.window_radius,
             accept_f32_error: self.accept_f32_error,
+            strict_table: self.strict,
         }
     }
 }

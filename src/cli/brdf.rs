@@ -163,6 +163,9 @@ pub struct TermsArgs {
     /// Baked table: tolerance on its Chebyshev tail in w, relative to each texel's brightest value
     #[arg(value_parser = parse::finite, long, value_name = "T", default_value_t = crate::physics::baked::DEFAULT_TABLE_TOLERANCE)]
     pub table_tolerance: f64,
+    /// With --compute: refuse a baked table that cannot reach --table-tolerance instead of warning
+    #[arg(long)]
+    pub strict: bool,
 }
 
 pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
@@ -210,9 +213,14 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     println!("any light and view: {}", table.describe());
     if args.compute {
         let start = std::time::Instant::now();
-        let (_, cached) = crate::physics::baked::load_or_build(&hf, &table, None)?;
+        let (built, cached) = crate::physics::baked::load_or_build(&hf, &table, None)?;
         let how = if cached { "loaded from the cache" } else { "built" };
-        println!("{how} the baked table in {:.1} ms", start.elapsed().as_secs_f64() * 1e3);
+        println!(
+            "{how} the baked table in {:.1} ms: {}",
+            start.elapsed().as_secs_f64() * 1e3,
+            built.certificate.describe()
+        );
+        crate::physics::baked::check_certificate(&built, args.strict)?;
     }
     Ok(())
 }

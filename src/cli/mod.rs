@@ -139,6 +139,12 @@ Examples:
 
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
+    // A closed pipe on stdout or stderr (`diffract terms … | head -1`) ends the command quietly with the status a
+    // shell reports for SIGPIPE (141), as every Unix filter does; Rust's runtime ignores the signal, which turns
+    // the next print into a panic.
+    // SAFETY: restoring a signal's default disposition at start-up, before any other thread exists.
+    unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
+    crate::output::install_interrupt_cleanup();
     let matches = match Cli::command().try_get_matches() {
         Ok(m) => m,
         Err(e) => return usage_error(e),

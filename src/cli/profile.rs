@@ -94,6 +94,10 @@ pub struct ProfileArgs {
     /// Time only: no exact reference and no error columns (an exact 800² snake costs CPU-hours)
     #[arg(long, conflicts_with_all = ["plot", "reference_samples"])]
     pub no_reference: bool,
+    /// A scene's baked tables built for any light and view, as the viewer and rendered sequences use them,
+    /// instead of for the views of the profiled frame
+    #[arg(long, conflicts_with = "heightfield")]
+    pub any_view: bool,
 }
 
 pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
@@ -178,7 +182,7 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
         Some(h) => f64::from(h) / f64::from(args.width),
         None => f64::from(scene.render.height) / f64::from(scene.render.width),
     };
-    Ok(Subject::Scene { scene: Box::new(scene), name, aspect })
+    Ok(Subject::Scene { scene: Box::new(scene), name, aspect, any_view: args.any_view })
 }
 
 fn roofline(ctx: &Context, frames: u32) -> anyhow::Result<Option<ProbeResult>> {

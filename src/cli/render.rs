@@ -52,16 +52,46 @@ pub struct RenderArgs {
     /// Draw the scene lit without diffraction (fast: for framing the camera)
     #[arg(long)]
     pub preview: bool,
+    /// Let a sequence replace frames (NAME_0001.png, …) that exist already; without it a sequence refuses to
+    /// overwrite a file it did not create
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
-/// `NAME.png` → `NAME_0007.png` for frame 7 of a sequence.
+/// `NAME.png` → `NAME_0007.png` for frame 7 of a sequence, byte for byte (a name that is not UTF-8 keeps its
+/// bytes).
 fn numbered(path: &Path, frame: u32, frames: u32) -> PathBuf {
     if frames == 1 {
         return path.to_path_buf();
     }
-    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
-    let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("png");
-    path.with_file_name(format!("{stem}_{:04}.{ext}", frame + 1))
+    let mut name = path.file_stem().unwrap_or_default().to_os_string();
+    name.push(format!("_{:04}", frame + 1));
+    if let Some(ext) = path.extension() {
+        name.push(".");
+        name.push(ext);
+    }
+    path.with_file_name(name)
+}
+
+/// Refuses, before any work, a sequence whose frame files exist already (the user named NAME.png, not the
+/// numbered files beside it), unless `--overwrite`.
+fn check_sequence_names(args: &RenderArgs) -> anyhow::Result<()> {
+    if args.frames == 1 || args.overwrite {
+        return Ok(());
+    }
+    let outputs = std::iter::once(&args.out).chain(&args.exr);
+    for (path, f) in outputs.flat_map(|p| (0..args.frames).map(move |f| (p, f))) {
+        let frame = numbered(path, f, args.frames);
+        if std::fs::symlink_metadata(&frame).is_ok() {
+            anyhow::bail!(
+                "{}: exists, and a sequence writes its frames beside {} without overwriting files it did not \
+                 create; remove them or pass --overwrite",
+                frame.display(),
+                path.display()
+            );
+        }
+    }
+    Ok(())
 }
 
 /// `--turn-deg`: an angle in (0, 360].
@@ -110,6 +140,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     if args.frames > 1 && !(args.orbit || args.light_sweep) {
         anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
     }
+    check_sequence_names(args)?;
     let scene = match &args.scene {
         Some(path) => Scene::load(path)?,
         None => Scene::default_scene()?,

@@ -131,8 +131,7 @@ impl ReferenceJob<'_> {
         if self.pixels.len() != (self.width * self.height) as usize {
             return Err(Error::Invalid("reference pixels do not match the image size".into()));
         }
-        let file = cache.map(|dir| dir.join(format!("reference-{:016x}.bin", self.key())));
-        if let Some(image) = file.as_deref().and_then(|f| read_cached(f, self)) {
+        if let Some(image) = cache.and_then(|dir| read_cached(dir, self)) {
             return Ok(image);
         }
         if let Some(q) = self.pixels.iter().flatten().find(|q| q.material >= self.materials.len()) {
@@ -160,10 +159,10 @@ impl ReferenceJob<'_> {
         );
         let mask = self.pixels.iter().map(Option::is_some).collect();
         let image = ReferenceImage { width: self.width, height: self.height, xyz, mask, description, quadrature };
-        if let Some(f) = &file {
+        if let Some(dir) = cache {
             // A cache that cannot be written costs time, not correctness: say so and go on.
-            if let Err(e) = write_cached(f, &image) {
-                eprintln!("warning: could not cache the reference in {}: {e}", f.display());
+            if let Err(e) = write_cached(dir, self, &image) {
+                eprintln!("warning: could not cache the reference in {}: {e}", dir.display());
             }
         }
         Ok(image)
@@ -348,17 +347,25 @@ pub fn default_cache_dir() -> Option<PathBuf> {
     crate::cache::default_dir()
 }
 
-const MAGIC: &[u8; 8] = b"DFRREF01";
+/// A reference image's cache entry: its plan is the job's hash (every pixel's directions, the materials'
+/// heights and coherence) and the image size.
+fn stamp(job: &ReferenceJob<'_>) -> crate::cache::Stamp {
+    let mut plan = crate::cache::PlanBytes::default();
+    plan.u64(job.key()).u64(u64::from(job.width)).u64(u64::from(job.height));
+    crate::cache::Stamp { kind: "reference", what: "reference image", version: u64::from(CACHE_VERSION), plan: plan.0 }
+}
 
-fn write_cached(file: &Path, image: &ReferenceImage) -> std::io::Result<()> {
-    let mut bytes = Vec::with_capacity(64 + image.xyz.len() * 25);
-    bytes.extend_from_slice(MAGIC);
-    bytes.extend_from_slice(&image.width.to_le_bytes());
-    bytes.extend_from_slice(&image.height.to_le_bytes());
+/// Bytes of a cached image: its quadrature check, its description, then XYZ (3 f64) and the mask (1 byte) per
+/// pixel.
+const PIXEL_BYTES: u64 = 25;
+const MAX_DESCRIPTION: usize = 4096;
+
+fn write_cached(dir: &Path, job: &ReferenceJob<'_>, image: &ReferenceImage) -> std::io::Result<()> {
+    let mut bytes = Vec::with_capacity(64 + image.xyz.len() * PIXEL_BYTES as usize);
     bytes.extend_from_slice(&(image.quadrature.0 as u64).to_le_bytes());
     bytes.extend_from_slice(&image.quadrature.1.to_le_bytes());
     bytes.extend_from_slice(&image.quadrature.2.to_le_bytes());
-    let text = image.description.as_bytes();
+    let text = &image.description.as_bytes()[..image.description.len().min(MAX_DESCRIPTION)];
     bytes.extend_from_slice(&(text.len() as u64).to_le_bytes());
     bytes.extend_from_slice(text);
     for (v, &m) in image.xyz.iter().zip(&image.mask) {
@@ -367,29 +374,29 @@ fn write_cached(file: &Path, image: &ReferenceImage) -> std::io::Result<()> {
         }
         bytes.push(u8::from(m));
     }
-    crate::cache::write_atomic(file, &bytes)
+    crate::cache::store(dir, &stamp(job), &bytes)
 }
 
-/// A cached image for `job`, or None (missing, unreadable or not matching: it is then recomputed).
-fn read_cached(file: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
-    let bytes = std::fs::read(file).ok()?;
+/// A cached image for `job`, or None (missing, or not checking out: it is then recomputed). Every XYZ must be
+/// finite and non-negative.
+fn read_cached(dir: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
+    let n = (job.width * job.height) as usize;
+    let most = 32 + MAX_DESCRIPTION as u64 + n as u64 * PIXEL_BYTES;
+    let bytes = crate::cache::load(dir, &stamp(job), most)?;
     let mut r = crate::cache::Reader::new(&bytes);
-    if r.take(8)? != MAGIC {
-        return None;
-    }
-    let (width, height) = (r.u32()?, r.u32()?);
-    if (width, height) != (job.width, job.height) {
-        return None;
-    }
     let quadrature = (usize::try_from(r.u64()?).ok()?, r.f64()?, r.f64()?);
     let description = r.string()?;
-    let n = (width * height) as usize;
     let mut xyz = Vec::with_capacity(n);
     let mut mask = Vec::with_capacity(n);
     for _ in 0..n {
-        xyz.push(DVec3::new(r.f64()?, r.f64()?, r.f64()?));
+        let v = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
+        if !(v.is_finite() && v.min_element() >= 0.0) {
+            return None;
+        }
+        xyz.push(v);
         mask.push(r.take(1)?[0] != 0);
     }
+    let (width, height) = (job.width, job.height);
     r.finished().then_some(ReferenceImage { width, height, xyz, mask, description, quadrature })
 }
 

@@ -26,8 +26,9 @@ pub enum Subject {
     /// The BRDF map of a height field lit from `light` (the patch frame), its material `settings` before each
     /// configuration's overrides; `name` and `light_deg` (θ_i, φ_i) describe it.
     Map { heightfield: HeightField, light: DVec3, settings: Settings, name: String, light_deg: (f64, f64) },
-    /// A scene; its images are `aspect` (height over width) as tall as wide.
-    Scene { scene: Box<Scene>, name: String, aspect: f64 },
+    /// A scene; its images are `aspect` (height over width) as tall as wide; with `any_view`, its baked tables
+    /// serve any light and view (the viewer's and a sequence's), else the profiled frame's views.
+    Scene { scene: Box<Scene>, name: String, aspect: f64, any_view: bool },
 }
 
 impl Subject {
@@ -41,11 +42,12 @@ impl Subject {
                     hf.nx, hf.ny, settings.coherence_um
                 )
             }
-            Subject::Scene { scene, name, .. } => format!(
+            Subject::Scene { scene, name, any_view, .. } => format!(
                 "scene {name} ({} objects, {} materials; each material's approach, Taylor order, Δλ and window radius set \
-                 by the configuration)",
+                 by the configuration{})",
                 scene.objects.len(),
-                scene.materials.len()
+                scene.materials.len(),
+                if *any_view { "; baked tables for any light and view" } else { "" }
             ),
         }
     }
@@ -99,8 +101,12 @@ impl Subject {
                 let reach = Reach::Map { light: *light, size: config.size };
                 Ok(vec![Material::prepare(heightfield, config.overrides.apply(*settings), &reach)?])
             }
-            Subject::Scene { scene, .. } => {
-                let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], size.0, size.1)?;
+            Subject::Scene { scene, any_view, .. } => {
+                let reaches = if *any_view {
+                    vec![Reach::ANY]
+                } else {
+                    scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], size.0, size.1)?
+                };
                 prepare_materials(scene, &config.overrides, &reaches)
             }
         }

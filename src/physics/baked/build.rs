@@ -15,10 +15,9 @@
 //!   evaluated at s×s sub-samples of each texel (s from the lobe width; 1 for point tables) and averaged,
 //!   separably: first along u for every spectrum row that carries anything, then along v.
 //!
-//! The node values become Chebyshev coefficients by a DCT per texel. The degree is measured first on a coarse
-//! probe of the same table ([`super::PROBE_TEXELS`]² texels, 5 nm steps, the Bessel bound's terms): the
-//! smallest degree whose tail stays below the tolerance × each texel's brightest value (plus
-//! [`super::INVISIBLE`]) in every texel and channel.
+//! w is sampled at the plan's nodes (enough that what they miss is bounded analytically below
+//! [`super::INVISIBLE`]/4); the node values become Chebyshev coefficients by a DCT per texel, and the degree kept
+//! is the one the certificate of [`super::degree`] proves on these very values.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -27,14 +26,12 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use super::{BakedTable, Grid, TablePlan, INVISIBLE, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM};
-use crate::error::{Error, Result};
+use super::{degree, BakedTable, Grid, TablePlan, INVISIBLE, TABLE_LAMBDA_STEP_NM};
+use crate::error::Result;
 use crate::physics::chebyshev;
 use crate::physics::heightfield::HeightField;
 use crate::physics::spectrum::{spectrum_at, Sampling};
 
-/// Most sub-samples per texel axis on the coherent path.
-const MAX_SUBSAMPLES: usize = 8;
 /// Bytes of accumulators a band of texel rows may hold (about what a core's L2 cache keeps).
 const BAND_BYTES: usize = 512 << 10;
 
@@ -43,13 +40,13 @@ pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
 /// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ: Σ_λ |P|²·weight is XYZ relative to a D65
 /// mirror, as `spectrum::reflectance_to_xyz` sums it.
-struct Spectral {
-    lambda_um: Vec<f64>,
-    weight: Vec<[f64; 3]>,
+pub(super) struct Spectral {
+    pub(super) lambda_um: Vec<f64>,
+    pub(super) weight: Vec<[f64; 3]>,
 }
 
 impl Spectral {
-    fn new(step_nm: f64) -> Self {
+    pub(super) fn new(step_nm: f64) -> Self {
         let sampling = Sampling::visible(step_nm);
         let norm = sampling.y_norm();
         let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
@@ -66,12 +63,12 @@ impl Spectral {
 }
 
 /// The patch's tiling cell and its FFT plans.
-struct Cell {
-    px: usize,
-    py: usize,
+pub(super) struct Cell {
+    pub(super) px: usize,
+    pub(super) py: usize,
     /// Tiling strides: full-patch bin = stride × cell bin.
-    tx: i64,
-    ty: i64,
+    pub(super) tx: i64,
+    pub(super) ty: i64,
     heights: Vec<f64>,
     /// Distinct heights and each pixel's index among them, where they are few (an 8-bit scan has ≤ 256): the
     /// phases exp(i·κ·h) are then computed once per distinct height.
@@ -81,7 +78,7 @@ struct Cell {
 }
 
 impl Cell {
-    fn new(hf: &HeightField, (px, py): (usize, usize)) -> Self {
+    pub(super) fn new(hf: &HeightField, (px, py): (usize, usize)) -> Self {
         // Centred on the whole patch's mean, as the reference centres it.
         let mean = hf.mean();
         let heights: Vec<f64> = hf.corner(px, py).heights_um.iter().map(|h| h - mean).collect();
@@ -107,7 +104,7 @@ impl Cell {
 
     /// A_k for every cell bin, row-major in FFT order (index k mod n), normalised so that a flat patch has
     /// A_0 = 1: the centred inverse DFT of exp(i·κ·h) of `physics::taylor` (+i exponent, 1/N²).
-    fn amplitudes(&self, kappa: f64, scratch: &mut Vec<Complex64>) -> Vec<Complex64> {
+    pub(super) fn amplitudes(&self, kappa: f64, scratch: &mut Vec<Complex64>) -> Vec<Complex64> {
         let (px, py) = (self.px, self.py);
         let norm = 1.0 / (px * py) as f64;
         let mut a: Vec<Complex64> = match &self.distinct {
@@ -235,7 +232,6 @@ fn erf_difference(a: f64, b: f64) -> f64 {
 /// Node values of one build: `data[t·nodes·3 + c·3 + ch]` is channel ch at w-node c of texel t.
 struct NodeValues {
     nodes: usize,
-    texels: usize,
     data: Vec<f64>,
 }
 
@@ -378,7 +374,7 @@ impl Pass<'_> {
                 }
             }
         });
-        NodeValues { nodes: self.nodes, texels: nu * nv, data }
+        NodeValues { nodes: self.nodes, data }
     }
 
     /// Coherent path: P at every sub-sample by the separable windowed sum, |P|² averaged into its texel; in
@@ -431,7 +427,7 @@ impl Pass<'_> {
                 data[t * stride + c * 3..][..3].copy_from_slice(v);
             }
         }
-        NodeValues { nodes: self.nodes, texels: nu * nv, data }
+        NodeValues { nodes: self.nodes, data }
     }
 }
 
@@ -457,12 +453,7 @@ impl<'a> Pass<'a> {
             radius,
         };
         let w = &plan.window;
-        // Sub-samples per texel axis on the coherent path: enough that their spacing is at most the lobe width.
-        let subsamples = if point || plan.lattice {
-            1
-        } else {
-            ((grid.texel / plan.lobe_width.0).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
-        };
+        let subsamples = if point { 1 } else { plan.subsamples() };
         Self {
             grid,
             nodes,
@@ -485,84 +476,19 @@ impl<'a> Pass<'a> {
     }
 }
 
-/// The degree in w the tolerance needs, measured on `plan`'s (probe) grid: its Bessel-bound terms, 5 nm
-/// steps, texel-centre values. Returns (terms, largest relative tail left).
-pub fn probe(hf: &HeightField, plan: &TablePlan) -> (usize, f64) {
-    let cell = Cell::new(hf, plan.cell);
-    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.probe_terms, PROBE_LAMBDA_STEP_NM, true);
-    measure_degree(&pass.run(plan.lattice, None), plan.tolerance)
-}
-
-/// Builds the table `plan` describes for `hf`. `progress(done, total)` counts wavelengths.
+/// Builds the table `plan` describes for `hf`: node values at `plan.nodes` nodes in w, turned into Chebyshev
+/// coefficients and certified ([`super::degree::certify`]), the degree kept the certificate's.
+/// `progress(done, total)` counts wavelengths.
 pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>) -> Result<BakedTable> {
     let cell = Cell::new(hf, plan.cell);
-    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.terms, TABLE_LAMBDA_STEP_NM, plan.point);
-    let coef = to_coefficients(&pass.run(plan.lattice, progress));
-    if coef.iter().any(|c| !c.is_finite()) {
-        return Err(Error::Invalid("the baked table has non-finite coefficients (a bug in diffract)".into()));
-    }
+    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.nodes.count, TABLE_LAMBDA_STEP_NM, plan.point);
+    let mut values = pass.run(plan.lattice, progress);
+    let certificate = degree::certify(&mut values.data, &plan.grid, &plan.nodes, plan.tolerance)?;
     let report = format!(
-        "{} terms in w; {} path, {}{}",
-        plan.terms,
+        "{} path, {}{}",
         if plan.lattice { "lattice" } else { "coherent" },
         if plan.point { "texel-centre values" } else { "texel averages" },
         if pass.subsamples > 1 { format!(" of {0}×{0} sub-samples", pass.subsamples) } else { String::new() },
     );
-    Ok(BakedTable::from_coefficients(plan.grid, plan.terms, &coef, report))
-}
-
-/// Chebyshev coefficients of every texel: `out[(d·3 + ch)·texels + t]`.
-fn to_coefficients(values: &NodeValues) -> Vec<f64> {
-    let (nodes, n) = (values.nodes, values.texels);
-    let m = chebyshev::coefficient_matrix(nodes);
-    let stride = nodes * 3;
-    let mut out = vec![0.0; stride * n];
-    out.par_chunks_mut(n).enumerate().for_each(|(scalar, dst)| {
-        let (d, ch) = (scalar / 3, scalar % 3);
-        for (t, o) in dst.iter_mut().enumerate() {
-            let texel = &values.data[t * stride..][..stride];
-            *o = m[d].iter().enumerate().map(|(c, f)| f * texel[c * 3 + ch]).sum();
-        }
-    });
-    out
-}
-
-/// The fewest terms whose tail is within the tolerance × the texel's brightest node value (+ INVISIBLE) in
-/// every texel and channel of the probe, and the largest relative tail left at that degree among texels bright
-/// enough for the relative bound to govern (peak ≥ 100·INVISIBLE/tolerance; any visible one where none is).
-fn measure_degree(values: &NodeValues, tolerance: f64) -> (usize, f64) {
-    let (nodes, n) = (values.nodes, values.texels);
-    let coef = to_coefficients(values);
-    let peak =
-        |t: usize, ch: usize| (0..nodes).map(|c| values.data[(t * nodes + c) * 3 + ch].abs()).fold(0.0, f64::max);
-    let mut needed = 1;
-    for t in 0..n {
-        for ch in 0..3 {
-            let allowed = tolerance * peak(t, ch) + INVISIBLE;
-            let mut tail = 0.0;
-            let mut degree = nodes;
-            for d in (0..nodes).rev() {
-                tail += coef[(d * 3 + ch) * n + t].abs();
-                if tail > allowed {
-                    break;
-                }
-                degree = d;
-            }
-            needed = needed.max(degree.max(1));
-        }
-    }
-    // Where no probe texel is that bright (narrow lobes between coarse probe texels), every visible one counts.
-    let bright = 100.0 * INVISIBLE / tolerance;
-    let floor = if (0..n).any(|t| (0..3).any(|ch| peak(t, ch) >= bright)) { bright } else { INVISIBLE };
-    let mut worst = 0.0f64;
-    for t in 0..n {
-        for ch in 0..3 {
-            let p = peak(t, ch);
-            if p >= floor {
-                let tail: f64 = (needed..nodes).map(|d| coef[(d * 3 + ch) * n + t].abs()).sum();
-                worst = worst.max(tail / p);
-            }
-        }
-    }
-    (needed, worst)
+    Ok(BakedTable::from_coefficients(plan.grid, &values.data, 3 * values.nodes, certificate, report))
 }

@@ -1,96 +1,130 @@
-//! Baked tables on disk ([`crate::cache`]): named by a hash of everything a table depends on, so a second run
-//! with the same patch and views loads in milliseconds.
+//! Baked tables and their estimates on disk, as verified entries of [`crate::cache`]: each names the plan it was
+//! computed for (the patch's hash, the coherence, the tolerance, the nodes, the grid), so a second run with the
+//! same patch and views loads in milliseconds, and a damaged, edited or foreign file is rebuilt, never used.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::{BakedTable, Grid, TableLevel, TablePlan};
-use crate::cache::{Fnv, Reader};
+use super::{BakedTable, Certificate, Estimate, Grid, TableLevel, TablePlan, LAYER_CHANNELS, MAX_TERMS};
+use crate::cache::{Fnv, PlanBytes, Reader, Stamp};
 use crate::physics::HeightField;
 
 /// Bumped whenever the build's definition changes: tables of other versions are rebuilt.
-const VERSION: u64 = 3;
-const MAGIC: &[u8; 8] = b"DFRTAB01";
+const VERSION: u64 = 4;
+/// Bytes of a table's payload besides its texels: the grid, the certificate, the report (at most this long).
+const TABLE_OVERHEAD: u64 = 4096;
+const MAX_REPORT: usize = 1024;
 
-/// The hash of everything `plan`'s table (or, before the grid is sized, its probe) depends on.
-fn key(hf: &HeightField, plan: &TablePlan) -> u64 {
+/// Everything the estimate of `plan` depends on (the grid is not sized yet: the domain stands for it).
+fn estimate_plan(hf: &HeightField, plan: &TablePlan) -> PlanBytes {
     let mut h = Fnv::default();
-    h.u64(VERSION);
     hf.hash_into(&mut h);
-    h.f64(plan.coherence_um);
-    h.f64(plan.tolerance);
-    h.u64(plan.probe_terms as u64);
-    h.u64(plan.terms as u64);
-    h.u64(u64::from(plan.point));
+    let mut p = PlanBytes::default();
+    p.u64(h.0).f64(plan.coherence_um).f64(plan.tolerance).u64(plan.nodes.count as u64).u64(u64::from(plan.lattice));
+    let d = plan.domain;
+    for v in [d.u.0, d.u.1, d.v.0, d.v.1, d.w.0, d.w.1] {
+        p.f64(v);
+    }
+    p
+}
+
+/// Everything the table of `plan` depends on.
+fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
+    let mut p = estimate_plan(hf, plan);
+    p.u64(plan.terms as u64).u64(u64::from(plan.point));
     let g = &plan.grid;
     for v in [g.u0, g.v0, g.texel, g.w.0, g.w.1] {
-        h.f64(v);
+        p.f64(v);
     }
-    h.u64(g.nu as u64);
-    h.u64(g.nv as u64);
-    h.0
+    p.u64(g.nu as u64).u64(g.nv as u64);
+    Stamp { kind: "baked", what: "baked table", version: VERSION, plan: p.0 }
 }
 
-/// The file a table for `hf` and `plan` is cached in, under `dir`.
-pub fn file(dir: &Path, hf: &HeightField, plan: &TablePlan) -> PathBuf {
-    dir.join(format!("baked-{:016x}.bin", key(hf, plan)))
-}
-
-/// The probe's measurement (terms, tail) for a plan whose grid is still the probe's, from the default cache
-/// folder; computed with `measure` and stored there when missing.
-pub fn probe(hf: &HeightField, plan: &TablePlan, measure: impl FnOnce() -> (usize, f64)) -> (usize, f64) {
-    let file = crate::cache::default_dir().map(|d| d.join(format!("probe-{:016x}.bin", key(hf, plan))));
-    let cached = file.as_deref().and_then(|f| std::fs::read(f).ok()).and_then(|bytes| {
+/// The estimate for a plan whose grid is still unsized, from the default cache folder; computed with `measure`
+/// and stored there when missing.
+pub fn estimate(hf: &HeightField, plan: &TablePlan, measure: impl FnOnce() -> Estimate) -> Estimate {
+    let stamp = Stamp {
+        kind: "estimate",
+        what: "estimate of a baked table",
+        version: VERSION,
+        plan: estimate_plan(hf, plan).0,
+    };
+    let dir = crate::cache::default_dir();
+    let cached = dir.as_deref().and_then(|d| crate::cache::load(d, &stamp, 32)).and_then(|bytes| {
         let mut r = Reader::new(&bytes);
-        let terms = usize::try_from(r.u64()?).ok().filter(|&t| (1..=super::MAX_TERMS).contains(&t))?;
-        let tail = r.f64()?;
-        r.finished().then_some((terms, tail))
+        let terms = usize::try_from(r.u64()?).ok().filter(|&t| (1..=plan.nodes.count).contains(&t))?;
+        let points = usize::try_from(r.u64()?).ok()?;
+        let every_lobe = r.u64()? != 0;
+        let tail = r.f64().filter(|t| t.is_finite() && *t >= 0.0)?;
+        r.finished().then_some(Estimate { terms, points, every_lobe, tail })
     });
     cached.unwrap_or_else(|| {
-        let (terms, tail) = measure();
-        if let Some(f) = &file {
-            let mut bytes = (terms as u64).to_le_bytes().to_vec();
-            bytes.extend_from_slice(&tail.to_le_bytes());
+        let e = measure();
+        if let Some(d) = &dir {
+            let mut bytes = Vec::with_capacity(32);
+            for v in [e.terms as u64, e.points as u64, u64::from(e.every_lobe), e.tail.to_bits()] {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
             // A cache that cannot be written costs time, not correctness.
-            let _ = crate::cache::write_atomic(f, &bytes);
+            let _ = crate::cache::store(d, &stamp, &bytes);
         }
-        (terms, tail)
+        e
     })
 }
 
-pub fn write(file: &Path, table: &BakedTable) -> std::io::Result<()> {
-    let mut bytes = Vec::with_capacity(table.bytes() as usize + 256);
-    bytes.extend_from_slice(MAGIC);
-    let g = &table.grid;
-    for v in [g.u0, g.v0, g.texel, g.w.0, g.w.1] {
+/// Stores `table`, built for `plan`, under `dir`.
+pub fn write(dir: &Path, hf: &HeightField, plan: &TablePlan, table: &BakedTable) -> std::io::Result<()> {
+    let mut bytes = Vec::with_capacity(table.bytes() as usize + TABLE_OVERHEAD as usize);
+    let c = &table.certificate;
+    let needed = c.needed.map_or(u64::MAX, |n| n as u64);
+    for v in [c.terms as u64, needed, c.nodes as u64, c.unseen.to_bits(), c.tail.to_bits(), c.tolerance.to_bits()] {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
-    for v in [g.nu, g.nv, table.terms, table.levels.len()] {
-        bytes.extend_from_slice(&(v as u64).to_le_bytes());
-    }
-    bytes.extend_from_slice(&(table.report.len() as u64).to_le_bytes());
-    bytes.extend_from_slice(table.report.as_bytes());
+    bytes.extend_from_slice(&(table.levels.len() as u64).to_le_bytes());
+    let report = &table.report.as_bytes()[..table.report.len().min(MAX_REPORT)];
+    bytes.extend_from_slice(&(report.len() as u64).to_le_bytes());
+    bytes.extend_from_slice(report);
     for level in &table.levels {
         bytes.extend_from_slice(&(level.width as u64).to_le_bytes());
         bytes.extend_from_slice(&(level.height as u64).to_le_bytes());
         bytes.extend_from_slice(bytemuck::cast_slice(&level.texels));
     }
-    crate::cache::write_atomic(file, &bytes)
+    crate::cache::store(dir, &table_stamp(hf, plan), &bytes)
 }
 
-/// The cached table for `plan`, or None (missing, unreadable or not matching: it is then rebuilt).
-pub fn read(file: &Path, plan: &TablePlan) -> Option<BakedTable> {
-    let bytes = std::fs::read(file).ok()?;
-    let mut r = Reader::new(&bytes);
-    if r.take(8)? != MAGIC {
-        return None;
+/// The table cached under `dir` for `plan`, or None (missing, or not checking out: it is then rebuilt). The
+/// grid is the plan's (it is part of the entry's plan), the terms within the nodes, every texel finite.
+pub fn read(dir: &Path, hf: &HeightField, plan: &TablePlan) -> Option<BakedTable> {
+    let grid: Grid = plan.grid;
+    let most = grid.bytes(MAX_TERMS.min(plan.nodes.count)) + TABLE_OVERHEAD;
+    let stamp = table_stamp(hf, plan);
+    let bytes = crate::cache::load(dir, &stamp, most)?;
+    let table = parse(&bytes, plan);
+    if table.is_none() {
+        eprintln!(
+            "note: the cached baked table {} checks out but does not hold a table for its plan; building it again",
+            stamp.file(dir).display()
+        );
     }
-    let (u0, v0, texel, w0, w1) = (r.f64()?, r.f64()?, r.f64()?, r.f64()?, r.f64()?);
+    table
+}
+
+fn parse(bytes: &[u8], plan: &TablePlan) -> Option<BakedTable> {
+    let grid = plan.grid;
+    let mut r = Reader::new(bytes);
     let mut count = || r.u64().and_then(|v| usize::try_from(v).ok());
-    let (nu, nv, terms, levels) = (count()?, count()?, count()?, count()?);
-    let grid = Grid { u0, v0, texel, nu, nv, w: (w0, w1) };
-    if grid != plan.grid || terms == 0 || terms > super::MAX_TERMS || levels != grid.level_sizes().len() {
+    let (terms, needed, nodes) = (count()?, count()?, count()?);
+    let (unseen, tail, tolerance) = (r.f64()?, r.f64()?, r.f64()?);
+    let levels = usize::try_from(r.u64()?).ok()?;
+    let plausible = (1..=MAX_TERMS.min(nodes)).contains(&terms)
+        && nodes == plan.nodes.count
+        && tolerance == plan.tolerance
+        && [unseen, tail].iter().all(|v| v.is_finite() && *v >= 0.0)
+        && levels == grid.level_sizes().len();
+    if !plausible {
         return None;
     }
+    let needed = (needed != usize::MAX).then_some(needed);
+    let certificate = Certificate { terms, needed, nodes, unseen, tail, tolerance };
     let report = r.string()?;
     let layers = super::layers_for(terms);
     let mut out = Vec::with_capacity(levels);
@@ -99,8 +133,12 @@ pub fn read(file: &Path, plan: &TablePlan) -> Option<BakedTable> {
         if (width, height) != (w, h) {
             return None;
         }
-        let raw = r.take(layers * w * h * super::LAYER_CHANNELS * 4)?;
-        out.push(TableLevel { width, height, texels: bytemuck::pod_collect_to_vec(raw) });
+        let raw = r.take(layers * w * h * LAYER_CHANNELS * 4)?;
+        let texels: Vec<f32> = bytemuck::pod_collect_to_vec(raw);
+        if !texels.iter().all(|t| t.is_finite()) {
+            return None;
+        }
+        out.push(TableLevel { width, height, texels });
     }
-    r.finished().then_some(BakedTable { grid, terms, levels: out, report })
+    r.finished().then_some(BakedTable { grid, terms, levels: out, certificate, report })
 }

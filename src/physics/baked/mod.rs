@@ -22,12 +22,15 @@
 //!
 //! What it costs is decided by what the scene can show ([`TablePlan`]): the (u, v, w) box its directions
 //! produce, the smallest pixel footprint (texels finer than it are never read; finer than the lobes they gain
-//! nothing), the degree in w the tolerance needs (measured on a coarse probe of the same table), and at most
-//! [`MAX_TABLE_BYTES`] of GPU memory.
+//! nothing), the degree in w the tolerance needs (estimated at every lobe centre before the build, certified
+//! on the built table itself: [`degree`]), and at most [`MAX_TABLE_BYTES`] of GPU memory.
 
 pub mod build;
 pub mod cache;
+pub mod degree;
 pub mod sample;
+
+pub use degree::{Certificate, Estimate, Nodes};
 
 pub use sample::FOOTPRINT_LOD_BIAS;
 
@@ -48,10 +51,11 @@ pub const INVISIBLE: f64 = 1e-10;
 pub const TABLE_LAMBDA_STEP_NM: f64 = 1.0;
 /// Most Chebyshev terms in w (a structure needing more is far deeper than the wavelengths it is lit with).
 pub const MAX_TERMS: usize = 64;
-/// Texels across the coarse probe on which the degree in w is measured.
-pub const PROBE_TEXELS: usize = 48;
-/// The probe's wavelength step, nm (the degree in w hardly depends on the spectral sampling).
+/// The wavelength step of the estimate of the degree, nm (the degree in w hardly depends on the spectral
+/// sampling; the build's certificate is made at the table's own 1 nm).
 pub const PROBE_LAMBDA_STEP_NM: f64 = 5.0;
+/// Most sub-samples per texel axis on the coherent path.
+pub const MAX_SUBSAMPLES: usize = 8;
 /// Coefficients per texel of an RGBA32F layer.
 pub const LAYER_CHANNELS: usize = 4;
 
@@ -173,17 +177,19 @@ pub fn layers_for(terms: usize) -> usize {
     (3 * terms).div_ceil(LAYER_CHANNELS)
 }
 
-/// How a table will be built, decided before the table's own work: the grid, and the degree in w measured on
-/// a coarse probe of the same table (cached like the tables).
+/// How a table will be built, decided before the table's own work: the grid, the nodes in w the build samples,
+/// and the degree estimated at every lobe centre (cached like the tables). The build certifies the degree it
+/// keeps ([`BakedTable::certificate`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TablePlan {
+    /// The (u, v, w) the table must serve, and its grid.
+    pub domain: Domain,
     pub grid: Grid,
-    /// Chebyshev terms kept in w (measured), and the largest tail they leave on the probe, relative to each
-    /// texel's brightest value.
+    /// Chebyshev terms in w the grid is sized for: the estimate's.
     pub terms: usize,
-    pub probe_tail: f64,
-    /// Terms the probe measured with (from the Bessel bound on the w-bandwidth).
-    pub probe_terms: usize,
+    pub estimate: Estimate,
+    /// The nodes in w the build samples, and the bound on what they cannot see.
+    pub nodes: Nodes,
     pub tolerance: f64,
     /// Standard deviation in u of the intensity lobes at λ = 380 nm and 780 nm.
     pub lobe_width: (f64, f64),
@@ -226,12 +232,13 @@ impl TablePlan {
         let cell = hf.period_cell();
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
-        let probe_terms = Self::probe_terms(hf, &window, d.w, tolerance)?;
+        let nodes = degree::nodes_for(hf, &window, cell, d.w)?;
         let mut plan = Self {
-            grid: probe_grid(d),
-            terms: probe_terms,
-            probe_tail: 0.0,
-            probe_terms,
+            domain: d,
+            grid: Self::grid(d, 1.0, true),
+            terms: 1,
+            estimate: Estimate { terms: 1, points: 0, every_lobe: true, tail: 0.0 },
+            nodes,
             tolerance,
             lobe_width,
             cell,
@@ -241,9 +248,27 @@ impl TablePlan {
             window,
             coherence_um,
         };
-        (plan.terms, plan.probe_tail) = cache::probe(hf, &plan, || build::probe(hf, &plan));
+        plan.estimate = cache::estimate(hf, &plan, || degree::estimate(hf, &plan));
+        plan.terms = plan.estimate.terms;
         plan.size_grid(request);
         Ok(plan)
+    }
+
+    /// Sub-samples per texel axis whose mean is a texel's value: on the coherent path, enough that their spacing is
+    /// at most the lobe width (sub-sample i of texel a sits at u0 + (a + (i + ½)/s)·texel); 1 for point tables and
+    /// on the lattice path, whose texel averages are exact.
+    pub fn subsamples(&self) -> usize {
+        if self.point || self.lattice {
+            1
+        } else {
+            ((self.grid.texel / self.lobe_width.0).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
+        }
+    }
+
+    /// w at t ∈ [−1, 1] of the domain's w-interval (the grid's, once it is sized).
+    pub fn grid_w_of(&self, t: f64) -> f64 {
+        let (w0, w1) = self.domain.w;
+        0.5 * (w0 + w1) + 0.5 * (w1 - w0) * t
     }
 
     /// The finest grid the request can use within [`MAX_TABLE_BYTES`]. Texels finer than the narrowest lobe
@@ -290,28 +315,6 @@ impl TablePlan {
         Grid { u0, v0, texel, nu: n(u0, u1), nv: n(v0, v1), w: d.w }
     }
 
-    /// Terms enough for the probe to see a tail far below the tolerance: the Bessel bound on the w-bandwidth
-    /// Ω = 2π(h_max − h_min)/λ_min over the interval's half-width, for an amplitude of the window gain squared
-    /// (the most |P|² can reach).
-    fn probe_terms(hf: &HeightField, window: &Window, w: (f64, f64), tolerance: f64) -> Result<usize> {
-        let (h0, h1) = hf.range();
-        let omega = 2.0 * std::f64::consts::PI * (h1 - h0) / (super::spectrum::VISIBLE_MIN_NM * 1e-3);
-        let x = omega * 0.5 * (w.1 - w.0);
-        let gain = super::exact::window_gain(window, hf);
-        super::chebyshev::terms_for(x, gain * gain, tolerance * INVISIBLE.sqrt(), MAX_TERMS)
-            .map(|n| n.max(2))
-            .ok_or_else(|| {
-                Error::Invalid(format!(
-                    "the baked table cannot follow this structure in w: heights spanning {:.3} µm at 380 nm need \
-                     more than {MAX_TERMS} Chebyshev terms over w ∈ [{:.2}, {:.2}]; check the heights, raise \
-                     --table-tolerance, or evaluate single directions with `diffract brdf --method exact`",
-                    h1 - h0,
-                    w.0,
-                    w.1
-                ))
-            })
-    }
-
     /// One line for users: grid, lobes, degree, memory.
     pub fn describe(&self) -> String {
         let g = &self.grid;
@@ -325,7 +328,8 @@ impl TablePlan {
         };
         format!(
             "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]; {}×{} texels of {:.5} ({}{}); \
-             {} path, {}; {} terms in w (tail {:.1e} of the peak, measured; tolerance {:.0e} of it + 1e-10); {:.1} MiB",
+             {} path, {}; about {} terms in w (estimated at {}, tail {:.1e} there; the build certifies the degree \
+             against a tolerance of {:.0e} of each texel's brightest value + 1e-10 from {} nodes in w); {:.1} MiB",
             g.u0,
             g.u0 + g.nu as f64 * g.texel,
             g.v0,
@@ -342,8 +346,14 @@ impl TablePlan {
             if self.lattice { "lattice" } else { "coherent" },
             if self.point { "texel-centre values" } else { "texel averages" },
             self.terms,
-            self.probe_tail,
+            if self.estimate.every_lobe {
+                format!("{} lobe centres{}", self.estimate.points, if self.lattice { "" } else { " and midpoints" })
+            } else {
+                format!("{} points of a regular grid", self.estimate.points)
+            },
+            self.estimate.tail,
             self.tolerance,
+            self.nodes.count,
             g.bytes(self.terms) as f64 / (1u64 << 20) as f64
         )
     }
@@ -356,26 +366,54 @@ pub fn load_or_build(
     plan: &TablePlan,
     progress: Option<build::Progress<'_>>,
 ) -> Result<(BakedTable, bool)> {
-    let file = crate::cache::default_dir().map(|dir| cache::file(&dir, hf, plan));
-    if let Some(table) = file.as_deref().and_then(|f| cache::read(f, plan)) {
+    let dir = crate::cache::default_dir();
+    if let Some(table) = dir.as_deref().and_then(|d| cache::read(d, hf, plan)) {
         return Ok((table, true));
     }
     let table = build::build(hf, plan, progress)?;
-    if let Some(f) = &file {
-        if let Err(e) = cache::write(f, &table) {
-            eprintln!("warning: could not cache the baked table in {}: {e}", f.display());
+    if let Some(d) = &dir {
+        if let Err(e) = cache::write(d, hf, plan, &table) {
+            eprintln!("warning: could not cache the baked table in {}: {e}", d.display());
         }
     }
     Ok((table, false))
 }
 
-/// The probe's grid: the domain in at most [`PROBE_TEXELS`] texels per axis.
-fn probe_grid(d: Domain) -> Grid {
-    let (eu, ev) = (d.u.1 - d.u.0, d.v.1 - d.v.0);
-    let texel = (eu.max(ev) / PROBE_TEXELS as f64).max(1e-6);
-    let n = |e: f64| ((e / texel).ceil() as usize).max(1);
-    Grid { u0: d.u.0, v0: d.v.0, texel, nu: n(eu), nv: n(ev), w: d.w }
+/// Where `table`'s certificate misses its tolerance (memory or [`MAX_TERMS`] kept fewer terms than it needs, or
+/// the nodes could not reach it), what it keeps and why, in words naming the tail and the tolerance.
+pub fn shortfall(table: &BakedTable) -> Option<String> {
+    let c = &table.certificate;
+    if c.meets_tolerance() {
+        return None;
+    }
+    let why = match c.needed {
+        Some(n) if n > MAX_TERMS => format!("it needs {n} terms, more than the {MAX_TERMS} a table holds"),
+        Some(n) => format!("the {n} terms it needs do not fit in {} MiB", MAX_TABLE_BYTES >> 20),
+        None => format!("{} nodes in w cannot reach it", c.nodes),
+    };
+    Some(format!(
+        "the baked table keeps {} terms in w, whose tail is up to {:.1e} of a texel's brightest value, above its \
+         tolerance {:.0e} ({why})",
+        c.terms, c.tail, c.tolerance
+    ))
 }
+
+/// A warning where `table` misses its tolerance ([`shortfall`]), or, when `strict`, a refusal.
+pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
+    match shortfall(table) {
+        None => Ok(()),
+        Some(m) if strict => Err(Error::Invalid(format!(
+            "{m}; refused (--strict, or the scene's table_tolerance): raise the tolerance or narrow the views"
+        ))),
+        Some(m) => {
+            eprintln!("warning: {m}; {TABLE_SHORTFALL_HINT}");
+            Ok(())
+        }
+    }
+}
+
+/// What a warning about a table that misses its tolerance adds.
+pub const TABLE_SHORTFALL_HINT: &str = "colours may be off by that much (--strict refuses such a table)";
 
 /// One mip level: RGBA32F texels, layer after layer, rows top (v0) first.
 #[derive(Clone, Debug, PartialEq)]
@@ -385,13 +423,14 @@ pub struct TableLevel {
     pub texels: Vec<f32>,
 }
 
-/// A built table: the grid, the Chebyshev terms kept, and every mip level.
+/// A built table: the grid, the Chebyshev terms kept, every mip level, and what the build proved about them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BakedTable {
     pub grid: Grid,
     pub terms: usize,
     pub levels: Vec<TableLevel>,
-    /// How it was built, in one line (path, degree and its measured tail, time).
+    pub certificate: Certificate,
+    /// How it was built, in a few words (path, texel values or averages).
     pub report: String,
 }
 
@@ -405,16 +444,23 @@ impl BakedTable {
         self.levels.iter().map(|l| l.texels.len() as u64 * 4).sum()
     }
 
-    /// Packs level 0 from f64 coefficients `coef[(d·3 + c)·nu·nv + b·nu + a]` and averages the mip levels.
-    pub fn from_coefficients(grid: Grid, terms: usize, coef: &[f64], report: String) -> Self {
-        let (nu, nv) = (grid.nu, grid.nv);
+    /// Packs level 0 from f64 coefficients, texel after texel: coefficient d of channel c of texel t (rows
+    /// top first) is `coef[t·stride + 3d + c]`, of which the certificate's terms are kept; then averages the mip
+    /// levels.
+    pub fn from_coefficients(
+        grid: Grid,
+        coef: &[f64],
+        stride: usize,
+        certificate: Certificate,
+        report: String,
+    ) -> Self {
+        let (nu, nv, terms) = (grid.nu, grid.nv, certificate.terms);
         let layers = layers_for(terms);
         let mut level0 = vec![0f32; layers * nu * nv * LAYER_CHANNELS];
-        for scalar in 0..3 * terms {
-            let (layer, channel) = (scalar / LAYER_CHANNELS, scalar % LAYER_CHANNELS);
-            let plane = &coef[scalar * nu * nv..][..nu * nv];
-            for (i, v) in plane.iter().enumerate() {
-                level0[(layer * nu * nv + i) * LAYER_CHANNELS + channel] = *v as f32;
+        for (t, texel) in coef.chunks_exact(stride).take(nu * nv).enumerate() {
+            for (scalar, v) in texel[..3 * terms].iter().enumerate() {
+                let (layer, channel) = (scalar / LAYER_CHANNELS, scalar % LAYER_CHANNELS);
+                level0[(layer * nu * nv + t) * LAYER_CHANNELS + channel] = *v as f32;
             }
         }
         let mut levels = vec![TableLevel { width: nu, height: nv, texels: level0 }];
@@ -422,7 +468,7 @@ impl BakedTable {
             let next = downsample(levels.last().expect("level 0"), w, h, layers);
             levels.push(next);
         }
-        Self { grid, terms, levels, report }
+        Self { grid, terms, levels, certificate, report }
     }
 }
 
@@ -478,10 +524,12 @@ mod tests {
         assert_eq!(grid.level_sizes(), vec![(7, 5), (3, 2), (1, 1)]);
         let terms = 2;
         let coef: Vec<f64> = (0..3 * terms * 35).map(|i| ((i * 37) % 11) as f64).collect();
-        let table = BakedTable::from_coefficients(grid, terms, &coef, String::new());
+        let certificate =
+            Certificate { terms, needed: Some(terms), nodes: terms, unseen: 0.0, tail: 0.0, tolerance: 1e-4 };
+        let table = BakedTable::from_coefficients(grid, &coef, 3 * terms, certificate, String::new());
         assert_eq!(table.layers(), 2);
         for scalar in 0..3 * terms {
-            let mean = coef[scalar * 35..][..35].iter().sum::<f64>() / 35.0;
+            let mean = (0..35).map(|t| coef[t * 3 * terms + scalar]).sum::<f64>() / 35.0;
             let (layer, ch) = (scalar / 4, scalar % 4);
             for level in &table.levels {
                 let n = level.width * level.height;
@@ -499,7 +547,7 @@ mod tests {
         let pixel = 2.0 / 64.0;
         let request = TableRequest { domain: Domain::map(DVec3::new(0.0, 0.0, 1.0)), footprint: pixel, aligned: true };
         let plan = TablePlan::new(&hf, 65.0, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
-        assert!(plan.point && plan.terms >= 1);
+        assert!(plan.point && plan.terms >= 1 && plan.estimate.every_lobe && plan.estimate.points > 0);
         let k = (pixel / plan.grid.texel).round();
         assert!((pixel / plan.grid.texel - k).abs() < 1e-9 && k as usize % 2 == 1, "{plan:?}");
         assert!(plan.grid.texel <= plan.lobe_width.0 * 1.0001, "{}", plan.describe());

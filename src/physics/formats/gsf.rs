@@ -54,6 +54,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<HeightField> {
     }
     let text = std::str::from_utf8(&header[..text_end]).map_err(|_| bad("the header is not UTF-8 text".into()))?;
     let mut keys = std::collections::HashMap::new();
+    let mut seen = std::collections::HashMap::new();
     for (i, line) in text.lines().enumerate().skip(1) {
         if line.trim().is_empty() {
             continue;
@@ -61,6 +62,10 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<HeightField> {
         let (k, v) =
             line.split_once('=').ok_or_else(|| bad(format!("header line {}: expected `Key = Value`", i + 1)))?;
         let k = k.trim();
+        // A key given twice is ambiguous (which XReal is the scan's?): Gwyddion writes each once.
+        if let Some(first) = seen.insert(k.to_string(), i + 1) {
+            return Err(bad(format!("header line {}: {k} is given a second time (first on line {first})", i + 1)));
+        }
         if !KNOWN_KEYS.contains(&k) {
             // Gwyddion allows further keys (metadata); they are kept out of the physics.
             continue;
@@ -192,5 +197,8 @@ mod tests {
         let mut units = header("XRes = 1\nYRes = 1\nZUnits = furlong\n");
         units.extend_from_slice(&0f32.to_le_bytes());
         expect_err(&units, "furlong");
+        let mut twice = header("XRes = 1\nYRes = 1\nXReal = 1e-6\nXReal = 1e-3\n");
+        twice.extend_from_slice(&0f32.to_le_bytes());
+        expect_err(&twice, "XReal is given a second time (first on line 4)");
     }
 }
