@@ -25,8 +25,9 @@
 //!   (instance, device, allocator, queue) and leaf objects (buffers, images, pipelines, timestamp queries) that
 //!   are destroyed explicitly. Validation is on demand and every message is counted. [`shaders`]: the SPIR-V
 //!   that `build.rs` compiled from `glsl/`.
-//! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR), [`cache`] (the
-//!   on-disk cache of tables and references), [`stats`] (quantiles, the finite-pixel check), [`progress`]
+//! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR; every write through
+//!   a recognisable temporary file and a rename), [`cache`] (the on-disk cache of tables and references, each
+//!   entry verified before use), [`stats`] (quantiles, the finite-pixel check), [`progress`]
 //!   (progress bars on stderr), [`error`], and [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.

@@ -195,27 +195,40 @@ impl Axis {
     /// index in FFT order, weight); empty where the lookup itself is out of band.
     fn taps(&self, lambda: f64, s: usize, cells: usize) -> Vec<Vec<(usize, f64)>> {
         let band = self.band(lambda);
-        let half = (self.pixels / 2) as i64;
-        let (lo, hi) = (-half, self.pixels as i64 - 1 - half);
         (0..self.count * s)
             .map(|i| {
                 let u = self.origin + (i as f64 + 0.5) / s as f64 * self.texel;
                 if u.abs() > band {
                     return Vec::new();
                 }
-                let at = u * self.length / lambda;
-                let nearest = (at + 0.5).floor() as i64;
-                let first = -(-(nearest - self.radius).max(lo)).div_euclid(self.stride);
-                let last = (nearest + self.radius).min(hi).div_euclid(self.stride);
-                (first..=last)
-                    .map(|k| {
-                        let d = (k * self.stride) as f64 - at;
-                        (k.rem_euclid(cells as i64) as usize, (-0.5 * d * d / (self.sigma * self.sigma)).exp())
-                    })
-                    .collect()
+                lattice_taps(u * self.length / lambda, self.pixels, self.stride, self.radius, self.sigma, cells)
             })
             .collect()
     }
+}
+
+/// The window's taps at `s` bins of the whole patch, as the reference takes them: the tiling lattice's bins (every
+/// `stride`-th) within `radius` of the nearest bin and inside the patch's `pixels`-bin spectrum, as (cell index in
+/// FFT order of a `cells`-bin cell, weight exp(−½((j − s)/σ)²)).
+pub(super) fn lattice_taps(
+    s: f64,
+    pixels: usize,
+    stride: i64,
+    radius: i64,
+    sigma: f64,
+    cells: usize,
+) -> Vec<(usize, f64)> {
+    let half = (pixels / 2) as i64;
+    let (lo, hi) = (-half, pixels as i64 - 1 - half);
+    let nearest = (s + 0.5).floor() as i64;
+    let first = -(-(nearest - radius).max(lo)).div_euclid(stride);
+    let last = (nearest + radius).min(hi).div_euclid(stride);
+    (first..=last)
+        .map(|k| {
+            let d = (k * stride) as f64 - s;
+            (k.rem_euclid(cells as i64) as usize, (-0.5 * d * d / (sigma * sigma)).exp())
+        })
+        .collect()
 }
 
 /// erf(b) − erf(a) for a ≤ b without cancellation in the tails.

@@ -21,7 +21,7 @@
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::build::{Cell, Spectral};
+use super::build::{lattice_taps, Cell, Spectral};
 use super::{Grid, TablePlan, INVISIBLE, MAX_TABLE_BYTES, MAX_TERMS, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM};
 use crate::error::{Error, Result};
 use crate::physics::chebyshev;
@@ -188,17 +188,7 @@ impl ProbeAxis {
     /// The window's taps at `s` bins: lattice bins within the radius and the patch's band, as (cell index in FFT
     /// order, weight).
     fn taps(&self, s: f64) -> Vec<(usize, f64)> {
-        let half = (self.pixels / 2) as i64;
-        let (lo, hi) = (-half, self.pixels as i64 - 1 - half);
-        let nearest = (s + 0.5).floor() as i64;
-        let first = -(-(nearest - self.radius).max(lo)).div_euclid(self.stride);
-        let last = (nearest + self.radius).min(hi).div_euclid(self.stride);
-        (first..=last)
-            .map(|k| {
-                let d = (k * self.stride) as f64 - s;
-                (k.rem_euclid(self.cells as i64) as usize, (-0.5 * d * d / (self.sigma * self.sigma)).exp())
-            })
-            .collect()
+        lattice_taps(s, self.pixels, self.stride, self.radius, self.sigma, self.cells)
     }
 }
 
