@@ -496,7 +496,8 @@ pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>)
     let cell = Cell::new(hf, plan.cell);
     let pass = Pass::new(hf, plan, &cell, plan.grid, plan.nodes.count, TABLE_LAMBDA_STEP_NM, plan.point);
     let mut values = pass.run(plan.lattice, progress);
-    let certificate = degree::certify(&mut values.data, &plan.grid, &plan.nodes, plan.tolerance)?;
+    let fit = degree::terms_that_fit(&plan.grid, plan.nodes.count);
+    let certificate = degree::certify(&mut values.data, fit, &plan.nodes, plan.tolerance)?;
     let report = format!(
         "{} path, {}{}",
         if plan.lattice { "lattice" } else { "coherent" },

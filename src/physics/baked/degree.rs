@@ -324,10 +324,16 @@ impl Certificate {
     }
 }
 
+/// The most terms a table on `grid` may keep: what fits in [`MAX_TABLE_BYTES`], at most [`MAX_TERMS`] and the
+/// build's `nodes`.
+pub fn terms_that_fit(grid: &Grid, nodes: usize) -> usize {
+    (1..=nodes.min(MAX_TERMS)).rev().find(|&n| grid.bytes(n) <= MAX_TABLE_BYTES).unwrap_or(1)
+}
+
 /// Turns the build's node values (`data[t·3M + c·3 + ch]`, M = `nodes.count`) into Chebyshev coefficients in
 /// place (`data[t·3M + d·3 + ch]`) and certifies the degree kept: the fewest terms the tolerance needs in every
-/// texel and channel, or as many as fit in [`MAX_TABLE_BYTES`] and [`MAX_TERMS`] where that is fewer.
-pub fn certify(data: &mut [f64], grid: &Grid, nodes: &Nodes, tolerance: f64) -> Result<Certificate> {
+/// texel and channel, or `fit` ([`terms_that_fit`]) where that is fewer.
+pub fn certify(data: &mut [f64], fit: usize, nodes: &Nodes, tolerance: f64) -> Result<Certificate> {
     let m = nodes.count;
     let matrix = chebyshev::coefficient_matrix(m);
     let floor = nodes.unseen.map(|u| INVISIBLE - u);
@@ -356,8 +362,7 @@ pub fn certify(data: &mut [f64], grid: &Grid, nodes: &Nodes, tolerance: f64) -> 
         return Err(Error::Invalid("the baked table has non-finite coefficients (a bug in diffract)".into()));
     }
     let needed = tails.needed(tolerance);
-    let fit = (1..=m.min(MAX_TERMS)).rev().find(|&n| grid.bytes(n) <= MAX_TABLE_BYTES).unwrap_or(1);
-    let terms = needed.unwrap_or(m).min(fit);
+    let terms = needed.unwrap_or(m).min(fit.clamp(1, m));
     Ok(Certificate {
         terms,
         needed,
@@ -389,6 +394,29 @@ mod tests {
         assert_eq!(dark.needed(0.1), None);
         let merged = t.merge(Tails { excess: vec![0.0, 0.0, 0.0, 0.5, 0.0] });
         assert_eq!(merged.needed(0.005), Some(4));
+    }
+
+    /// Node values of `texels` texels whose channels all follow exp(t·k) over w (t ∈ [−1, 1]), k per texel.
+    fn exponential_texels(ks: &[f64], m: usize) -> Vec<f64> {
+        let t = chebyshev::nodes(m);
+        ks.iter().flat_map(|&k| t.iter().flat_map(move |&t| [(t * k).exp(); 3])).collect()
+    }
+
+    #[test]
+    fn the_certificate_keeps_the_fewest_terms_that_meet_the_tolerance_or_says_what_it_misses() {
+        let nodes = Nodes { count: 24, unseen: [0.0; 3] };
+        // exp(k·t)'s Chebyshev coefficients are 2·I_d(k): for k = 2 the tail from degree 9 is ~1e-5 of the peak e².
+        let mut data = exponential_texels(&[0.5, 2.0], 24);
+        let c = certify(&mut data, 64, &nodes, 1e-4).unwrap();
+        assert!(c.meets_tolerance() && c.terms == c.needed.unwrap() && (6..=12).contains(&c.terms), "{c:?}");
+        // The coefficients are the series': I_0(2) = 2.2795853 for the second texel's constant term.
+        assert!((data[3 * 24] - 2.279_585_302_336_067).abs() < 1e-12, "{}", data[3 * 24]);
+        // Memory for 3 terms only: the certificate keeps 3, says the tolerance needs more, and the tail it leaves.
+        let mut data = exponential_texels(&[0.5, 2.0], 24);
+        let short = certify(&mut data, 3, &nodes, 1e-4).unwrap();
+        assert_eq!((short.terms, short.needed), (3, c.needed));
+        assert!(!short.meets_tolerance() && short.tail > 1e-3, "{short:?}");
+        assert!(short.describe().contains(&format!("the tolerance needs {} terms", c.terms)), "{}", short.describe());
     }
 
     #[test]

@@ -541,6 +541,26 @@ mod tests {
     }
 
     #[test]
+    fn a_table_that_misses_its_tolerance_warns_or_is_refused_when_strict() {
+        let grid = Grid { u0: 0.0, v0: 0.0, texel: 0.1, nu: 2, nv: 2, w: (-2.0, -1.0) };
+        let table = |terms, needed, tail| {
+            let certificate = Certificate { terms, needed, nodes: 24, unseen: 1e-12, tail, tolerance: 1e-4 };
+            BakedTable::from_coefficients(grid, &[0.0; 4 * 192], 192, certificate, String::new())
+        };
+        let fine = table(8, Some(8), 3e-5);
+        assert!(shortfall(&fine).is_none() && check_certificate(&fine, true).is_ok());
+        let short = table(3, Some(9), 2.5e-3);
+        let m = shortfall(&short).unwrap();
+        assert!(m.contains("keeps 3 terms") && m.contains("2.5e-3") && m.contains("1e-4"), "{m}");
+        assert!(m.contains("the 9 terms it needs do not fit in 256 MiB"), "{m}");
+        assert!(check_certificate(&short, false).is_ok(), "a warning, not a refusal");
+        let e = check_certificate(&short, true).unwrap_err().to_string();
+        assert!(e.contains("refused") && e.lines().count() == 1, "{e}");
+        let capped = table(64, Some(70), 2e-4);
+        assert!(shortfall(&capped).unwrap().contains("more than the 64 a table holds"));
+    }
+
+    #[test]
     fn a_map_grid_puts_texel_centres_on_pixel_centres() {
         let cell: Vec<f64> = (0..100 * 100).map(|i| ((i * 7919) % 101) as f64 * 1e-3).collect();
         let hf = HeightField::new(100, 100, 0.065, 0.065, cell).unwrap().tiled(10, 10).unwrap();
