@@ -383,7 +383,19 @@ fn read_cached(dir: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
     let n = (job.width * job.height) as usize;
     let most = 32 + MAX_DESCRIPTION as u64 + n as u64 * PIXEL_BYTES;
     let bytes = crate::cache::load(dir, &stamp(job), most)?;
-    let mut r = crate::cache::Reader::new(&bytes);
+    let image = parse_cached(&bytes, job);
+    if image.is_none() {
+        eprintln!(
+            "note: the cached reference image {} checks out but does not hold an image for its plan; computing it again",
+            stamp(job).file(dir).display()
+        );
+    }
+    image
+}
+
+fn parse_cached(bytes: &[u8], job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
+    let n = (job.width * job.height) as usize;
+    let mut r = crate::cache::Reader::new(bytes);
     let quadrature = (usize::try_from(r.u64()?).ok()?, r.f64()?, r.f64()?);
     let description = r.string()?;
     let mut xyz = Vec::with_capacity(n);
