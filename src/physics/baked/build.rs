@@ -445,15 +445,9 @@ impl Pass<'_> {
 }
 
 impl<'a> Pass<'a> {
-    fn new(
-        hf: &HeightField,
-        plan: &TablePlan,
-        cell: &'a Cell,
-        grid: Grid,
-        nodes: usize,
-        step: f64,
-        point: bool,
-    ) -> Self {
+    /// The pass that builds `plan`'s table: its grid, its nodes in w, 1 nm steps.
+    fn new(hf: &HeightField, plan: &TablePlan, cell: &'a Cell) -> Self {
+        let (grid, point) = (plan.grid, plan.point);
         let (lx, ly) = hf.size_um();
         let axis = |origin, count, length, sigma, pixels, stride, radius| Axis {
             origin,
@@ -466,16 +460,15 @@ impl<'a> Pass<'a> {
             radius,
         };
         let w = &plan.window;
-        let subsamples = if point { 1 } else { plan.subsamples() };
         Self {
             grid,
-            nodes,
-            spectral: Spectral::new(step),
+            nodes: plan.nodes.count,
+            spectral: Spectral::new(TABLE_LAMBDA_STEP_NM),
             cell,
             ax: axis(grid.u0, grid.nu, lx, w.sigma_x, hf.nx, cell.tx, w.radius_x),
             ay: axis(grid.v0, grid.nv, ly, w.sigma_y, hf.ny, cell.ty, w.radius_y),
             point,
-            subsamples,
+            subsamples: plan.subsamples(),
         }
     }
 
@@ -494,7 +487,7 @@ impl<'a> Pass<'a> {
 /// `progress(done, total)` counts wavelengths.
 pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>) -> Result<BakedTable> {
     let cell = Cell::new(hf, plan.cell);
-    let pass = Pass::new(hf, plan, &cell, plan.grid, plan.nodes.count, TABLE_LAMBDA_STEP_NM, plan.point);
+    let pass = Pass::new(hf, plan, &cell);
     let mut values = pass.run(plan.lattice, progress);
     let fit = degree::terms_that_fit(&plan.grid, plan.nodes.count);
     let certificate = degree::certify(&mut values.data, fit, &plan.nodes, plan.tolerance)?;

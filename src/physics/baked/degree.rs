@@ -200,7 +200,7 @@ pub fn estimate(hf: &HeightField, plan: &TablePlan) -> Estimate {
     let cell = Cell::new(hf, plan.cell);
     let spectral = Spectral::new(PROBE_LAMBDA_STEP_NM);
     let m = plan.nodes.count;
-    let ws: Vec<f64> = chebyshev::nodes(m).into_iter().map(|t| plan.grid_w_of(t)).collect();
+    let ws: Vec<f64> = chebyshev::nodes(m).into_iter().map(|t| plan.grid.w_of(t)).collect();
     let matrix = chebyshev::coefficient_matrix(m);
     let (lx, ly) = hf.size_um();
     let w = &plan.window;

@@ -235,6 +235,7 @@ impl TablePlan {
         let nodes = degree::nodes_for(hf, &window, cell, d.w)?;
         let mut plan = Self {
             domain: d,
+            // Unsized until the estimate is in; the estimate reads only its w-interval, the domain's.
             grid: Self::grid(d, 1.0, true),
             terms: 1,
             estimate: Estimate { terms: 1, points: 0, every_lobe: true, tail: 0.0 },
@@ -263,12 +264,6 @@ impl TablePlan {
         } else {
             ((self.grid.texel / self.lobe_width.0).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
         }
-    }
-
-    /// w at t ∈ [−1, 1] of the domain's w-interval (the grid's, once it is sized).
-    pub fn grid_w_of(&self, t: f64) -> f64 {
-        let (w0, w1) = self.domain.w;
-        0.5 * (w0 + w1) + 0.5 * (w1 - w0) * t
     }
 
     /// The finest grid the request can use within [`MAX_TABLE_BYTES`]. Texels finer than the narrowest lobe
