@@ -92,11 +92,11 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
     let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
     assert!(o.status.success(), "{err}");
     assert!(out.contains("| approach | N | Δλ nm |"), "markdown table: {out}");
-    assert_eq!(
-        out.lines().filter(|l| ["| flss", "| gem", "| baked"].iter().any(|a| l.starts_with(a))).count(),
-        4,
-        "{out}"
-    );
+    let (main, passes) = out.split_once("Where each frame's GPU time goes").expect("the per-pass table");
+    let rows = |t: &str| t.lines().filter(|l| ["| flss", "| gem", "| baked"].iter().any(|a| l.starts_with(a))).count();
+    assert_eq!(rows(main), 4, "{out}");
+    assert_eq!(rows(passes), 4, "one per-pass row per configuration: {out}");
+    assert!(passes.contains("| configuration | depth pre-pass ms | shading ms | resolve ms | copy ms |"), "{out}");
 
     let table = read_csv(&csv);
     for prefix in ["device: ", "driver: ", "resolution: 32x32", "reference 32x32: f64 Taylor", "roofline: "] {
@@ -111,6 +111,13 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
             assert!(number(row, column) >= 0.0, "{column}");
         }
         assert!(number(row, "roofline_fraction") >= 0.0);
+        // A map is one shading pass and the copy back; its passes, frame by frame, make its time.
+        let (shading, copy) = (number(row, "shading_ms_median"), number(row, "copy_ms_median"));
+        assert!(shading > 0.0 && copy >= 0.0, "{row:?}");
+        assert!(row["depth_ms_median"].is_empty() && row["resolve_ms_median"].is_empty(), "{row:?}");
+        let frame = number(row, "gpu_ms_median");
+        assert!((shading + copy - frame).abs() <= 0.25 * frame + 0.05, "{shading} + {copy} vs {frame}");
+        assert!(number(row, "upload_bytes") > 0.0 && number(row, "upload_gpu_ms") >= 0.0, "{row:?}");
         for column in ["mean_de2000", "p99_de2000", "rel_xyz_rmse"] {
             assert!(number(row, column).is_finite(), "{column}");
         }
@@ -210,6 +217,11 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
     for row in &table.rows {
         let shaded = number(row, "shaded_per_covered_pixel");
         assert!((1.0..=1.2).contains(&shaded), "{} shades {shaded} times per covered pixel", row["approach"]);
+        // A single-sampled scene's frame: the depth pre-pass, the shading and the copy back, no resolve.
+        for column in ["depth_ms_median", "shading_ms_median", "copy_ms_median"] {
+            assert!(number(row, column) >= 0.0, "{column}: {row:?}");
+        }
+        assert!(row["resolve_ms_median"].is_empty(), "{row:?}");
     }
 }
 

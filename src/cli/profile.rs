@@ -224,6 +224,13 @@ fn print_report(
     println!("{}", comments.iter().map(|c| format!("- {c}")).collect::<Vec<_>>().join("\n"));
     println!();
     print!("{}", prof::markdown(rows));
+    let passes = prof::markdown_passes(rows);
+    if !passes.is_empty() {
+        println!();
+        println!("Where each frame's GPU time goes (median ms per pass; the passes of a frame sum to its time):");
+        println!();
+        print!("{passes}");
+    }
     if let Some(path) = &args.csv {
         let mut all = comments.clone();
         all.push(format!("command: diffract {}", std::env::args().skip(1).collect::<Vec<_>>().join(" ")));

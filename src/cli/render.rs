@@ -169,12 +169,14 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
+    let uploads = capture.uploads();
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
     // SAFETY: every frame was waited for.
     unsafe { capture.destroy(&ctx) };
-    let gpu_ms = result?;
+    let times = result?;
+    let totals: Vec<f64> = times.iter().map(crate::vk::FrameTimes::total_ms).collect();
     let median =
-        crate::stats::median(&gpu_ms).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
+        crate::stats::median(&totals).map(|ms| format!(", GPU {ms:.1} ms per frame (median)")).unwrap_or_default();
     let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
     println!(
         "wrote {what} ({width}×{height}, {} sample(s) per pixel, {} object(s), {} material(s); precompute \
@@ -184,6 +186,9 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         scene.materials.len(),
         ctx.info.name
     );
+    if let Some(line) = pass_line(&times, &uploads) {
+        println!("{line}");
+    }
     let log = ctx.validation();
     drop(ctx);
     Ok(super::validation_status(&log))
@@ -196,7 +201,7 @@ fn render_frames(
     capture: &mut SceneCapture,
     (width, height): (u32, u32),
     exposure: f64,
-) -> anyhow::Result<Vec<f64>> {
+) -> anyhow::Result<Vec<crate::vk::FrameTimes>> {
     let bar = Progress::new_if(args.frames > 1, "rendering frames", args.frames as usize);
     let mut times = Vec::new();
     for f in 0..args.frames {
@@ -215,12 +220,33 @@ fn render_frames(
         if let Some(exr) = &args.exr {
             crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
         }
-        times.extend(frame.gpu_ms);
+        times.extend(frame.times);
         bar.detail(png.display().to_string());
         bar.step();
     }
     bar.finish();
     Ok(times)
+}
+
+/// Where a frame's GPU time went, pass by pass (medians over the frames), and what uploading the materials'
+/// textures cost once: None where the device has no timestamps.
+fn pass_line(times: &[crate::vk::FrameTimes], uploads: &[crate::render::diffraction::Upload]) -> Option<String> {
+    let passes: Vec<String> = crate::render::pass::ALL
+        .iter()
+        .filter_map(|&name| {
+            let ms: Vec<f64> = times.iter().filter_map(|t| t.pass_ms(name)).collect();
+            crate::stats::median(&ms).map(|m| format!("{name} {m:.2}"))
+        })
+        .collect();
+    if passes.is_empty() {
+        return None;
+    }
+    let bytes: u64 = uploads.iter().map(|u| u.bytes).sum();
+    let gpu: Option<f64> = uploads.iter().map(|u| u.gpu_ms).sum();
+    let upload = gpu.map_or(String::new(), |ms| {
+        format!("; textures uploaded once: {:.1} MiB, GPU {ms:.2} ms", bytes as f64 / f64::from(1u32 << 20))
+    });
+    Some(format!("GPU ms per pass (median): {}{upload}", passes.join(", ")))
 }
 
 /// The scene lit without diffraction: every object merged into one preview mesh.

@@ -18,6 +18,8 @@ pub mod run;
 use std::fmt::Write as _;
 
 use crate::error::{Error, Result};
+use crate::render::diffraction::Upload;
+use crate::render::pass;
 use crate::shading::{Approach, Overrides, Settings, MAX_WINDOW_RADIUS};
 use crate::stats::Spread;
 
@@ -192,6 +194,11 @@ pub struct Row {
     pub frames: usize,
     pub precompute_ms: f64,
     pub gpu_ms: Option<Spread>,
+    /// Each pass's GPU time over the frames ([`crate::render::pass`] names), in frame order; their medians sum
+    /// to about the frame's (exactly, frame by frame).
+    pub passes: Vec<(String, Spread)>,
+    /// What uploading the materials' tables or Taylor terms cost (all materials together).
+    pub upload: Option<Upload>,
     pub cpu_ms: Spread,
     /// Fragment-shader invocations of the shading pass by pipeline statistics (llvmpipe counts 16 per rasterised
     /// 4×4 block, before the depth test).
@@ -235,7 +242,7 @@ impl TableSummary {
 }
 
 /// The CSV's column header (the schema a test checks).
-pub const CSV_COLUMNS: [&str; 27] = [
+pub const CSV_COLUMNS: [&str; 33] = [
     "approach",
     "order_asked",
     "order",
@@ -250,6 +257,10 @@ pub const CSV_COLUMNS: [&str; 27] = [
     "gpu_ms_median",
     "gpu_ms_p10",
     "gpu_ms_p90",
+    "depth_ms_median",
+    "shading_ms_median",
+    "resolve_ms_median",
+    "copy_ms_median",
     "cpu_ms_median",
     "fragment_invocations",
     "shaded_per_covered_pixel",
@@ -262,6 +273,8 @@ pub const CSV_COLUMNS: [&str; 27] = [
     "table_terms",
     "table_texels",
     "table_mib",
+    "upload_bytes",
+    "upload_gpu_ms",
     "label",
 ];
 
@@ -274,6 +287,11 @@ impl Row {
     pub fn label(&self) -> String {
         let s = &self.settings;
         label(s.approach.name(), s.order, &s.lambda_step_nm.to_string(), s.window_radius, self.config.size)
+    }
+
+    /// The median GPU time of the pass `name` over the frames (None where the frames had no such pass).
+    pub fn pass_ms(&self, name: &str) -> Option<f64> {
+        self.passes.iter().find(|(n, _)| n == name).map(|(_, s)| s.median)
     }
 
     /// The row's CSV fields, in [`CSV_COLUMNS`] order (empty where the device cannot measure).
@@ -294,6 +312,10 @@ impl Row {
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.p10))),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.p90))),
+            opt(self.pass_ms(pass::DEPTH).map(|v| format!("{v:.4}"))),
+            opt(self.pass_ms(pass::SHADING).map(|v| format!("{v:.4}"))),
+            opt(self.pass_ms(pass::RESOLVE).map(|v| format!("{v:.4}"))),
+            opt(self.pass_ms(pass::COPY).map(|v| format!("{v:.4}"))),
             format!("{:.4}", self.cpu_ms.median),
             opt(self.fragment_invocations),
             format!("{:.3}", self.shaded_per_pixel),
@@ -306,6 +328,8 @@ impl Row {
             opt(self.table.map(|t| t.terms)),
             opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
             opt(self.table.map(|t| format!("{:.2}", t.mib))),
+            opt(self.upload.map(|u| u.bytes)),
+            opt(self.upload.and_then(|u| u.gpu_ms).map(|v| format!("{v:.4}"))),
             self.label(),
         ]
     }
@@ -370,6 +394,42 @@ pub fn markdown(rows: &[Row]) -> String {
             r.error.map_or("–".into(), |e| format!("{:.3}", e.mean_de)),
             r.error.map_or("–".into(), |e| format!("{:.3}", e.p99_de)),
             r.error.map_or("–".into(), |e| format!("{:.2e}", e.rel_rmse))
+        );
+    }
+    out
+}
+
+/// The second table printed at the end of a profile: where each configuration's frame time goes, pass by pass
+/// (medians over the frames), and what uploading its textures cost once. Empty where the device has no
+/// timestamps.
+pub fn markdown_passes(rows: &[Row]) -> String {
+    if rows.iter().all(|r| r.passes.is_empty()) {
+        return String::new();
+    }
+    let mut out = String::from("| configuration |");
+    let mut rule = String::from("|---|");
+    for name in pass::ALL {
+        out += &format!(" {name} ms |");
+        rule += "--:|";
+    }
+    out += " frame ms | passes, of frame | upload (once) |\n";
+    rule += "--:|--:|--:|\n";
+    out += &rule;
+    for r in rows {
+        let cells: Vec<String> = pass::ALL.iter().map(|&n| r.pass_ms(n).map_or("–".into(), ms)).collect();
+        let sum: f64 = r.passes.iter().map(|(_, s)| s.median).sum();
+        let frame = r.gpu_ms.map(|s| s.median);
+        let share = frame.filter(|&f| f > 0.0).map_or("–".into(), |f| format!("{:.1} %", 100.0 * sum / f));
+        let upload = r.upload.map_or("–".into(), |u| {
+            let gpu = u.gpu_ms.map_or(String::new(), |g| format!(", GPU {}", ms(g)));
+            format!("{:.1} MiB{gpu} ms", u.bytes as f64 / (1u64 << 20) as f64)
+        });
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {share} | {upload} |",
+            r.label(),
+            cells.join(" | "),
+            frame.map_or("–".into(), ms)
         );
     }
     out

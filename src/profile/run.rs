@@ -13,6 +13,7 @@ use super::{Config, Row, TableSummary, MAX_SIZE};
 use crate::error::{Error, Result};
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
+use crate::render::diffraction::Upload;
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
 use crate::render::SceneView;
@@ -289,6 +290,7 @@ fn measure_config(
     let Measured { materials, precompute_ms, reference } = *with;
     let mut workload = subject.workload(ctx, materials, size, options)?;
     let measured = frames(ctx, workload.as_mut(), options, step);
+    let uploads = workload.uploads();
     let result = measured.and_then(|(samples, image, fetches)| {
         let error = reference.map(|r| exact_image::image_error(r, &image, options.exposure)).transpose()?;
         Ok((samples, error, fetches))
@@ -296,8 +298,9 @@ fn measure_config(
     // SAFETY: every frame was waited for.
     unsafe { workload.destroy(ctx) };
     let (samples, error, fetches) = result?;
-    let gpu: Vec<f64> = samples.iter().filter_map(|s| s.gpu_ms).collect();
+    let gpu: Vec<f64> = samples.iter().filter_map(FrameSample::gpu_ms).collect();
     let gpu_ms = (gpu.len() == samples.len()).then(|| Spread::of(&gpu)).flatten();
+    let passes = pass_spreads(&samples);
     let cpu_ms = Spread::of(&samples.iter().map(|s| s.cpu_ms).collect::<Vec<_>>())
         .ok_or_else(|| Error::Invalid("no timed frame".into()))?;
     let total_fetches: u64 = fetches.iter().map(|c| u64::from(c.fetches)).sum();
@@ -317,6 +320,12 @@ fn measure_config(
         frames: samples.len(),
         precompute_ms,
         gpu_ms,
+        passes,
+        upload: uploads.iter().copied().reduce(|a, b| Upload {
+            bytes: a.bytes + b.bytes,
+            gpu_ms: a.gpu_ms.zip(b.gpu_ms).map(|(x, y)| x + y),
+            wall_ms: a.wall_ms + b.wall_ms,
+        }),
         cpu_ms,
         fragment_invocations: samples.last().and_then(|s| s.fragment_invocations),
         shaded_per_pixel: shaded as f64 / covered.max(1) as f64,
@@ -326,6 +335,23 @@ fn measure_config(
         error,
         table: TableSummary::of(m),
     })
+}
+
+/// The median (and spread) of each pass's time over the frames, passes in frame order; empty unless every frame
+/// timed the same passes.
+fn pass_spreads(samples: &[FrameSample]) -> Vec<(String, Spread)> {
+    let Some(first) = samples.first().and_then(|s| s.times.as_ref()) else { return Vec::new() };
+    let names: Vec<&str> = first.passes.iter().map(|p| p.name.as_str()).collect();
+    let same = |s: &FrameSample| s.times.as_ref().is_some_and(|t| t.passes.iter().map(|p| &p.name).eq(names.iter()));
+    if !samples.iter().all(same) {
+        return Vec::new();
+    }
+    (0..names.len())
+        .filter_map(|i| {
+            let ms: Vec<f64> = samples.iter().filter_map(|s| s.times.as_ref()).map(|t| t.passes[i].ms).collect();
+            Some((names[i].to_string(), Spread::of(&ms)?))
+        })
+        .collect()
 }
 
 /// Warm-up, timed frames, the last frame's image and one counting frame.

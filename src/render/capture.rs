@@ -99,6 +99,11 @@ impl SceneCapture {
         Ok(frame)
     }
 
+    /// What uploading each material's table (or Taylor terms) cost.
+    pub fn uploads(&self) -> Vec<super::diffraction::Upload> {
+        self.renderer.uploads()
+    }
+
     /// # Safety
     /// The GPU must be done with every frame.
     pub unsafe fn destroy(self, ctx: &Context) {

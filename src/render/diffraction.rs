@@ -51,6 +51,17 @@ pub struct PatchResources {
     pub sampler: Sampler,
     pub spectrum: Buffer,
     pub params: Buffer,
+    /// What uploading the Taylor terms or the baked table cost.
+    pub upload: Upload,
+}
+
+/// A texture's upload: its bytes, the copy's GPU time (where the queue has timestamps) and the wall time of
+/// staging, copying and waiting.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Upload {
+    pub bytes: u64,
+    pub gpu_ms: Option<f64>,
+    pub wall_ms: f64,
 }
 
 impl PatchResources {
@@ -89,13 +100,21 @@ impl PatchResources {
             )));
         }
         let terms = Guard::new(ctx, ctx.create_image(desc, what)?);
-        match &material.table {
+        let start = std::time::Instant::now();
+        let gathered: Vec<f32>;
+        let texels = match &material.table {
             Some(table) => {
-                let texels: Vec<f32> = table.levels.iter().flat_map(|l| l.texels.iter().copied()).collect();
-                ctx.upload_image(&terms, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
+                gathered = table.levels.iter().flat_map(|l| l.texels.iter().copied()).collect();
+                &gathered
             }
-            None => ctx.upload_image(&terms, bytemuck::cast_slice(&material.texels), ImageState::SHADER_READ)?,
-        }
+            None => &material.texels,
+        };
+        let gpu_ms = ctx.upload_image(&terms, bytemuck::cast_slice(texels), ImageState::SHADER_READ)?;
+        let upload = Upload {
+            bytes: std::mem::size_of_val(&texels[..]) as u64,
+            gpu_ms,
+            wall_ms: start.elapsed().as_secs_f64() * 1e3,
+        };
         let sampler = Guard::new(ctx, ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
         let table = spectrum::gpu_table();
         let spectrum = Guard::new(
@@ -112,7 +131,13 @@ impl PatchResources {
             ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), "diffraction params")?,
         );
         params.write(bytemuck::bytes_of(&material.params))?;
-        Ok(Self { terms: terms.keep(), sampler: sampler.keep(), spectrum: spectrum.keep(), params: params.keep() })
+        Ok(Self {
+            terms: terms.keep(),
+            sampler: sampler.keep(),
+            spectrum: spectrum.keep(),
+            params: params.keep(),
+            upload,
+        })
     }
 
     /// Writes the uniforms (the light direction of a map, say); no submitted work may be reading them.

@@ -28,6 +28,19 @@ pub const MAX_EDGE: u32 = 16384;
 /// Linear, scene-referred float colour (BRDF maps, EXR output).
 pub const LINEAR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
+/// The names of a frame's passes, as timed ([`crate::vk::Laps`]), labelled and reported: a scene's frame is the
+/// depth pre-pass, the shading, the resolve of its samples (multisampled frames), and the copy to the CPU
+/// (offscreen) or the hand-over to the window.
+pub mod pass {
+    pub const DEPTH: &str = "depth pre-pass";
+    pub const SHADING: &str = "shading";
+    pub const RESOLVE: &str = "resolve";
+    pub const COPY: &str = "copy";
+    pub const PRESENT: &str = "present";
+    /// Every pass, in frame order (the profile's columns).
+    pub const ALL: [&str; 5] = [DEPTH, SHADING, RESOLVE, COPY, PRESENT];
+}
+
 /// What a pass draws into.
 #[derive(Clone, Copy, Debug)]
 pub struct TargetView {
@@ -76,8 +89,8 @@ pub struct Frame {
     pub width: u32,
     pub height: u32,
     pub pixels: Pixels,
-    /// GPU time of the frame's pass from timestamp queries, where the device has them.
-    pub gpu_ms: Option<f64>,
+    /// GPU time of each of the frame's passes from timestamp queries, where the device has them.
+    pub times: Option<crate::vk::FrameTimes>,
 }
 
 /// A frame's pixels, four channels each.
@@ -90,6 +103,11 @@ pub enum Pixels {
 }
 
 impl Frame {
+    /// The frame's GPU time (its passes together), where the device has timestamps.
+    pub fn gpu_ms(&self) -> Option<f64> {
+        self.times.as_ref().map(crate::vk::FrameTimes::total_ms)
+    }
+
     /// The display-encoded pixels, if the frame has them.
     pub fn rgba8(&self) -> Option<&[u8]> {
         match &self.pixels {

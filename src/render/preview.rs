@@ -144,12 +144,13 @@ pub fn render_offscreen(
     let mut pass = Guard::new(ctx, PreviewPass::new(ctx, &scene.mesh, samples)?);
     let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, COLOR_FORMAT, true, samples)?);
     pass.update(scene, width as f32 / height as f32)?;
-    let gpu_ms = ctx.one_shot_timed(PreviewPass::NAME, |cmd| {
+    let times = ctx.one_shot_laps(PreviewPass::NAME, |cmd, laps| {
         target.begin(ctx, cmd);
         pass.record(ctx, cmd, &target.view(), scene.background);
+        laps.lap(cmd, super::pass::SHADING);
     })?;
     let pixels = Pixels::Rgba8(target.read(ctx)?);
-    Ok(Frame { width, height, pixels, gpu_ms })
+    Ok(Frame { width, height, pixels, times })
 }
 
 crate::impl_destroy!(PreviewPass);

@@ -7,33 +7,49 @@ use std::time::Instant;
 use ash::vk;
 use glam::DVec3;
 
-use super::diffraction::{light_params, MapPass, PatchResources};
-use super::surface::{MaterialInput, SceneRenderer, SurfaceVariant};
-use super::{OffscreenTarget, SceneView, LINEAR_FORMAT};
+use super::diffraction::{light_params, MapPass, PatchResources, Upload};
+use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
+use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::shaders;
 use crate::shaders::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard, ImageDesc, ImageState,
-    MemoryState, PassProfile, Pipeline, Statistics,
+    Binding, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
 };
 
-/// One frame's cost: GPU time (timestamps), wall time of record + submit + wait on the CPU, and fragment
-/// invocations (pipeline statistics) where the device has them.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One frame's cost: GPU time pass by pass (timestamps), wall time of record + submit + wait on the CPU, and
+/// fragment invocations (pipeline statistics) where the device has them.
+#[derive(Clone, Debug, PartialEq)]
 pub struct FrameSample {
-    pub gpu_ms: Option<f64>,
+    pub times: Option<FrameTimes>,
     pub cpu_ms: f64,
     pub fragment_invocations: Option<u64>,
 }
 
 impl FrameSample {
-    fn measure(ctx: &Context, name: &str, record: impl FnOnce(vk::CommandBuffer, &Statistics<'_>)) -> Result<Self> {
+    /// The frame's GPU time, its passes together.
+    pub fn gpu_ms(&self) -> Option<f64> {
+        self.times.as_ref().map(FrameTimes::total_ms)
+    }
+
+    /// Times one frame, recorded by `record` and copied into `readback` after it (as `render` copies its frames
+    /// back).
+    fn measure(
+        ctx: &Context,
+        name: &str,
+        (image, readback): (&Image, &Buffer),
+        record: impl FnOnce(vk::CommandBuffer, &Statistics<'_>, Laps<'_>),
+    ) -> Result<Self> {
         let start = Instant::now();
-        let PassProfile { gpu_ms, fragment_invocations } = ctx.one_shot_profiled(name, record)?;
-        Ok(Self { gpu_ms, cpu_ms: start.elapsed().as_secs_f64() * 1e3, fragment_invocations })
+        let PassProfile { times, fragment_invocations } = ctx.one_shot_profiled(name, |cmd, statistics, laps| {
+            record(cmd, statistics, laps);
+            ctx.record_readback(cmd, image, ImageState::COLOR_ATTACHMENT, readback);
+            laps.lap(cmd, pass::COPY);
+        })?;
+        Ok(Self { times, cpu_ms: start.elapsed().as_secs_f64() * 1e3, fragment_invocations })
     }
 }
 
@@ -43,6 +59,8 @@ pub trait Workload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample>;
     /// The last frame's linear scene-referred RGBA, rows top first.
     fn image(&self, ctx: &Context) -> Result<Vec<f32>>;
+    /// What uploading each material's table or Taylor terms cost.
+    fn uploads(&self) -> Vec<Upload>;
     /// Draws one frame with the counting shaders: each pixel's texel fetches and shadings, rows top first.
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>>;
     /// # Safety
@@ -93,6 +111,7 @@ pub struct MapWorkload {
     pass: MapPass,
     counting: MapPass,
     target: OffscreenTarget,
+    readback: Buffer,
     size: u32,
 }
 
@@ -103,23 +122,36 @@ impl MapWorkload {
         patch.update(&light_params(material, light))?;
         let pass = Guard::new(ctx, MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?);
         let counting = Guard::new(ctx, MapPass::counting(ctx, material, size, footprint)?);
-        let target = OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?;
-        Ok(Self { patch: patch.keep(), pass: pass.keep(), counting: counting.keep(), target, size })
+        let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?);
+        let readback = ctx.create_readback(&target.color)?;
+        Ok(Self {
+            patch: patch.keep(),
+            pass: pass.keep(),
+            counting: counting.keep(),
+            target: target.keep(),
+            readback,
+            size,
+        })
     }
 }
 
 impl Workload for MapWorkload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        FrameSample::measure(ctx, MapPass::NAME, |cmd, statistics| {
+        FrameSample::measure(ctx, MapPass::NAME, (&self.target.color, &self.readback), |cmd, statistics, laps| {
             self.target.begin(ctx, cmd);
             statistics.begin(cmd);
             self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None);
             statistics.end(cmd);
+            laps.lap(cmd, pass::SHADING);
         })
     }
 
-    fn image(&self, ctx: &Context) -> Result<Vec<f32>> {
-        Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
+    fn image(&self, _ctx: &Context) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(self.readback.mapped().unwrap_or_default()))
+    }
+
+    fn uploads(&self) -> Vec<Upload> {
+        vec![self.patch.upload]
     }
 
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
@@ -134,6 +166,7 @@ impl Workload for MapWorkload {
         self.pass.destroy(ctx);
         self.counting.destroy(ctx);
         self.target.destroy(ctx);
+        self.readback.destroy(ctx);
         self.patch.destroy(ctx);
     }
 }
@@ -248,6 +281,7 @@ pub struct SceneWorkload<'a> {
     view: SceneView,
     renderer: SceneRenderer,
     target: OffscreenTarget,
+    readback: Buffer,
     width: u32,
     height: u32,
 }
@@ -264,8 +298,9 @@ impl<'a> SceneWorkload<'a> {
     ) -> Result<Self> {
         let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, LINEAR_FORMAT, true, samples)?);
         let shade = SurfaceVariant::Shade { display_output: false };
-        let renderer = Self::renderer(ctx, &inputs, &objects, &view, shade, &target)?;
-        Ok(Self { inputs, objects, view, renderer, target: target.keep(), width, height })
+        let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, shade, &target)?);
+        let readback = ctx.create_readback(&target.color)?;
+        Ok(Self { inputs, objects, view, renderer: renderer.keep(), target: target.keep(), readback, width, height })
     }
 
     fn renderer(
@@ -287,14 +322,20 @@ impl<'a> SceneWorkload<'a> {
 
 impl Workload for SceneWorkload<'_> {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        FrameSample::measure(ctx, SceneRenderer::NAME, |cmd, statistics| {
+        let copy = (&self.target.color, &self.readback);
+        FrameSample::measure(ctx, SceneRenderer::NAME, copy, |cmd, statistics, laps| {
             self.target.begin(ctx, cmd);
-            self.renderer.record_with(ctx, cmd, &self.target.view(), self.view.background, None, Some(statistics));
+            let instruments = Instruments { statistics: Some(statistics), laps, ..Instruments::default() };
+            self.renderer.record_with(ctx, cmd, &self.target.view(), self.view.background, instruments);
         })
     }
 
-    fn image(&self, ctx: &Context) -> Result<Vec<f32>> {
-        Ok(bytemuck::pod_collect_to_vec(&self.target.read(ctx)?))
+    fn image(&self, _ctx: &Context) -> Result<Vec<f32>> {
+        Ok(bytemuck::pod_collect_to_vec(self.readback.mapped().unwrap_or_default()))
+    }
+
+    fn uploads(&self) -> Vec<Upload> {
+        self.renderer.uploads()
     }
 
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
@@ -303,7 +344,8 @@ impl Workload for SceneWorkload<'_> {
         let (target, background) = (&self.target, self.view.background);
         let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
-            renderer.record_counted(ctx, cmd, &target.view(), background, counts);
+            let instruments = Instruments { counts: Some(counts), ..Instruments::default() };
+            renderer.record_with(ctx, cmd, &target.view(), background, instruments);
         });
         // SAFETY: counted_frame waited.
         unsafe { renderer.destroy(ctx) };
@@ -313,5 +355,6 @@ impl Workload for SceneWorkload<'_> {
     unsafe fn destroy(self: Box<Self>, ctx: &Context) {
         self.renderer.destroy(ctx);
         self.target.destroy(ctx);
+        self.readback.destroy(ctx);
     }
 }

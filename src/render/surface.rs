@@ -11,8 +11,8 @@ use glam::{Mat4, Vec3};
 
 use super::diffraction::{patch_bindings, PatchResources};
 use super::{
-    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView, DEPTH_FORMAT,
-    LINEAR_FORMAT,
+    begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
+    DEPTH_FORMAT, LINEAR_FORMAT,
 };
 use crate::camera::Camera;
 use crate::error::Result;
@@ -21,9 +21,20 @@ use crate::shaders;
 use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE};
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
-    Statistics, VertexAttribute,
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, ImageState, Laps,
+    Pipeline, Statistics, VertexAttribute,
 };
+
+/// What a frame's recording is measured with (all off by default).
+#[derive(Clone, Copy, Default)]
+pub struct Instruments<'a> {
+    /// A counting renderer's per-pixel fetch counters.
+    pub counts: Option<&'a Buffer>,
+    /// The shading draws' pipeline-statistics query.
+    pub statistics: Option<&'a Statistics<'a>>,
+    /// Where each pass's end is timed.
+    pub laps: Laps<'a>,
+}
 
 /// Mirrors `SurfaceUniforms` in `glsl/include/surface_frame.glsl`.
 #[repr(C)]
@@ -103,9 +114,6 @@ struct MaterialGpu {
     pigment: [f32; 3],
 }
 
-/// The depth pre-pass's name (and debug label).
-const DEPTH_PASS: &str = "surface depth";
-
 struct ObjectGpu {
     mesh: MeshBuffers,
     uniforms: Buffer,
@@ -175,7 +183,7 @@ impl SceneRenderer {
         let cull_back_faces = super::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
         let frame_binding = Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
         self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-            name: DEPTH_PASS,
+            name: pass::DEPTH,
             vertex: shaders::SURFACE_VERT,
             fragment: None,
             specialization: crate::vk::SpecConstants::default(),
@@ -268,46 +276,37 @@ impl SceneRenderer {
 
     /// Records every object into `target` (in attachment layouts).
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
-        self.record_with(ctx, cmd, target, background, None, None);
+        self.record_with(ctx, cmd, target, background, Instruments::default());
     }
 
-    /// [`Self::record`] with the per-pixel fetch counters of a counting renderer.
-    pub fn record_counted(
-        &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        target: &TargetView,
-        background: [f32; 4],
-        counts: &Buffer,
-    ) {
-        self.record_with(ctx, cmd, target, background, Some(counts), None);
-    }
-
-    /// [`Self::record`] with fetch counters (a counting renderer) and the shading pass's draws bracketed for a
-    /// pipeline-statistics query (the depth pre-pass is not counted).
+    /// [`Self::record`] with `instruments`: a counting renderer's per-pixel fetch counters, the shading draws
+    /// bracketed for a pipeline-statistics query (the depth pre-pass is not counted), and a lap at the end of
+    /// each pass ([`super::pass`]: the depth pre-pass, the shading, and the resolve of a multisampled target).
     pub fn record_with(
         &self,
         ctx: &Context,
         cmd: vk::CommandBuffer,
         target: &TargetView,
         background: [f32; 4],
-        counts: Option<&Buffer>,
-        statistics: Option<&Statistics<'_>>,
+        instruments: Instruments<'_>,
     ) {
+        let Instruments { counts, statistics, laps } = instruments;
         debug_assert_eq!(self.counting, counts.is_some(), "a counting renderer takes counters, and only it");
         debug_assert_eq!(self.samples, target.samples, "the renderer's pipelines are built for the target's samples");
         begin_rendering(ctx, cmd, target, background, None);
         if let Some(depth) = &self.depth {
-            ctx.begin_label(cmd, DEPTH_PASS);
+            ctx.begin_label(cmd, pass::DEPTH);
             for object in &self.objects {
                 ctx.bind(cmd, depth, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms)], &[]);
                 object.mesh.draw(ctx, cmd);
             }
             ctx.end_label(cmd);
+            laps.lap(cmd, pass::DEPTH);
         }
         if let Some(s) = statistics {
             s.begin(cmd);
         }
+        ctx.begin_label(cmd, pass::SHADING);
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
@@ -318,10 +317,23 @@ impl SceneRenderer {
             ctx.bind(cmd, &material.pipeline, &writes, &[]);
             object.mesh.draw(ctx, cmd);
         }
+        ctx.end_label(cmd);
         if let Some(s) = statistics {
             s.end(cmd);
         }
-        end_rendering(ctx, cmd);
+        if target.resolve.is_some() {
+            laps.lap(cmd, pass::SHADING);
+            end_rendering(ctx, cmd);
+            laps.lap(cmd, pass::RESOLVE);
+        } else {
+            end_rendering(ctx, cmd);
+            laps.lap(cmd, pass::SHADING);
+        }
+    }
+
+    /// What the uploads of the materials' tables (or Taylor terms) cost, material by material.
+    pub fn uploads(&self) -> Vec<super::diffraction::Upload> {
+        self.materials.iter().map(|m| m.patch.upload).collect()
     }
 
     /// # Safety
@@ -344,6 +356,8 @@ impl SceneRenderer {
 /// An offscreen target for a [`SceneRenderer`]: renders frames and reads them back.
 pub struct OffscreenFrames {
     target: OffscreenTarget,
+    /// Where each frame's pixels are copied, in the frame's own submission.
+    readback: Buffer,
     display_output: bool,
 }
 
@@ -357,8 +371,9 @@ impl OffscreenFrames {
         samples: vk::SampleCountFlags,
     ) -> Result<Self> {
         let format = Self::format(display_output);
-        let target = OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?;
-        Ok(Self { target, display_output })
+        let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?);
+        let readback = ctx.create_readback(&target.color)?;
+        Ok(Self { target: target.keep(), readback, display_output })
     }
 
     /// The colour format a [`SceneRenderer`] drawing into these frames must use.
@@ -370,26 +385,31 @@ impl OffscreenFrames {
         }
     }
 
-    /// Draws one frame (uniforms already updated) and reads it back.
+    /// Draws one frame (uniforms already updated) and copies it back in the same submission; its passes are
+    /// timed (the renderer's, then [`pass::COPY`]).
     pub fn render(&self, ctx: &Context, renderer: &SceneRenderer, background: [f32; 4]) -> Result<Frame> {
-        let gpu_ms = ctx.one_shot_timed(SceneRenderer::NAME, |cmd| {
+        let times = ctx.one_shot_laps(SceneRenderer::NAME, |cmd, laps| {
             self.target.begin(ctx, cmd);
-            renderer.record(ctx, cmd, &self.target.view(), background);
+            let instruments = Instruments { laps, ..Instruments::default() };
+            renderer.record_with(ctx, cmd, &self.target.view(), background, instruments);
+            ctx.record_readback(cmd, &self.target.color, ImageState::COLOR_ATTACHMENT, &self.readback);
+            laps.lap(cmd, pass::COPY);
         })?;
-        let bytes = self.target.read(ctx)?;
+        let bytes = self.readback.mapped().map(<[u8]>::to_vec).unwrap_or_default();
         let extent = self.target.color.extent();
         let pixels = if self.display_output {
             Pixels::Rgba8(bytes)
         } else {
             Pixels::Linear(bytemuck::pod_collect_to_vec(&bytes))
         };
-        Ok(Frame { width: extent.width, height: extent.height, pixels, gpu_ms })
+        Ok(Frame { width: extent.width, height: extent.height, pixels, times })
     }
 
     /// # Safety
     /// The GPU must be done with the target.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.target.destroy(ctx);
+        self.readback.destroy(ctx);
     }
 }
 

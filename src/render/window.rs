@@ -12,14 +12,14 @@ use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 use super::TargetView;
 use crate::error::{Error, Result};
 use crate::vk::swapchain::{Acquired, FrameSync, Surface, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Context, Destroy, Guard, ImageState, TimestampRing};
+use crate::vk::{Buffer, BufferDesc, Context, Destroy, FrameTimes, Guard, ImageState, Laps, TimestampRing};
 
 /// A window's swapchain and everything one frame in flight needs.
 pub struct WindowTarget {
     surface: Surface,
     swapchain: Swapchain,
     sync: FrameSync,
-    /// One timed scope per frame (None where the queue has no timestamps).
+    /// The passes of the frame in flight, timed (None where the queue has no timestamps).
     ring: Option<TimestampRing>,
     /// The last frame copied for a screenshot (None where the window's images cannot be copied).
     screenshot: Option<Buffer>,
@@ -33,14 +33,13 @@ pub struct WindowTarget {
 }
 
 /// What a frame is drawn into, between [`WindowTarget::begin_frame`] and [`WindowTarget::end_frame`].
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct WindowFrame {
     /// The frame's command buffer, recording.
     pub cmd: vk::CommandBuffer,
-    /// The GPU time of the previous frame (milliseconds; None for the first frame, or with no timestamps).
-    pub previous_gpu_ms: Option<f64>,
+    /// The GPU times of the previous frame's passes (None for the first frame, or with no timestamps).
+    pub previous: Option<FrameTimes>,
     index: u32,
-    scope: Option<u32>,
     extent: vk::Extent2D,
     scene: TargetView,
     flat: TargetView,
@@ -76,7 +75,7 @@ impl WindowTarget {
     ) -> Result<Self> {
         let surface = Guard::new(ctx, ctx.create_surface(display, window)?);
         let sync = Guard::new(ctx, ctx.create_frame_sync()?);
-        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, 1, "window timestamps")?);
+        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, crate::vk::MAX_LAPS, "window timestamps")?);
         let swapchain = Guard::new(ctx, ctx.create_swapchain(&surface, size, vsync, samples, None)?);
         let screenshot = screenshot_buffer(ctx, &swapchain)?;
         Ok(Self {
@@ -128,19 +127,19 @@ impl WindowTarget {
         Ok(())
     }
 
-    /// Waits for the frame in flight, acquires an image for a window of `size` pixels and begins recording, with
-    /// a timed scope named `scope`. None: no frame now (the window has no area, or the swapchain was out of date
-    /// and is remade before the next one).
-    pub fn begin_frame(&mut self, ctx: &Context, size: (u32, u32), scope: &str) -> Result<Option<WindowFrame>> {
+    /// Waits for the frame in flight, acquires an image for a window of `size` pixels and begins recording (its
+    /// passes timed: see [`Self::laps`]). None: no frame now (the window has no area, or the swapchain was out of
+    /// date and is remade before the next one).
+    pub fn begin_frame(&mut self, ctx: &Context, size: (u32, u32)) -> Result<Option<WindowFrame>> {
         self.refresh(ctx, size)?;
         if size.0 == 0 || size.1 == 0 {
             return Ok(None);
         }
         self.sync.wait(ctx)?;
-        let mut previous_gpu_ms = None;
+        let mut previous = None;
         if std::mem::take(&mut self.timing_pending) {
             if let Some(ring) = &self.ring {
-                previous_gpu_ms = ring.read(ctx, 0)?.first().map(|s| s.ms);
+                previous = Some(ring.read(ctx, 0)?);
             }
         }
         let index = match self.swapchain.acquire(self.sync.image_available)? {
@@ -188,26 +187,29 @@ impl WindowTarget {
             ImageState::COLOR_ATTACHMENT,
         );
         s.begin_attachments(ctx, cmd);
-        let scope = match self.ring.as_mut() {
-            Some(ring) => {
-                ring.begin_frame(ctx, cmd, 0);
-                Some(ring.begin_scope(ctx, cmd, scope)?)
-            }
-            None => None,
-        };
-        Ok(Some(WindowFrame { cmd, previous_gpu_ms, index, scope, extent: s.extent, scene, flat }))
+        if let Some(ring) = &self.ring {
+            ring.begin_frame(ctx, cmd, 0);
+        }
+        Ok(Some(WindowFrame { cmd, previous, index, extent: s.extent, scene, flat }))
+    }
+
+    /// Where the passes of the frame being recorded mark their ends ([`super::pass`]); this target adds the copy
+    /// of a screenshot and the hand-over to the window in [`Self::end_frame`].
+    pub fn laps<'a>(&'a self, ctx: &'a Context) -> Laps<'a> {
+        self.ring.as_ref().map_or(Laps::NONE, |ring| ring.laps(ctx))
     }
 
     /// Ends the frame's recording, submits it and presents it; with `copy`, the presented image is also copied
     /// into the screenshot buffer (see [`Self::save_screenshot`]).
     pub fn end_frame(&mut self, ctx: &Context, frame: WindowFrame, copy: bool) -> Result<()> {
         let (cmd, index) = (frame.cmd, frame.index);
-        if let (Some(ring), Some(scope)) = (self.ring.as_mut(), frame.scope) {
-            ring.end_scope(ctx, cmd, scope);
-        }
+        let laps = self.laps(ctx);
         let image = self.swapchain.images[index as usize];
         match (copy, &self.screenshot) {
-            (true, Some(buffer)) => self.swapchain.record_copy(ctx, cmd, index, buffer),
+            (true, Some(buffer)) => {
+                self.swapchain.record_copy(ctx, cmd, index, buffer);
+                laps.lap(cmd, super::pass::COPY);
+            }
             (true, None) => {
                 return Err(Error::Invalid("this window's images cannot be copied for a screenshot".into()))
             }
@@ -219,6 +221,7 @@ impl WindowTarget {
                 ImageState::PRESENT,
             ),
         }
+        laps.lap(cmd, super::pass::PRESENT);
         self.sync.end(ctx)?;
         ctx.submit_frame(&self.sync, self.swapchain.render_finished[index as usize])?;
         self.timing_pending = self.ring.is_some();

@@ -24,12 +24,13 @@ use crate::error::{Error, Result};
 use crate::physics::spectrum::display_encode;
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
-use crate::render::surface::SceneRenderer;
+use crate::render::surface::{Instruments, SceneRenderer};
 use crate::render::window::{WindowFrame, WindowTarget};
 use crate::render::SceneView;
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Overrides, Reach};
 use crate::vk::swapchain;
+use crate::vk::FrameTimes;
 use crate::vk::{Context, ContextDesc, Guard};
 
 /// What `diffract view` was asked for.
@@ -117,10 +118,10 @@ struct Gpu {
 struct Timing {
     /// Frames presented.
     frame: u32,
-    /// The GPU time of the last frame measured.
-    gpu_ms: Option<f64>,
-    /// GPU ms of every frame after the first (the first includes the driver's shader compilation).
-    frame_times: Vec<f64>,
+    /// The GPU times of the last frame measured, pass by pass.
+    last: Option<FrameTimes>,
+    /// The passes' GPU times of every frame after the first (the first includes the driver's shader compilation).
+    frame_times: Vec<FrameTimes>,
     /// When the scripted frames started (after the first).
     timed_since: Option<Instant>,
     /// The title's frame rate: when it was last shown, frames since, and its value.
@@ -256,7 +257,7 @@ impl Timing {
     fn new() -> Self {
         Self {
             frame: 0,
-            gpu_ms: None,
+            last: None,
             frame_times: Vec::new(),
             timed_since: None,
             last_title: Instant::now(),
@@ -265,12 +266,12 @@ impl Timing {
         }
     }
 
-    /// Notes the GPU time of the frame before the one begun now.
-    fn measured(&mut self, previous_gpu_ms: Option<f64>) {
-        let Some(ms) = previous_gpu_ms else { return };
-        self.gpu_ms = Some(ms);
+    /// Notes the GPU times of the frame before the one begun now.
+    fn measured(&mut self, previous: Option<FrameTimes>) {
+        let Some(times) = previous else { return };
+        self.last = Some(times.clone());
         if self.frame > 1 {
-            self.frame_times.push(ms);
+            self.frame_times.push(times);
         } else {
             self.timed_since = Some(Instant::now());
         }
@@ -441,7 +442,8 @@ impl State {
     fn print_frame_times(&self) {
         let size = self.window.inner_size();
         let t = &self.timing;
-        let Some(spread) = crate::stats::Spread::of(&t.frame_times) else { return };
+        let totals: Vec<f64> = t.frame_times.iter().map(FrameTimes::total_ms).collect();
+        let Some(spread) = crate::stats::Spread::of(&totals) else { return };
         let fps = t.timed_since.map(|since| (t.frame_times.len() + 1) as f64 / since.elapsed().as_secs_f64());
         println!(
             "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",
@@ -453,16 +455,28 @@ impl State {
             spread.p90,
             fps.map(|f| format!(", {f:.1} fps in the window")).unwrap_or_default()
         );
+        let passes: Vec<String> = crate::render::pass::ALL
+            .iter()
+            .filter_map(|&name| {
+                let ms: Vec<f64> = t.frame_times.iter().filter_map(|f| f.pass_ms(name)).collect();
+                (ms.len() == t.frame_times.len())
+                    .then(|| crate::stats::median(&ms))
+                    .flatten()
+                    .map(|m| format!("{name} {m:.2}"))
+            })
+            .collect();
+        if !passes.is_empty() {
+            println!("GPU ms per pass (median): {}", passes.join(", "));
+        }
     }
 
     /// Draws one frame (if the window can show one now); with `copy`, also copies it for a screenshot.
     fn render(&mut self, options: &ViewOptions, copy: bool) -> Result<()> {
         let size = self.window.inner_size();
-        let scope = if self.live.map_mode { MapPass::NAME } else { SceneRenderer::NAME };
-        let Some(frame) = self.target.begin_frame(&self.ctx, (size.width, size.height), scope)? else {
+        let Some(frame) = self.target.begin_frame(&self.ctx, (size.width, size.height))? else {
             return Ok(());
         };
-        self.timing.measured(frame.previous_gpu_ms);
+        self.timing.measured(frame.previous.clone());
         self.record(options, &frame)?;
         self.target.end_frame(&self.ctx, frame, copy)?;
         if self.timing.presented() {
@@ -475,6 +489,7 @@ impl State {
     /// object's BRDF map.
     fn record(&mut self, options: &ViewOptions, frame: &WindowFrame) -> Result<()> {
         let (ctx, gpu, scene) = (&self.ctx, &mut self.gpu, &options.scene);
+        let laps = self.target.laps(ctx);
         let light = self.live.light();
         let view = SceneView { camera: self.live.camera(&scene.camera), light_dir: light, ..SceneView::of(scene) };
         let extent = frame.extent();
@@ -488,11 +503,13 @@ impl State {
             params.display[0] = exposure as f32;
             gpu.map_patch.update(&params)?;
             gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None);
+            laps.lap(frame.cmd, crate::render::pass::SHADING);
         } else {
             // Cleared to the code values the shaders give the background colour (the images are UNORM).
             let [r, g, b] = scene.render.background.map(f64::from);
             let [r, g, b] = display_encode(DVec3::new(r, g, b), exposure).map(|c| f32::from(c) / 255.0);
-            gpu.renderer.record(ctx, frame.cmd, &frame.scene(), [r, g, b, 1.0]);
+            let instruments = Instruments { laps, ..Instruments::default() };
+            gpu.renderer.record_with(ctx, frame.cmd, &frame.scene(), [r, g, b, 1.0], instruments);
         }
         Ok(())
     }
@@ -518,7 +535,7 @@ impl State {
                 m.window.radius_x
             ),
         };
-        let gpu_ms = self.timing.gpu_ms.map(|ms| format!("GPU {ms:.1} ms")).unwrap_or_else(|| "GPU –".into());
+        let gpu_ms = self.timing.last.as_ref().map_or_else(|| "GPU –".into(), |t| format!("GPU {}", t.describe()));
         self.window.set_title(&format!(
             "diffract — {} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
             m.settings.approach.name(),

@@ -5,7 +5,7 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 use gpu_allocator::MemoryLocation;
 
-use super::{BufferDesc, Context, Guard, ImageState, MemoryState};
+use super::{Buffer, BufferDesc, Context, Guard, ImageState, MemoryState};
 use crate::error::{Error, Result, VkResultExt};
 
 /// Size, format and use of a GPU-only 2D (array) image.
@@ -195,8 +195,9 @@ impl Context {
     }
 
     /// Fills every layer of every mip level of `image` from `data` (tightly packed: level after level, each
-    /// layer after layer) and leaves it in `final_state`.
-    pub fn upload_image(&self, image: &Image, data: &[u8], final_state: ImageState) -> Result<()> {
+    /// layer after layer) and leaves it in `final_state`. Returns the copy's GPU time in ms where the queue has
+    /// timestamps.
+    pub fn upload_image(&self, image: &Image, data: &[u8], final_state: ImageState) -> Result<Option<f64>> {
         let size = image.desc.byte_size()?;
         if data.len() as u64 != size {
             return Err(Error::Invalid(format!("image upload of {} bytes, expected {size}", data.len())));
@@ -205,7 +206,7 @@ impl Context {
         let desc = BufferDesc::upload(size, vk::BufferUsageFlags::TRANSFER_SRC);
         let mut staging = Guard::new(self, self.create_buffer(desc, "staging (image upload)")?);
         staging.write(data)?;
-        self.one_shot("image upload", |cmd| {
+        self.one_shot_timed("image upload", |cmd| {
             self.barrier_image(cmd, image, ImageState::UNDEFINED, ImageState::TRANSFER_DST);
             let texel = image.desc.texel_size().expect("checked by byte_size");
             let mut offset = 0;
@@ -237,30 +238,39 @@ impl Context {
     /// Reads every layer of a colour image's first mip level back (tightly packed); `state` is the image's
     /// current state, and the image is left in it.
     pub fn read_image(&self, image: &Image, state: ImageState) -> Result<Vec<u8>> {
-        let size = ImageDesc { mip_levels: 1, ..image.desc }.byte_size()?;
         // Destroyed at the scope's end: one_shot waits for the copy.
-        let readback = Guard::new(self, self.create_buffer(BufferDesc::readback(size), "readback (image)")?);
-        self.one_shot("image readback", |cmd| {
-            self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
-            let region = vk::BufferImageCopy::default().image_subresource(image.layers(0)).image_extent(vk::Extent3D {
-                width: image.desc.width,
-                height: image.desc.height,
-                depth: 1,
-            });
-            // SAFETY: the readback buffer is as large as the image's texels.
-            unsafe {
-                self.device().cmd_copy_image_to_buffer(
-                    cmd,
-                    image.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    readback.raw,
-                    &[region],
-                )
-            };
-            self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
-            self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
-        })?;
+        let readback = Guard::new(self, self.create_readback(image)?);
+        self.one_shot("image readback", |cmd| self.record_readback(cmd, image, state, &readback))?;
         Ok(readback.mapped().map(<[u8]>::to_vec).unwrap_or_default())
+    }
+
+    /// A host-visible buffer as large as `image`'s first mip level (every layer), for [`Self::record_readback`].
+    pub fn create_readback(&self, image: &Image) -> Result<Buffer> {
+        let size = ImageDesc { mip_levels: 1, ..image.desc }.byte_size()?;
+        self.create_buffer(BufferDesc::readback(size), "readback (image)")
+    }
+
+    /// Records the copy of `image`'s first mip level (in `state`, and left in it) into `readback` (made by
+    /// [`Self::create_readback`]), visible to the host once the submission completes.
+    pub fn record_readback(&self, cmd: vk::CommandBuffer, image: &Image, state: ImageState, readback: &Buffer) {
+        self.barrier_image(cmd, image, state, ImageState::TRANSFER_SRC);
+        let region = vk::BufferImageCopy::default().image_subresource(image.layers(0)).image_extent(vk::Extent3D {
+            width: image.desc.width,
+            height: image.desc.height,
+            depth: 1,
+        });
+        // SAFETY: the readback buffer is as large as the image's texels.
+        unsafe {
+            self.device().cmd_copy_image_to_buffer(
+                cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                readback.raw,
+                &[region],
+            )
+        };
+        self.barrier_image(cmd, image, ImageState::TRANSFER_SRC, state);
+        self.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::HOST_READ);
     }
 
     /// Whether the device filters `format` linearly when sampling (the baked table's trilinear fetches need it).

@@ -40,7 +40,7 @@ pub use pipeline::{
     Binding, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
     VertexAttribute,
 };
-pub use query::{PassProfile, ScopeTiming, Statistics, TimestampRing};
+pub use query::{FrameTimes, Laps, PassProfile, ScopeTiming, Statistics, TimestampRing, MAX_LAPS};
 
 crate::impl_destroy!(Buffer, Image, Sampler, Pipeline, TimestampRing);
 

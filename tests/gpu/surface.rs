@@ -150,6 +150,12 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
 /// A quad of uniform pigment, turned 20° in the image and lit only by the sky, drawn with `samples` per pixel:
 /// linear RGBA rows.
 fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
+    let (frame, w, h) = silhouette(samples, material);
+    (frame.linear().unwrap().to_vec(), w, h)
+}
+
+/// [`silhouette_frame`]'s frame itself.
+fn silhouette(samples: u32, material: &Material) -> (diffract::render::Frame, u32, u32) {
     use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
     let (w, h) = (64u32, 64u32);
     let (mesh, mut sc) = scene(0.0, 1.0);
@@ -170,9 +176,31 @@ fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
             frames.destroy(ctx);
             renderer.destroy(ctx);
         }
-        frame.linear().unwrap().to_vec()
+        frame
     });
     (linear, w, h)
+}
+
+#[test]
+fn a_frame_is_timed_pass_by_pass_and_the_passes_make_the_frame() {
+    use diffract::render::pass;
+    let hf = diffract::physics::HeightField::new(32, 32, 0.1, 0.1, vec![0.0; 32 * 32]).unwrap();
+    let settings = Settings { lambda_step_nm: 40.0, coherence_um: 3.2, ..Settings::default() };
+    let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
+    for (samples, expected) in [
+        (1, vec![pass::DEPTH, pass::SHADING, pass::COPY]),
+        (4, vec![pass::DEPTH, pass::SHADING, pass::RESOLVE, pass::COPY]),
+    ] {
+        let (frame, _, _) = silhouette(samples, &material);
+        let times = frame.times.clone().expect("lavapipe has timestamps");
+        let names: Vec<&str> = times.passes.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(names, expected, "{samples} sample(s)");
+        assert!(times.passes.iter().all(|p| p.ms.is_finite() && p.ms >= 0.0), "{times:?}");
+        // The passes are laps between consecutive timestamps: they tile the frame.
+        assert_eq!(frame.gpu_ms(), Some(times.passes.iter().map(|p| p.ms).sum()));
+        assert!(times.total_ms() > 0.0 && times.pass_ms(pass::SHADING).unwrap() > 0.0, "{times:?}");
+        assert_eq!(times.pass_ms(pass::PRESENT), None);
+    }
 }
 
 #[test]
