@@ -10,6 +10,9 @@ use diffract::physics::spectrum::Sampling;
 use diffract::physics::{HeightField, Method, Query, Reference, Window};
 use glam::DVec3;
 
+#[path = "common/place.rs"]
+mod place;
+
 /// Heights from a small deterministic generator, `amplitude` µm peak to peak.
 fn noise(n: usize, seed: u64, amplitude: f64) -> Vec<f64> {
     let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
@@ -170,7 +173,7 @@ fn deeper_structures_need_more_terms_in_w() {
 fn a_cached_table_reads_back_as_built_and_only_for_its_plan() {
     let hf = dense();
     let (plan, table) = map_table(&hf, 2.4, 8);
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("baked-cache");
+    let dir = place::scratch_root().join("baked-cache");
     let _ = std::fs::remove_dir_all(&dir);
     cache::write(&dir, &hf, &plan, &table).unwrap();
     assert_eq!(cache::read(&dir, &hf, &plan).as_ref(), Some(&table));

@@ -6,7 +6,7 @@ mod common;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use common::{assert_one_line_error, diffract};
+use common::{assert_one_line_error, diffract, place};
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("cli", name)
@@ -17,11 +17,15 @@ fn stderr(o: &Output) -> String {
 }
 
 #[test]
-fn devices_lists_llvmpipe() {
+fn devices_lists_the_test_device() {
     let o = diffract(&["devices"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(out.contains("llvmpipe") && out.contains("CPU") && out.contains("1.3"), "{out}");
+    if place::on_lavapipe() {
+        assert!(out.contains("llvmpipe") && out.contains("CPU") && out.contains("1.3"), "{out}");
+    } else {
+        assert!(out.contains("Vulkan 1."), "{out}");
+    }
 }
 
 #[test]
@@ -38,7 +42,7 @@ fn render_writes_a_nonblank_png_without_validation_messages() {
         "128",
         "--validation",
         "--device",
-        "llvmpipe",
+        &place::test_device(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("validation"), "{}", stderr(&o));
@@ -59,7 +63,7 @@ fn unknown_device_is_one_line() {
 
 #[test]
 fn missing_driver_points_at_mesa() {
-    let o = Command::new(env!("CARGO_BIN_EXE_diffract"))
+    let o = Command::new(place::diffract_bin())
         .args(["devices"])
         .env("VK_ICD_FILENAMES", "/nonexistent.json")
         .env("VK_DRIVER_FILES", "/nonexistent.json")
@@ -85,4 +89,44 @@ fn bad_sizes_are_refused_by_the_parser() {
 fn help_shows_examples() {
     let o = diffract(&["--help"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("Examples:"));
+}
+
+#[test]
+fn the_places_a_test_needs_are_found() {
+    let assets = place::assets();
+    assert!(assets.join("afm/elaphe-100px.png").is_file(), "{}", assets.display());
+    assert!(place::diffract_bin().is_file(), "{}", place::diffract_bin().display());
+    // Set by the copy below: the copied binary must find what was carried beside it.
+    if let Some(expected) = std::env::var_os("DIFFRACT_EXPECT_ASSETS") {
+        assert_eq!(assets, PathBuf::from(expected));
+    }
+}
+
+#[test]
+fn a_test_binary_copied_elsewhere_finds_the_binary_and_assets_carried_with_it() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = scratch("carried");
+    let _ = std::fs::remove_dir_all(&dir);
+    let deps = dir.join("target/release/deps");
+    std::fs::create_dir_all(dir.join("assets/afm")).unwrap();
+    std::fs::create_dir_all(&deps).unwrap();
+    std::fs::copy(place::afm("elaphe-100px.png"), dir.join("assets/afm/elaphe-100px.png")).unwrap();
+    let copy = deps.join("cli-copy");
+    std::fs::copy(std::env::current_exe().unwrap(), &copy).unwrap();
+    // The carried `diffract` leaves a mark, then runs the real one.
+    let bin = dir.join("target/release/diffract");
+    let real = place::diffract_bin();
+    let script = format!("#!/bin/sh\ntouch \"$(dirname \"$0\")/used\"\nexec '{}' \"$@\"\n", real.display());
+    std::fs::write(&bin, script).unwrap();
+    std::fs::set_permissions(&bin, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let o = Command::new(&copy)
+        .args(["--exact", "devices_lists_the_test_device", "the_places_a_test_needs_are_found"])
+        .env_remove("DIFFRACT_BIN")
+        .env_remove("DIFFRACT_ASSETS")
+        .env("DIFFRACT_EXPECT_ASSETS", dir.join("assets"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && out.contains("2 passed"), "{out}{}", stderr(&o));
+    assert!(dir.join("target/release/used").is_file(), "the copy ran the diffract carried beside it");
 }

@@ -121,7 +121,8 @@ fn brdf_on(file: &str, extra: &[&str]) -> Output {
 
 #[test]
 fn the_taylor_order_is_forced_by_its_name_or_its_first_one() {
-    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm/elaphe-100px.png");
+    let afm = common::place::afm("elaphe-100px.png");
+    let afm = afm.to_str().unwrap();
     let png = ["--pixel-size-um", "0.065", "--height-um", "0.375", "--method", "taylor", "--accept-f32-error"];
     let by = |flag| brdf_on(afm, &[&[flag, "3"][..], &png].concat());
     let (order, terms) = (by("--order"), by("--terms"));
@@ -215,7 +216,8 @@ fn grazing_rows_are_finite() {
 
 #[test]
 fn terms_reports_the_plan_for_the_afm_patch() {
-    let afm = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm/elaphe-100px.png");
+    let afm = common::place::afm("elaphe-100px.png");
+    let afm = afm.to_str().unwrap();
     let o =
         diffract(&["terms", "--heightfield", afm, "--pixel-size-um", "0.065", "--height-um", "0.375", "--tile", "3"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -263,7 +265,7 @@ fn map_renders_every_approach_validation_clean_with_exr() {
             exr.to_str().unwrap(),
             "--validation",
             "--device",
-            "llvmpipe",
+            &common::place::test_device(),
         ]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success() && !err.contains("validation"), "{approach}: {err}");
@@ -341,7 +343,8 @@ fn brdf_gpu_prints_the_same_csv_as_the_cpu() {
         "500,600",
     ];
     let cpu = csv(&diffract(&[&args[..], &["--method", "taylor"]].concat()));
-    let gpu = csv(&diffract(&[&args[..], &["--gpu", "--validation", "--device", "llvmpipe"]].concat()));
+    let gpu =
+        csv(&diffract(&[&args[..], &["--gpu", "--validation", "--device", &common::place::test_device()]].concat()));
     assert_eq!(cpu.len(), gpu.len());
     for (c, g) in cpu.iter().zip(&gpu) {
         for key in ["lambda_nm", "theta_r_deg", "u", "v", "w"] {

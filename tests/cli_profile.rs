@@ -183,7 +183,7 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
     let csv = scratch("scene.csv");
     let o = diffract(&[
         "profile",
-        concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/blazed-disk.toml"),
+        s(&common::place::scene("blazed-disk.toml")),
         "--width",
         "36",
         "--height",
@@ -282,7 +282,8 @@ fn mistakes_end_in_one_line() {
     assert_one_line_error(&with(&["--plot", s(&scratch("p.png")), "--plot-font", "/nonexistent.ttf"]), "font");
     assert_one_line_error(&with(&["--light-theta", "95"]), "horizon");
     // A BRDF map's own settings are refused for a scene (which has its own light and materials), not ignored.
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/blazed-disk.toml");
+    let scene = common::place::scene("blazed-disk.toml");
+    let scene = s(&scene);
     for extra in [["--coherence-um", "4"], ["--light-theta", "30"], ["--tolerance", "1e-3"]] {
         let mut args = vec!["profile", scene, "--width", "8", "--no-reference"];
         args.extend_from_slice(&extra);

@@ -65,7 +65,7 @@ fn a_users_obj_and_gsf_render_validation_clean() {
         "2",
         "--validation",
         "--device",
-        "llvmpipe",
+        &common::place::test_device(),
     ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && !err.contains("validation"), "{err}");
@@ -156,7 +156,7 @@ fn gen_snake_writes_an_obj_a_scene_can_use() {
         "32",
         "--validation",
         "--device",
-        "llvmpipe",
+        &common::place::test_device(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = image::open(&out).unwrap().to_rgb8();

@@ -88,12 +88,20 @@ fn view_renders_frames_survives_a_resize_and_writes_a_screenshot() {
     let x = Xvfb::start();
     let shot = common::scratch("cli_view", "shot.png");
     let _ = std::fs::remove_file(&shot);
-    let o = Command::new(env!("CARGO_BIN_EXE_diffract"))
+    let o = Command::new(common::place::diffract_bin())
         .args(["view", scene("frames.toml").to_str().unwrap(), "--width", "96", "--height", "72", "--frames", "30"])
-        .args(["--screenshot", shot.to_str().unwrap(), "--resize-after", "10", "--validation", "--device", "llvmpipe"])
+        .args([
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--resize-after",
+            "10",
+            "--validation",
+            "--device",
+            &common::place::test_device(),
+        ])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
-        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
+        .env("DIFFRACT_CACHE", common::place::scratch_root().join("cache"))
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
@@ -108,7 +116,7 @@ fn view_renders_frames_survives_a_resize_and_writes_a_screenshot() {
 
 #[test]
 fn view_without_a_display_refuses_in_one_line() {
-    let o = Command::new(env!("CARGO_BIN_EXE_diffract"))
+    let o = Command::new(common::place::diffract_bin())
         .args(["view", "--frames", "1"])
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
@@ -123,12 +131,12 @@ fn view_without_a_display_refuses_in_one_line() {
 #[test]
 fn view_survives_a_soak_of_resizes_and_approach_switches() {
     let x = Xvfb::start();
-    let o = Command::new(env!("CARGO_BIN_EXE_diffract"))
+    let o = Command::new(common::place::diffract_bin())
         .args(["view", scene("soak.toml").to_str().unwrap(), "--width", "64", "--height", "48", "--frames", "260"])
-        .args(["--soak", "--vsync", "off", "--validation", "--device", "llvmpipe"])
+        .args(["--soak", "--vsync", "off", "--validation", "--device", &common::place::test_device()])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
-        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
+        .env("DIFFRACT_CACHE", common::place::scratch_root().join("cache"))
         .output()
         .unwrap();
     let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));

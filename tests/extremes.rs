@@ -18,7 +18,6 @@ mod harness;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::path::Path;
 use std::time::Instant;
 
 use diffract::brdf::{Accuracy, Evaluator};
@@ -39,7 +38,7 @@ struct Patch {
 
 /// A measured scan (`assets/afm/<name>-100px.png`, 0.065 µm pixels) with its heights scaled by `scale`.
 fn scan(name: &str, height_um: f64, scale: f64) -> HeightField {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("assets/afm/{name}-100px.png"));
+    let path = harness::place::afm(&format!("{name}-100px.png"));
     diffract::physics::formats::load(&path, Some(PngScale { pixel_size_um: 0.065, height_um: height_um * scale }))
         .unwrap()
 }

@@ -4,6 +4,9 @@
 
 use std::path::Path;
 
+#[path = "common/place.rs"]
+mod place;
+
 type Target = fn(&[u8]);
 
 const TARGETS: [(&str, Target); 4] = [
@@ -22,7 +25,7 @@ fn files(dir: &Path) -> Vec<std::path::PathBuf> {
 
 #[test]
 fn every_corpus_input_and_every_found_crash_is_handled() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let root = place::root().join("fuzz");
     let mut failures = Vec::new();
     for (name, target) in TARGETS {
         let corpus = files(&root.join("corpus").join(name));

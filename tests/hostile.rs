@@ -20,7 +20,7 @@ const MEMORY_LIMIT_KIB: u64 = 8 << 20;
 fn fixtures() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("hostile-fixtures");
+        let dir = common::place::scratch_root().join("hostile-fixtures");
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("folder.gsf")).unwrap();
         let write = |name: &str, bytes: &[u8]| std::fs::write(dir.join(name), bytes).unwrap();
@@ -118,14 +118,14 @@ fn with_scene(name: &'static str, scene_path: String, needle: &'static str) -> C
 const KEPT: [&str; 3] = ["keep.png", "keep.exr", "keep.csv"];
 
 fn run(c: &Case) -> Result<(), String> {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("hostile-out").join(c.name);
+    let out = common::place::scratch_root().join("hostile-out").join(c.name);
     let _ = std::fs::remove_dir_all(&out);
     std::fs::create_dir_all(&out).unwrap();
     for name in KEPT {
         std::fs::write(out.join(name), format!("an earlier {name}, to be kept")).unwrap();
     }
     let args: Vec<String> = c.args.iter().map(|a| a.replace("OUT", out.to_str().unwrap())).collect();
-    let bin = env!("CARGO_BIN_EXE_diffract");
+    let bin = common::place::diffract_bin();
     let prefix = c.shell_prefix.unwrap_or("");
     let mut child = Command::new("sh")
         .arg("-c")
@@ -136,7 +136,7 @@ fn run(c: &Case) -> Result<(), String> {
         .env_remove("DIFFRACT_VALIDATION")
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
-        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
+        .env("DIFFRACT_CACHE", common::place::scratch_root().join("cache"))
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())

@@ -15,14 +15,14 @@ use std::time::{Duration, Instant};
 
 /// A fresh folder under the target's scratch space.
 fn folder(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("hostile-trust").join(name);
+    let dir = common::place::scratch_root().join("hostile-trust").join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
 fn command(cache: &Path, args: &[&std::ffi::OsStr]) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_diffract"));
+    let mut c = Command::new(common::place::diffract_bin());
     c.args(args).env_remove("DIFFRACT_VALIDATION").env("DIFFRACT_CACHE", cache).stdin(Stdio::null());
     c
 }
@@ -170,7 +170,7 @@ fn stdout_or_err_has(o: &Output, needle: &str) -> bool {
 /// std's handle is not waited on).
 #[allow(clippy::zombie_processes)]
 fn run_measured(cache: &Path, args: &[&std::ffi::OsStr]) -> (Output, i64) {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("hostile-trust").join("measured.err");
+    let out = common::place::scratch_root().join("hostile-trust").join("measured.err");
     let child =
         command(cache, args).stdout(Stdio::null()).stderr(std::fs::File::create(&out).unwrap()).spawn().unwrap();
     let mut status = 0;

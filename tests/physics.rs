@@ -4,7 +4,8 @@
 use diffract::physics::exact::window_gain;
 use diffract::physics::{HeightField, HeightStats, Lookup, Method, Query, Reference, TaylorPlan, Window};
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
+#[path = "common/place.rs"]
+mod place;
 
 /// Bessel J_m(x) = (1/2π)∫₀^{2π} cos(mτ − x sin τ) dτ; the trapezoid rule on a periodic integrand converges
 /// geometrically, so 512 points are exact to rounding for |x| < 30.
@@ -168,10 +169,7 @@ fn grazing_angles_stay_finite() {
 
 fn elaphe(tile: usize) -> HeightField {
     let scale = diffract::physics::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
-        .unwrap()
-        .tiled(tile, tile)
-        .unwrap()
+    diffract::physics::formats::load(&place::afm("elaphe-100px.png"), Some(scale)).unwrap().tiled(tile, tile).unwrap()
 }
 
 /// Lookups on and between bins, over the spectrum's busy part, for a few wavelengths and |w|.

@@ -57,7 +57,7 @@ pub struct ProfileArgs {
     /// Untimed frames first, per configuration
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub warmup: u32,
-    /// Vary settings: KEY=V1,V2,... items (keys: approach, order (or terms), lambda_step_nm, window_radius, size); one
+    /// Vary settings: KEY=V1,V2,... items (keys: approach, order (or terms), lambda_step_nm, window_radius, size, samples); one
     /// --sweep runs the cross product of its items, several --sweep flags run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
@@ -109,7 +109,8 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
-    let configs = prof::configurations(Config { overrides: args.settings.overrides(), size: args.width }, &sweeps)?;
+    let base = Config { overrides: args.settings.overrides(), size: args.width, samples: None };
+    let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;
     // The reference covers each pixel as the frames' multisampling does (its sample count's square root per axis).

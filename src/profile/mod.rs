@@ -30,10 +30,12 @@ pub struct Config {
     pub overrides: Overrides,
     /// Image width (maps: the side) in pixels.
     pub size: u32,
+    /// Samples per pixel of a scene's frames (None: the profile's `--samples`, else the scene's).
+    pub samples: Option<u32>,
 }
 
 /// The keys a sweep may vary.
-pub const SWEEP_KEYS: [&str; 5] = ["approach", "order", "lambda_step_nm", "window_radius", "size"];
+pub const SWEEP_KEYS: [&str; 6] = ["approach", "order", "lambda_step_nm", "window_radius", "size", "samples"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
 
@@ -81,6 +83,13 @@ impl Config {
                 }
                 self.size = v;
             }
+            "samples" => {
+                let v: u32 = value.parse().map_err(|_| bad("samples per pixel are a count"))?;
+                if !(v.is_power_of_two() && v <= 64) {
+                    return Err(bad("samples per pixel are 1, 2, 4, 8, 16, 32 or 64"));
+                }
+                self.samples = Some(v);
+            }
             _ => {
                 return Err(Error::Invalid(format!(
                     "--sweep: unknown key `{key}` (the keys are {})",
@@ -95,14 +104,20 @@ impl Config {
     /// wavelength step, `auto` where the order or window radius is not forced.
     pub fn label(&self) -> String {
         let o = &self.overrides;
-        label(
+        let label = label(
             o.approach.map_or("own", Approach::name),
             o.order,
             &o.lambda_step_nm.map_or("own".to_string(), |v| v.to_string()),
             o.window_radius,
             self.size,
-        )
+        );
+        with_samples(label, self.samples)
     }
+}
+
+/// A label with the samples per pixel a sweep set (`… 800px 4spp`).
+fn with_samples(label: String, samples: Option<u32>) -> String {
+    samples.map_or(label.clone(), |n| format!("{label} {n}spp"))
 }
 
 fn label(approach: &str, order: Option<usize>, lambda_step_nm: &str, window_radius: Option<u32>, size: u32) -> String {
@@ -187,6 +202,8 @@ pub struct Row {
     pub settings: Settings,
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel of the frames.
+    pub samples: u32,
     /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
     pub order: Option<usize>,
     pub lambda_count: usize,
@@ -242,7 +259,7 @@ impl TableSummary {
 }
 
 /// The CSV's column header (the schema a test checks).
-pub const CSV_COLUMNS: [&str; 33] = [
+pub const CSV_COLUMNS: [&str; 34] = [
     "approach",
     "order_asked",
     "order",
@@ -252,6 +269,7 @@ pub const CSV_COLUMNS: [&str; 33] = [
     "taps",
     "width",
     "height",
+    "samples",
     "frames",
     "precompute_ms",
     "gpu_ms_median",
@@ -286,7 +304,8 @@ impl Row {
     /// The label of what ran, e.g. `flss N=12 Δλ=5 r=2 256px` (`auto`: the order or radius was not forced).
     pub fn label(&self) -> String {
         let s = &self.settings;
-        label(s.approach.name(), s.order, &s.lambda_step_nm.to_string(), s.window_radius, self.config.size)
+        let label = label(s.approach.name(), s.order, &s.lambda_step_nm.to_string(), s.window_radius, self.config.size);
+        with_samples(label, self.config.samples)
     }
 
     /// The median GPU time of the pass `name` over the frames (None where the frames had no such pass).
@@ -307,6 +326,7 @@ impl Row {
             self.taps.to_string(),
             self.width.to_string(),
             self.height.to_string(),
+            self.samples.to_string(),
             self.frames.to_string(),
             format!("{:.3}", self.precompute_ms),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
@@ -380,13 +400,14 @@ pub fn markdown(rows: &[Row]) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {}×{} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {}×{}{} | {} | {} | {} | {} | {} | {} | {} |",
             s.approach.name(),
             order,
             lambda,
             taps,
             r.width,
             r.height,
+            if r.samples > 1 { format!(" ×{}", r.samples) } else { String::new() },
             gpu,
             ms(r.cpu_ms.median),
             si(r.fetches_per_pixel),
@@ -464,7 +485,7 @@ mod tests {
 
     fn base() -> Config {
         let overrides = Overrides { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..Overrides::default() };
-        Config { overrides, size: 64 }
+        Config { overrides, size: 64, samples: None }
     }
 
     #[test]
@@ -480,6 +501,9 @@ mod tests {
         assert_eq!(old[0].overrides.order, Some(3), "the key's first name is still accepted");
         assert_eq!(configs[3].overrides.approach, Some(Approach::Pq));
         assert_eq!(configs[6].overrides.lambda_step_nm, Some(10.0));
+        let samples = configurations(base(), &[Sweep::parse(&["samples=1,4".into()]).unwrap()]).unwrap();
+        assert_eq!(samples.iter().map(|c| c.samples).collect::<Vec<_>>(), [Some(1), Some(4)]);
+        assert!(samples[1].label().ends_with("64px 4spp"), "{}", samples[1].label());
     }
 
     #[test]
@@ -493,6 +517,8 @@ mod tests {
             ("lambda_step_nm=0", "(0, 400]"),
             ("window_radius=99", "at most"),
             ("size=0", "1..="),
+            ("samples=3", "1, 2, 4"),
+            ("samples=128", "1, 2, 4"),
         ] {
             let e = Sweep::parse(&[item.to_string()]).unwrap_err().to_string();
             assert!(e.contains(needle), "{item}: {e}");

@@ -150,6 +150,7 @@ impl Subject {
         ctx: &Context,
         materials: &'a [Material],
         size: (u32, u32),
+        samples: vk::SampleCountFlags,
         options: &Options,
     ) -> Result<Box<dyn Workload + 'a>> {
         Ok(match self {
@@ -161,7 +162,7 @@ impl Subject {
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
                 let inputs = material_inputs(scene, materials);
-                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, options.samples)?)
+                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, samples)?)
             }
         })
     }
@@ -288,7 +289,11 @@ fn measure_config(
     step: &dyn Fn(&str),
 ) -> Result<Row> {
     let Measured { materials, precompute_ms, reference } = *with;
-    let mut workload = subject.workload(ctx, materials, size, options)?;
+    let samples = match config.samples {
+        Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
+        None => options.samples,
+    };
+    let mut workload = subject.workload(ctx, materials, size, samples, options)?;
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();
     let result = measured.and_then(|(samples, image, fetches)| {
@@ -297,7 +302,9 @@ fn measure_config(
     });
     // SAFETY: every frame was waited for.
     unsafe { workload.destroy(ctx) };
-    let (samples, error, fetches) = result?;
+    let (frame_samples, error, fetches) = result?;
+    let samples_per_pixel = samples.as_raw();
+    let samples = frame_samples;
     let gpu: Vec<f64> = samples.iter().filter_map(FrameSample::gpu_ms).collect();
     let gpu_ms = (gpu.len() == samples.len()).then(|| Spread::of(&gpu)).flatten();
     let passes = pass_spreads(&samples);
@@ -314,6 +321,7 @@ fn measure_config(
         settings: m.settings,
         width: size.0,
         height: size.1,
+        samples: samples_per_pixel,
         order: m.plan.map(|p| p.order),
         lambda_count: m.sampling.count,
         taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,

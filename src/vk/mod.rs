@@ -31,7 +31,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
 pub use buffer::{Buffer, BufferDesc};
 pub use command::{ImageState, MemoryState};
-pub use device::{DeviceInfo, DeviceSelector};
+pub use device::{choose as choose_device, DeviceInfo, DeviceSelector};
 pub use gpu_allocator::MemoryLocation;
 pub use guard::{Destroy, Guard};
 pub use image::{Image, ImageDesc, Sampler};

@@ -6,20 +6,22 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+pub mod place;
+
 /// Runs the `diffract` binary (without DIFFRACT_VALIDATION from the environment; baked tables and references
 /// cached under the target folder, not in the user's cache).
 pub fn diffract(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_diffract"))
+    Command::new(place::diffract_bin())
         .args(args)
         .env_remove("DIFFRACT_VALIDATION")
-        .env("DIFFRACT_CACHE", PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cache"))
+        .env("DIFFRACT_CACHE", place::scratch_root().join("cache"))
         .output()
         .expect("run diffract")
 }
 
 /// A path under the target's scratch folder for the test binary `group`.
 pub fn scratch(group: &str, name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(group);
+    let dir: PathBuf = place::scratch_root().join(group);
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

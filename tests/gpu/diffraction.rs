@@ -10,8 +10,6 @@ use glam::DVec3;
 use crate::golden;
 use crate::harness::gpu_test;
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
-
 /// A blazed grating: h = H·frac(x/d), `rows` identical rows.
 pub fn blazed(period_px: usize, periods: usize, rows: usize, dx_um: f64, h_um: f64) -> HeightField {
     let n = period_px * periods;
@@ -21,7 +19,7 @@ pub fn blazed(period_px: usize, periods: usize, rows: usize, dx_um: f64, h_um: f
 
 fn elaphe(tile: usize) -> HeightField {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale))
         .unwrap()
         .tiled(tile, tile)
         .unwrap()

@@ -1,4 +1,5 @@
-//! All GPU tests, in one binary, on lavapipe with validation (see `harness`).
+//! All GPU tests, in one binary, on the test device (lavapipe unless `DIFFRACT_TEST_DEVICE` says otherwise) with
+//! validation (see `harness`).
 
 mod diffraction;
 mod golden;
@@ -13,14 +14,16 @@ use diffract::shaders::interface::{
     SelftestPush, BINDING_SELFTEST_IN, BINDING_SELFTEST_OUT, LOCAL_SIZE_X, SPEC_SELFTEST_SCALE,
 };
 use diffract::vk::{
-    Binding, BufferDesc, ComputePipelineDesc, DescriptorWrite, ImageDesc, ImageState, MemoryState, SpecConstants,
+    Binding, BufferDesc, ComputePipelineDesc, DescriptorWrite, DeviceSelector, ImageDesc, ImageState, MemoryState,
+    SpecConstants,
 };
 use harness::gpu_test;
 
 #[test]
-fn lavapipe_is_listed() {
+fn the_test_device_is_listed() {
     let (devices, _) = diffract::vk::list_devices(false).expect("list devices");
-    assert!(devices.iter().any(|d| d.name.contains(harness::TEST_DEVICE)), "{devices:?}");
+    let chosen = diffract::vk::choose_device(&devices, &DeviceSelector::parse(&harness::place::test_device()));
+    assert!(chosen.is_ok(), "{devices:?}");
 }
 
 #[test]

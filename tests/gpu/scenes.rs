@@ -9,7 +9,7 @@ use crate::harness::gpu_test;
 
 #[test]
 fn every_asset_scene_renders_in_colour() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let dir = crate::harness::place::assets().join("scenes");
     let mut scenes: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
     scenes.sort();
     assert!(scenes.len() >= 3, "{scenes:?}");

@@ -13,7 +13,6 @@ use crate::harness::gpu_test;
 
 const ONE: ash::vk::SampleCountFlags = ash::vk::SampleCountFlags::TYPE_1;
 
-const AFM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/afm");
 const HALF: f32 = 1.0;
 
 /// A quad whose tangents are turned by `tangent_deg` (with `handedness`), and the view it is drawn under.
@@ -57,7 +56,7 @@ fn unproject(view: &SceneView, w: u32, h: u32, x: u32, y: u32) -> Option<Vec3> {
 #[test]
 fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    let hf = diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale))
         .unwrap()
         .tiled(3, 3)
         .unwrap();
@@ -110,7 +109,7 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
 fn material_orientation_turns_the_patch_like_the_tangent() {
     use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
+    let hf = diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale))
         .unwrap()
         .tiled(2, 2)
         .unwrap();
@@ -206,8 +205,7 @@ fn a_frame_is_timed_pass_by_pass_and_the_passes_make_the_frame() {
 #[test]
 fn multisampling_gives_silhouette_pixels_intermediate_values() {
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
-    let hf = diffract::physics::formats::load(std::path::Path::new(&format!("{AFM}/elaphe-100px.png")), Some(scale))
-        .unwrap();
+    let hf = diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale)).unwrap();
     let settings = Settings { lambda_step_nm: 20.0, coherence_um: 6.5, ..Settings::default() };
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     // Pixels between the background (0) and the quad's colour: partly covered ones.

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# On whatever Vulkan device is present: every user path with the validation layer, the GPU tests (prebuilt test
+# binaries, so a machine without Rust runs them), and a timing table with per-pass times. Any validation
+# message, failed path or failed test fails the script; the timings are printed and kept, never judged.
+#
+# Usage: scripts/gpu-check.sh [--device N|NAME] [--out DIR] [--quick]
+#   --device  the device (an index or a name substring from `diffract devices`; default: the first discrete GPU,
+#             then integrated GPU, then whatever is listed first)
+#   --out     where the logs, CSV files and tables go (default: a fresh temporary folder, printed at the end)
+#   --quick   smaller timing workloads (800² frames and maps up to 1024²), for a CPU device such as lavapipe
+#
+# On this machine: `cargo build --release && cargo test --release --no-run` makes target/release/diffract and
+# the test binaries under target/release/deps; the script itself needs neither cargo nor Rust. To run it on a
+# machine lent for a session, carry `target/release/diffract` and `target/release/deps` with the working tree (the
+# test binaries find the repository's assets and the diffract binary above themselves). docs/performance.md
+# gives the recipe.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+device=""
+out=""
+quick=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --device) device=$2; shift 2 ;;
+    --out) out=$2; shift 2 ;;
+    --quick) quick=1; shift ;;
+    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "gpu-check: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+bin=target/release/diffract
+if [ ! -x "$bin" ]; then
+  echo "gpu-check: $bin is missing: run \`cargo build --release\` first" >&2
+  exit 2
+fi
+out=${out:-$(mktemp -d)}
+mkdir -p "$out"
+export DIFFRACT_CACHE="$out/cache"
+
+# The device: as asked, else the one a user gets by default (a discrete GPU first).
+"$bin" devices | tee "$out/devices.txt"
+if [ -z "$device" ]; then
+  for kind in "discrete GPU" "integrated GPU" ""; do
+    device=$(awk -v k="$kind" 'NR > 1 && index($0, k) { print $1; exit }' "$out/devices.txt")
+    [ -n "$device" ] && break
+  done
+fi
+echo "gpu-check: device $device"
+device_args=(--device "$device")
+
+echo "== user paths, with the validation layer"
+source scripts/lib/user-paths.sh
+check_offscreen_paths
+if [ -n "${DISPLAY:-}" ]; then
+  check_viewer_paths
+else
+  echo "skip  viewer: no display (DISPLAY is not set)"
+fi
+
+echo "== GPU tests on device $device"
+export DIFFRACT_TEST_DEVICE=$device DIFFRACT_TEST_TMP="$out/tests"
+mkdir -p "$DIFFRACT_TEST_TMP"
+tests=0
+names=(gpu cli cli_render cli_brdf cli_profile)
+[ -n "${DISPLAY:-}" ] && names+=(cli_view)
+for name in "${names[@]}"; do
+  test_bin=$(find target/release/deps -maxdepth 1 -type f -executable -name "$name-*" -printf '%T@ %p\n' 2>/dev/null \
+    | sort -rn | head -1 | cut -d' ' -f2-)
+  if [ -z "$test_bin" ]; then
+    echo "FAIL  tests $name: no test binary (cargo test --release --no-run)"
+    failures=$((failures + 1))
+    continue
+  fi
+  if "$test_bin" --test-threads 2 >"$out/test-$name.log" 2>&1; then
+    echo "ok    tests $name: $(grep -h '^test result' "$out/test-$name.log" | tail -1)"
+  else
+    echo "FAIL  tests $name ($test_bin):"
+    grep -E "panicked|FAILED|failures:" "$out/test-$name.log" | head -20 | sed 's/^/      /'
+    failures=$((failures + 1))
+  fi
+  tests=$((tests + 1))
+done
+
+echo "== timings on device $device (GPU ms; the passes of a frame sum to its time)"
+if [ "$quick" = 1 ]; then
+  frames=(800x800) map_sizes=256,512,1024
+else
+  frames=(1920x1080 3840x2160) map_sizes=256,512,1024,2048,4096
+fi
+for size in "${frames[@]}"; do
+  w=${size%x*} h=${size#*x}
+  "$bin" profile "${device_args[@]}" --width "$w" --height "$h" --frames 10 --warmup 2 --no-reference \
+    --sweep samples=1,4 --csv "$out/scene-$size.csv" >"$out/scene-$size.md" 2>"$out/scene-$size.err" \
+    || { echo "FAIL  timing scene $size"; cat "$out/scene-$size.err"; failures=$((failures + 1)); }
+  echo "-- default scene at $size"
+  sed -n '/^| configuration/,$p' "$out/scene-$size.md"
+done
+"$bin" profile "${device_args[@]}" --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 \
+  --height-um 0.375 --tile 10 --exposure 8 --frames 10 --warmup 2 --no-reference --roofline \
+  --sweep approach=gem,baked "size=$map_sizes" --csv "$out/map.csv" >"$out/map.md" 2>"$out/map.err" \
+  || { echo "FAIL  timing map"; cat "$out/map.err"; failures=$((failures + 1)); }
+echo "-- Elaphe BRDF map, gem against baked"
+sed -n '/^| approach/,/^$/p' "$out/map.md"
+
+echo "gpu-check: logs, CSV files and tables in $out"
+if [ "$failures" -gt 0 ]; then
+  echo "gpu-check: $failures check(s) failed on device $device"
+  exit 1
+fi
+echo "gpu-check: every user path is validation-clean and $tests test binaries pass on device $device"

@@ -1,0 +1,45 @@
+# Sourced by scripts/check-release.sh and scripts/gpu-check.sh: the paths users run, each with the Khronos
+# validation layer; any validation message, error or non-zero exit counts as a failure.
+# Needs: $bin (the diffract binary), $out (a scratch folder), and optionally the array $device_args (e.g.
+# (--device 0)), added to every command. Leaves the count of failed paths in $failures.
+failures=0
+
+check() {
+  local name=$1; shift
+  local start=$SECONDS
+  if "$@" "${device_args[@]}" --validation >"$out/$name.log" 2>&1; then
+    echo "ok    $name ($((SECONDS - start)) s)"
+  else
+    echo "FAIL  $name: $* ${device_args[*]}"
+    sed 's/^/      /' "$out/$name.log" | tail -20
+    failures=$((failures + 1))
+  fi
+}
+
+# Every command but the viewer's.
+check_offscreen_paths() {
+  check default-scene "$bin" render --out "$out/default.png" --width 64 --height 64
+  for scene in assets/scenes/*.toml; do
+    local name
+    name=$(basename "$scene" .toml)
+    check "scene-$name" "$bin" render "$scene" --out "$out/$name.png" --width 64 --height 64
+  done
+  check preview "$bin" render --out "$out/preview.png" --width 64 --height 64 --preview
+  check sequence "$bin" render assets/scenes/blazed-disk.toml --out "$out/turn.png" --width 48 --height 48 \
+    --frames 3 --orbit
+  check flss-scene "$bin" render --out "$out/flss.png" --width 32 --height 32 --approach flss
+  check map "$bin" map --heightfield assets/patches/blazed-1.6um.gsf --light-theta 20 --size 64 \
+    --out "$out/map.png" --exr "$out/map.exr"
+  check map-baked "$bin" map --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 \
+    --tile 10 --light-theta 20 --size 64 --approach baked --out "$out/map-baked.png"
+  check brdf-gpu "$bin" brdf --heightfield assets/patches/blazed-1.6um.gsf --light-theta 0 --view-theta 0:40:10 \
+    --lambda 450,550 --gpu
+  check profile "$bin" profile --width 32 --frames 2 --warmup 1 --no-reference --sweep approach=flss,baked
+  check devices "$bin" devices
+}
+
+# The viewer's paths (a display must be set).
+check_viewer_paths() {
+  check viewer "$bin" view --width 160 --height 120 --frames 20 --screenshot "$out/view.png"
+  check viewer-flss "$bin" view --width 96 --height 64 --frames 3 --approach flss
+}
