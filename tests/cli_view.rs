@@ -114,6 +114,35 @@ fn view_renders_frames_survives_a_resize_and_writes_a_screenshot() {
     assert!(String::from_utf8_lossy(&o.stdout).contains("BRDF map"), "the key bindings are printed");
 }
 
+/// A table that is not in the cache is baked on another thread while gem stands in; the scripted frames are
+/// counted once the baked materials are drawn. (`DIFFRACT_VIEW_WAIT_MS=0`: the window does not wait for them.)
+#[test]
+fn view_shows_a_stand_in_while_its_table_bakes() {
+    let x = Xvfb::start();
+    let cache = common::scratch("cli_view", "cold-cache");
+    let _ = std::fs::remove_dir_all(&cache);
+    let shot = common::scratch("cli_view", "cold.png");
+    let o = Command::new(common::place::diffract_bin())
+        .args(["view", scene("cold.toml").to_str().unwrap(), "--width", "64", "--height", "48", "--frames", "3"])
+        .args(["--screenshot", shot.to_str().unwrap(), "--validation", "--device", &common::place::test_device()])
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("DIFFRACT_CACHE", &cache)
+        .env("DIFFRACT_VIEW_WAIT_MS", "0")
+        .output()
+        .unwrap();
+    let (out, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success() && !err.contains("validation"), "{err}");
+    for line in ["gem stands in until they are ready", "first frame (the stand-in) after", "materials are ready after"]
+    {
+        assert!(out.contains(line), "no {line:?} in {out}");
+    }
+    // The frames' summary comes after the materials are in: they are the baked approach's.
+    let ready = out.find("materials are ready").unwrap();
+    assert!(out[ready..].contains("frames at 64×48 after the first"), "{out}");
+    assert!(image::open(&shot).is_ok());
+}
+
 #[test]
 fn view_without_a_display_refuses_in_one_line() {
     let o = Command::new(common::place::diffract_bin())

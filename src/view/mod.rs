@@ -14,7 +14,7 @@ use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, KeyEvent, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 pub use controls::BINDINGS;
@@ -130,9 +130,38 @@ struct Timing {
     fps: f64,
 }
 
+/// The scene's materials being prepared on another thread (a baked table that is not in the cache takes seconds)
+/// while the window shows a stand-in; installed by the first frame drawn after they are ready.
+struct Pending {
+    /// The settings they are prepared for (a key that changes them drops the job).
+    overrides: Overrides,
+    done: std::sync::mpsc::Receiver<Result<Vec<Material>>>,
+    since: Instant,
+}
+
+/// How long the window waits for the materials before it shows a stand-in instead (a cached table is ready well
+/// within it), unless `DIFFRACT_VIEW_WAIT_MS` says otherwise.
+const FIRST_FRAME_WAIT_MS: u64 = 700;
+
+/// [`FIRST_FRAME_WAIT_MS`], or `DIFFRACT_VIEW_WAIT_MS` where that is set to a number of milliseconds.
+fn first_frame_wait() -> std::time::Duration {
+    let ms = std::env::var("DIFFRACT_VIEW_WAIT_MS").ok().and_then(|v| v.trim().parse().ok());
+    std::time::Duration::from_millis(ms.unwrap_or(FIRST_FRAME_WAIT_MS))
+}
+
+/// The approach of the stand-in: analytic, no table to build.
+const STAND_IN: Approach = Approach::Gem;
+/// How often the stand-in is drawn (it would otherwise take the cores the bake needs).
+const STAND_IN_PERIOD: std::time::Duration = std::time::Duration::from_millis(250);
+
 struct State {
     /// Dropped after the target (its surface), which [`State::destroy`] destroys first.
     window: Window,
+    /// Materials still being prepared, while `gpu` draws a stand-in.
+    pending: Option<Pending>,
+    /// When the last frame was drawn, and when the window was asked for (the first frame's latency is printed).
+    last_drawn: Instant,
+    opened: Instant,
     ctx: Context,
     target: WindowTarget,
     gpu: Gpu,
@@ -203,9 +232,16 @@ impl ApplicationHandler for App {
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
-        if let Some(state) = &self.state {
-            state.window.request_redraw();
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(state) = &self.state else { return };
+        // While the materials are prepared, the stand-in is drawn a few times a second: the cores are the bake's.
+        let due = state.pending.as_ref().map(|_| state.last_drawn + STAND_IN_PERIOD);
+        match due.filter(|&due| due > Instant::now()) {
+            Some(due) => event_loop.set_control_flow(ControlFlow::WaitUntil(due)),
+            None => {
+                event_loop.set_control_flow(ControlFlow::Poll);
+                state.window.request_redraw();
+            }
         }
     }
 
@@ -226,10 +262,53 @@ impl ApplicationHandler for App {
     }
 }
 
+/// The first materials and passes: prepared on another thread and waited for up to [`first_frame_wait`]; where
+/// that is not enough (a baked table not yet in the cache), the job goes on while [`STAND_IN`] is drawn.
+fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -> Result<(Gpu, Option<Pending>)> {
+    use std::sync::mpsc::RecvTimeoutError;
+    let (send, done) = std::sync::mpsc::channel();
+    let (job, overrides, since) = (scene.clone(), live.overrides, Instant::now());
+    std::thread::Builder::new()
+        .name("materials".into())
+        .spawn(move || {
+            // The receiver is gone only when the window closed first: nothing is waiting then.
+            let _ = send.send(prepare_materials(&job, &overrides, &[Reach::ANY]));
+        })
+        .map_err(|e| Error::Invalid(format!("cannot start a thread to prepare the materials: {e}")))?;
+    match done.recv_timeout(first_frame_wait()) {
+        Ok(materials) => Ok((Gpu::with_materials(ctx, scene, live, target, materials?)?, None)),
+        Err(RecvTimeoutError::Timeout) => {
+            let stand_in = Overrides { approach: Some(STAND_IN), ..overrides };
+            let materials = prepare_materials(scene, &stand_in, &[Reach::ANY])?;
+            println!(
+                "view: preparing the materials (a baked table that is not in the cache yet takes a while); {} stands \
+                 in until they are ready",
+                STAND_IN.name()
+            );
+            let gpu = Gpu::with_materials(ctx, scene, live, target, materials)?;
+            Ok((gpu, Some(Pending { overrides, done, since })))
+        }
+        Err(RecvTimeoutError::Disconnected) => {
+            Err(Error::Invalid("the thread preparing the materials stopped (a bug in diffract)".into()))
+        }
+    }
+}
+
 impl Gpu {
     /// Prepares the scene's materials for the live settings and builds the passes for the window's target.
     fn new(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -> Result<Self> {
-        let mut materials = prepare_materials(scene, &live.overrides, &[Reach::ANY])?;
+        let materials = prepare_materials(scene, &live.overrides, &[Reach::ANY])?;
+        Self::with_materials(ctx, scene, live, target, materials)
+    }
+
+    /// The passes for prepared `materials`.
+    fn with_materials(
+        ctx: &Context,
+        scene: &Scene,
+        live: &Live,
+        target: &WindowTarget,
+        mut materials: Vec<Material>,
+    ) -> Result<Self> {
         for m in &mut materials {
             m.params.display[0] = live.exposure_scale() as f32;
         }
@@ -294,6 +373,7 @@ impl Timing {
 
 impl State {
     fn new(event_loop: &ActiveEventLoop, options: &ViewOptions) -> Result<Self> {
+        let opened = Instant::now();
         let attributes = Window::default_attributes()
             .with_title("diffract")
             .with_inner_size(PhysicalSize::new(options.width, options.height));
@@ -317,10 +397,13 @@ impl State {
         let target = WindowTarget::new(&ctx, (display, handle), (size.width, size.height), options.vsync, samples)?;
         let target = Guard::new(&ctx, target);
         let live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev);
-        let gpu = Gpu::new(&ctx, &options.scene, &live, &target)?;
+        let (gpu, pending) = first_gpu(&ctx, &options.scene, &live, &target)?;
         let target = target.keep();
         Ok(Self {
             window,
+            pending,
+            last_drawn: Instant::now(),
+            opened,
             ctx,
             target,
             gpu,
@@ -335,6 +418,12 @@ impl State {
     /// Re-prepares the materials and passes for the live settings (the old ones stay if that fails).
     fn rebuild(&mut self, options: &ViewOptions) -> Result<()> {
         let gpu = Gpu::new(&self.ctx, &options.scene, &self.live, &self.target)?;
+        self.pending = None;
+        self.install(gpu)
+    }
+
+    /// Draws with `gpu` from the next frame on.
+    fn install(&mut self, gpu: Gpu) -> Result<()> {
         // The frame in flight must finish before the old resources go.
         self.ctx.wait_idle()?;
         let old = std::mem::replace(&mut self.gpu, gpu);
@@ -374,8 +463,30 @@ impl State {
         self.save_screenshot(path)
     }
 
+    /// Installs the materials prepared on another thread once they are ready; the scripted frames and their
+    /// timings start again with them.
+    fn poll_pending(&mut self, options: &ViewOptions) -> Result<()> {
+        let Some(pending) = &self.pending else { return Ok(()) };
+        let materials = match pending.done.try_recv() {
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(()),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return Err(Error::Invalid("the thread preparing the materials stopped (a bug in diffract)".into()))
+            }
+            Ok(materials) => materials?,
+        };
+        let seconds = pending.since.elapsed().as_secs_f64();
+        self.pending = None;
+        let gpu = Gpu::with_materials(&self.ctx, &options.scene, &self.live, &self.target, materials)?;
+        self.install(gpu)?;
+        println!("view: the materials are ready after {seconds:.1} s; drawing them from now on");
+        self.timing = Timing::new();
+        Ok(())
+    }
+
     fn draw(&mut self, event_loop: &ActiveEventLoop, options: &ViewOptions) -> Result<()> {
-        let last = options.frames.is_some_and(|n| self.timing.frame + 1 >= n);
+        self.poll_pending(options)?;
+        // Scripted frames count only once the asked-for materials are drawn.
+        let last = self.pending.is_none() && options.frames.is_some_and(|n| self.timing.frame + 1 >= n);
         self.render(options, last && options.screenshot.is_some())?;
         if let Some(n) = options.resize_after {
             if self.timing.frame == n {
@@ -383,7 +494,7 @@ impl State {
                 let _ = self.window.request_inner_size(PhysicalSize::new(size.width * 3 / 4, size.height * 3 / 4));
             }
         }
-        if options.soak {
+        if options.soak && self.pending.is_none() {
             self.soak_step(options, last)?;
         }
         if last {
@@ -479,6 +590,10 @@ impl State {
         self.timing.measured(frame.previous.clone());
         self.record(options, &frame)?;
         self.target.end_frame(&self.ctx, frame, copy)?;
+        self.last_drawn = Instant::now();
+        if self.timing.frame == 0 && self.pending.is_some() {
+            println!("view: first frame (the stand-in) after {:.1} s", self.opened.elapsed().as_secs_f64());
+        }
         if self.timing.presented() {
             self.update_title();
         }
@@ -536,8 +651,12 @@ impl State {
             ),
         };
         let gpu_ms = self.timing.last.as_ref().map_or_else(|| "GPU –".into(), |t| format!("GPU {}", t.describe()));
+        let waiting = self.pending.as_ref().map_or(String::new(), |p| {
+            let asked = p.overrides.approach.map_or("the scene's approach", Approach::name);
+            format!(" (standing in while {asked} is prepared, {:.0} s)", p.since.elapsed().as_secs_f64())
+        });
         self.window.set_title(&format!(
-            "diffract — {} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
+            "diffract — {}{waiting} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
             m.settings.approach.name(),
             self.live.exposure_ev,
             if self.live.map_mode { "BRDF map" } else { "geometry" },
