@@ -74,8 +74,9 @@ pub enum Reach {
     /// Light and views anywhere above the surface, by pixels whose footprint in (u, v) is at least `footprint`
     /// (0: as fine as the lobes).
     Hemisphere { footprint: f64 },
-    /// A BRDF map of `size` pixels across the hemisphere of views, under `light` (unit, patch frame).
-    Map { light: DVec3, size: u32 },
+    /// A BRDF map of `size` pixels across the hemisphere of views, under `light` (unit, patch frame); `filtered`:
+    /// each pixel is averaged over its footprint (else it reads its centre's value).
+    Map { light: DVec3, size: u32, filtered: bool },
     /// What a frame shows: the box of its (u, v, w) and its smallest footprint.
     Seen { domain: Domain, footprint: f64 },
 }
@@ -96,11 +97,18 @@ impl Reach {
     /// What a baked table for these views must cover.
     pub fn table_request(&self) -> TableRequest {
         match *self {
-            Reach::Hemisphere { footprint } => TableRequest { domain: Domain::HEMISPHERE, footprint, aligned: false },
-            Reach::Map { light, size } => {
-                TableRequest { domain: Domain::map(light), footprint: 2.0 / f64::from(size.max(1)), aligned: true }
+            Reach::Hemisphere { footprint } => {
+                TableRequest { domain: Domain::HEMISPHERE, footprint, aligned: false, centres_only: false }
             }
-            Reach::Seen { domain, footprint } => TableRequest { domain, footprint, aligned: false },
+            Reach::Map { light, size, filtered } => TableRequest {
+                domain: Domain::map(light),
+                footprint: 2.0 / f64::from(size.max(1)),
+                aligned: true,
+                centres_only: !filtered,
+            },
+            Reach::Seen { domain, footprint } => {
+                TableRequest { domain, footprint, aligned: false, centres_only: false }
+            }
         }
     }
 }

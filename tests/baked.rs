@@ -58,7 +58,12 @@ fn close(table: DVec3, exact: DVec3, rel: f64, what: &str) {
 /// A BRDF map's table (texel-centre values) at normal incidence for a map of `size` pixels.
 fn map_table(hf: &HeightField, coherence_um: f64, size: u32) -> (TablePlan, diffract::physics::baked::BakedTable) {
     let light = DVec3::Z;
-    let request = TableRequest { domain: Domain::map(light), footprint: 2.0 / f64::from(size), aligned: true };
+    let request = TableRequest {
+        domain: Domain::map(light),
+        footprint: 2.0 / f64::from(size),
+        aligned: true,
+        centres_only: false,
+    };
     let plan = TablePlan::new(hf, coherence_um, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let table = build::build(hf, &plan, None).unwrap();
     (plan, table)
@@ -100,7 +105,7 @@ fn texel_averages_and_the_coarsest_level_equal_means_computed_directly() {
     let hf = tiled();
     let (lx, _) = hf.size_um();
     let domain = Domain { u: (-0.15, 0.15), v: (-0.15, 0.15), w: (-1.9, -1.7) };
-    let request = TableRequest { domain, footprint: 0.12, aligned: false };
+    let request = TableRequest { domain, footprint: 0.12, aligned: false, centres_only: false };
     let plan = TablePlan::new(&hf, lx, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     assert!(plan.lattice && !plan.point && plan.grid.texel > plan.lobe_width.1, "{}", plan.describe());
     let table = build::build(&hf, &plan, None).unwrap();
@@ -158,7 +163,7 @@ fn a_pixel_footprint_picks_the_level_a_third_of_its_variance_finer() {
 fn deeper_structures_need_more_terms_in_w() {
     let shallow = HeightField::new(8, 8, 0.1, 0.1, noise(64, 3, 0.1)).unwrap().tiled(8, 8).unwrap();
     let deep = HeightField::new(8, 8, 0.1, 0.1, noise(64, 3, 0.8)).unwrap().tiled(8, 8).unwrap();
-    let request = TableRequest { domain: Domain::HEMISPHERE, footprint: 0.05, aligned: false };
+    let request = TableRequest { domain: Domain::HEMISPHERE, footprint: 0.05, aligned: false, centres_only: false };
     let plan = |hf: &HeightField| TablePlan::new(hf, 6.4, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let (a, b) = (plan(&shallow), plan(&deep));
     assert!(b.terms > a.terms + 4, "{} vs {}", a.describe(), b.describe());
@@ -222,4 +227,36 @@ fn between_texel_centres_the_table_interpolates_within_a_colour_difference_of_on
     let worst = des.iter().copied().fold(0.0, f64::max);
     eprintln!("between nodes: mean ΔE00 {mean:.3}, worst {worst:.3} over {} points", des.len());
     assert!(mean < 1.0 && worst < 5.0, "mean {mean}, worst {worst}");
+}
+
+/// A map read at its pixel centres only (no footprint filter) gets one texel per pixel, each the exact colour of
+/// its pixel's centre; a filtered map keeps the finer texels its lobes need.
+#[test]
+fn a_map_read_at_pixel_centres_has_one_texel_per_pixel() {
+    let hf = dense();
+    let (lx, _) = hf.size_um();
+    let size = 24;
+    let request = |centres_only| TableRequest {
+        domain: Domain::map(DVec3::Z),
+        footprint: 2.0 / f64::from(size),
+        aligned: true,
+        centres_only,
+    };
+    let point = TablePlan::new(&hf, lx, &request(true), DEFAULT_TABLE_TOLERANCE).unwrap();
+    let filtered = TablePlan::new(&hf, lx, &request(false), DEFAULT_TABLE_TOLERANCE).unwrap();
+    assert_eq!((point.grid.nu, point.grid.nv), (size as usize, size as usize), "{}", point.describe());
+    assert!(filtered.grid.nu > point.grid.nu, "the lobes ask for finer texels: {}", filtered.describe());
+    let table = build::build(&hf, &point, None).unwrap();
+    let exact = reference(&hf, lx, Method::Exact);
+    let sampling = Sampling::visible(1.0);
+    let g = point.grid;
+    // A map's pixel centres lie at −1 + (i + ½)·2/size in u and in v (glsl/map.frag.glsl): each is a texel's centre.
+    for (x, y) in [(12, 12), (13, 12), (5, 17), (20, 3)] {
+        let (u, v) =
+            (-1.0 + (f64::from(x) + 0.5) * 2.0 / f64::from(size), -1.0 + (f64::from(y) + 0.5) * 2.0 / f64::from(size));
+        assert!((g.u_centre(x as usize) - u).abs() < 1e-12 && (g.v_centre(y as usize) - v).abs() < 1e-12);
+        let w = -(1.0 - u * u - v * v).max(0.0).sqrt() - 1.0;
+        let uvw = DVec3::new(u, v, w.clamp(g.w.0, g.w.1));
+        close(table.xyz(uvw, 0.0), exact.spectral_xyz(uvw, &sampling), 2e-3, &format!("pixel ({x}, {y})"));
+    }
 }

@@ -211,7 +211,7 @@ fn map_point(ctx: &Context, patch: &Patch, coherence_um: f64, theta_i: f64, size
         .map(|approach| {
             let settings = Settings { approach, coherence_um, ..Default::default() };
             let mut warned = false;
-            let outcome = Material::prepare(&patch.hf, settings, &Reach::Map { light, size })
+            let outcome = Material::prepare(&patch.hf, settings, &Reach::Map { light, size, filtered: false })
                 .and_then(|m| {
                     warned = m.caveat().is_some();
                     diffraction::render_map(ctx, &m, size, light, false)
@@ -422,7 +422,7 @@ fn approximations_warn_outside_their_domain() {
         let light = diffract::physics::optics::direction(0.0, 0.0);
         let caveat = |coherence_um: f64| {
             let settings = Settings { approach, coherence_um, ..Default::default() };
-            Material::prepare(&hf, settings, &Reach::Map { light, size: 8 }).unwrap().caveat()
+            Material::prepare(&hf, settings, &Reach::Map { light, size: 8, filtered: false }).unwrap().caveat()
         };
         assert!(caveat(65.0).is_none(), "{approach:?}");
         let narrow = caveat(1.0);

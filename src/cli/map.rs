@@ -44,7 +44,11 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let hf = args.heightfield.load()?;
     let light = optics::direction(args.light.light_theta, args.light.light_phi);
     let start = Instant::now();
-    let material = Material::prepare(&hf, args.shading.settings(), &Reach::Map { light, size: args.size })?;
+    let material = Material::prepare(
+        &hf,
+        args.shading.settings(),
+        &Reach::Map { light, size: args.size, filtered: args.footprint },
+    )?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     let map =

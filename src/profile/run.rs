@@ -96,10 +96,10 @@ impl Subject {
 
     /// The materials `config` asks for (the Taylor terms and everything else the GPU needs). A scene's materials
     /// are sized (baked tables) for the views its frame at `size` shows.
-    fn prepare(&self, ctx: &Context, config: &Config, size: (u32, u32)) -> Result<Vec<Material>> {
+    fn prepare(&self, ctx: &Context, config: &Config, size: (u32, u32), options: &Options) -> Result<Vec<Material>> {
         match self {
             Subject::Map { heightfield, light, settings, .. } => {
-                let reach = Reach::Map { light: *light, size: config.size };
+                let reach = Reach::Map { light: *light, size: config.size, filtered: map_filtered(options) };
                 Ok(vec![Material::prepare(heightfield, config.overrides.apply(*settings), &reach)?])
             }
             Subject::Scene { scene, any_view, .. } => {
@@ -155,9 +155,7 @@ impl Subject {
     ) -> Result<Box<dyn Workload + 'a>> {
         Ok(match self {
             Subject::Map { light, .. } => {
-                // Against an area-sampled reference a baked map averages over its pixels too.
-                let footprint = options.reference.as_ref().is_some_and(|r| r.samples > 1);
-                Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, footprint)?)
+                Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, map_filtered(options))?)
             }
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
@@ -166,6 +164,12 @@ impl Subject {
             }
         })
     }
+}
+
+/// Whether a baked map averages each pixel over its footprint: against an area-sampled reference, as the
+/// reference averages its pixels.
+fn map_filtered(options: &Options) -> bool {
+    options.reference.as_ref().is_some_and(|r| r.samples > 1)
 }
 
 /// What each pixel of `scene` at `size` asks of the exact reference: the directions come from the GPU's
@@ -242,7 +246,7 @@ pub fn run(
         let size = subject.image_size(config);
         step("precomputing");
         let start = Instant::now();
-        let materials = subject.prepare(ctx, config, size).map_err(in_config)?;
+        let materials = subject.prepare(ctx, config, size, options).map_err(in_config)?;
         let precompute_ms = start.elapsed().as_secs_f64() * 1e3;
         for line in materials.iter().filter_map(Material::table_line) {
             progress(Progress::Line(format!("[{index}/{count}] {line}")));

@@ -38,7 +38,7 @@ fn map_direction(size: u32, x: u32, y: u32) -> Option<DVec3> {
 }
 
 fn map(hf: &HeightField, settings: Settings, size: u32, light: DVec3) -> (Material, MapImage) {
-    let material = Material::prepare(hf, settings, &Reach::Map { light, size }).unwrap();
+    let material = Material::prepare(hf, settings, &Reach::Map { light, size, filtered: false }).unwrap();
     let image = gpu_test(|ctx| render_map(ctx, &material, size, light, false).unwrap());
     assert_eq!(image.non_finite(), 0);
     (material, image)
@@ -160,7 +160,7 @@ fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
     let size = 49;
     for footprint in [false, true] {
         let settings = Settings { approach: Approach::Baked, ..Settings::default() };
-        let material = Material::prepare(&hf, settings, &Reach::Map { light, size }).unwrap();
+        let material = Material::prepare(&hf, settings, &Reach::Map { light, size, filtered: footprint }).unwrap();
         let image = gpu_test(|ctx| render_map(ctx, &material, size, light, footprint).unwrap());
         let table = material.table.as_ref().unwrap();
         let lod = if footprint { table.lod(2.0 / f64::from(size)) } else { 0.0 };

@@ -118,6 +118,9 @@ pub struct TableRequest {
     /// Pixel centres lie on a grid of this spacing starting half a pixel inside the domain (a BRDF map): the
     /// texels are then an odd fraction of a pixel, so that every pixel centre is a texel centre.
     pub aligned: bool,
+    /// Aligned, and every read is a pixel centre's value (a map that is not filtered over each pixel's
+    /// footprint): one texel per pixel holds it exactly, and finer texels would only be memory.
+    pub centres_only: bool,
 }
 
 /// The texel grid: texel (a, b) covers u ∈ [u0 + a·texel, u0 + (a + 1)·texel) and likewise v; w is mapped from
@@ -277,7 +280,7 @@ impl TablePlan {
         let fits = |g: &Grid| g.bytes(self.terms) <= MAX_TABLE_BYTES;
         let mut grid;
         if request.aligned {
-            let mut k = ((footprint / finest).ceil() as usize).max(1) | 1;
+            let mut k = if request.centres_only { 1 } else { ((footprint / finest).ceil() as usize).max(1) | 1 };
             grid = Self::grid(d, footprint / k as f64, true);
             while !fits(&grid) && k > 1 {
                 self.coarsened_from.get_or_insert(grid.texel);
@@ -560,7 +563,12 @@ mod tests {
         let cell: Vec<f64> = (0..100 * 100).map(|i| ((i * 7919) % 101) as f64 * 1e-3).collect();
         let hf = HeightField::new(100, 100, 0.065, 0.065, cell).unwrap().tiled(10, 10).unwrap();
         let pixel = 2.0 / 64.0;
-        let request = TableRequest { domain: Domain::map(DVec3::new(0.0, 0.0, 1.0)), footprint: pixel, aligned: true };
+        let request = TableRequest {
+            domain: Domain::map(DVec3::new(0.0, 0.0, 1.0)),
+            footprint: pixel,
+            aligned: true,
+            centres_only: false,
+        };
         let plan = TablePlan::new(&hf, 65.0, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
         assert!(plan.point && plan.terms >= 1 && plan.estimate.every_lobe && plan.estimate.points > 0);
         let k = (pixel / plan.grid.texel).round();
