@@ -3,37 +3,63 @@
 # binaries, so a machine without Rust runs them), and a timing table with per-pass times. Any validation
 # message, failed path or failed test fails the script; the timings are printed and kept, never judged.
 #
-# Usage: scripts/gpu-check.sh [--device N|NAME] [--out DIR] [--quick]
-#   --device  the device (an index or a name substring from `diffract devices`; default: the first discrete GPU,
-#             then integrated GPU, then whatever is listed first)
-#   --out     where the logs, CSV files and tables go (default: a fresh temporary folder, printed at the end)
-#   --quick   smaller timing workloads (800² frames and maps up to 1024²), for a CPU device such as lavapipe
+# Usage: scripts/gpu-check.sh [--device N|NAME] [--out DIR] [--quick] [--bin-dir DIR]
+#        scripts/gpu-check.sh --bundle DIR
+#   --device   the device (an index or a name substring from `diffract devices`; default: the first discrete
+#              GPU, then integrated GPU, then whatever is listed first)
+#   --out      where the logs, CSV files and tables go (default: a fresh temporary folder, printed at the end)
+#   --quick    smaller timing workloads (800² frames and maps up to 1024²), for a CPU device such as lavapipe
+#   --bin-dir  where diffract and deps/<test binaries> are (default: target/release)
+#   --bundle   copy diffract and the newest test binaries it runs into DIR/target/release (about 31 MB), to carry
+#              to another machine with the working tree, and stop
 #
 # On this machine: `cargo build --release && cargo test --release --no-run` makes target/release/diffract and
 # the test binaries under target/release/deps; the script itself needs neither cargo nor Rust. To run it on a
-# machine lent for a session, carry `target/release/diffract` and `target/release/deps` with the working tree (the
-# test binaries find the repository's assets and the diffract binary above themselves). docs/performance.md
-# gives the recipe.
+# machine lent for a session, make a bundle inside the working tree (an ignored folder), carry it, and run the
+# script there with --bin-dir (the test binaries find the repository's assets and the diffract binary above
+# themselves). docs/performance.md gives the recipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 device=""
 out=""
 quick=0
+bin_dir=target/release
+bundle=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --device) device=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
     --quick) quick=1; shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --bin-dir) bin_dir=$2; shift 2 ;;
+    --bundle) bundle=$2; shift 2 ;;
+    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "gpu-check: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 
-bin=target/release/diffract
+test_names=(gpu cli cli_render cli_brdf cli_profile cli_view)
+# The newest test binary named $1 under $bin_dir/deps (cargo adds a hash to the name).
+test_binary() {
+  find "$bin_dir/deps" -maxdepth 1 -type f -executable -name "$1-*" -printf '%T@ %p\n' 2>/dev/null \
+    | sort -rn | head -1 | cut -d' ' -f2-
+}
+
+bin=$bin_dir/diffract
 if [ ! -x "$bin" ]; then
   echo "gpu-check: $bin is missing: run \`cargo build --release\` first" >&2
   exit 2
+fi
+if [ -n "$bundle" ]; then
+  mkdir -p "$bundle/target/release/deps"
+  cp "$bin" "$bundle/target/release/"
+  for name in "${test_names[@]}"; do
+    test_bin=$(test_binary "$name")
+    [ -n "$test_bin" ] || { echo "gpu-check: no $name test binary (cargo test --release --no-run)" >&2; exit 2; }
+    cp "$test_bin" "$bundle/target/release/deps/"
+  done
+  echo "gpu-check: bundle in $bundle/target/release ($(du -sh "$bundle" | cut -f1)); run it with --bin-dir $bundle/target/release"
+  exit 0
 fi
 out=${out:-$(mktemp -d)}
 mkdir -p "$out"
@@ -63,11 +89,12 @@ echo "== GPU tests on device $device"
 export DIFFRACT_TEST_DEVICE=$device DIFFRACT_TEST_TMP="$out/tests"
 mkdir -p "$DIFFRACT_TEST_TMP"
 tests=0
-names=(gpu cli cli_render cli_brdf cli_profile)
-[ -n "${DISPLAY:-}" ] && names+=(cli_view)
-for name in "${names[@]}"; do
-  test_bin=$(find target/release/deps -maxdepth 1 -type f -executable -name "$name-*" -printf '%T@ %p\n' 2>/dev/null \
-    | sort -rn | head -1 | cut -d' ' -f2-)
+for name in "${test_names[@]}"; do
+  if [ "$name" = cli_view ] && [ -z "${DISPLAY:-}" ]; then
+    echo "skip  tests cli_view: no display"
+    continue
+  fi
+  test_bin=$(test_binary "$name")
   if [ -z "$test_bin" ]; then
     echo "FAIL  tests $name: no test binary (cargo test --release --no-run)"
     failures=$((failures + 1))

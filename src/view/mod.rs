@@ -54,10 +54,11 @@ pub struct ViewOptions {
     pub samples: Option<u32>,
 }
 
-/// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe shades every sample, so
-/// 4× multisampling costs about 4× the frame time there (`diffract render --samples 1|4` on the default scene:
-/// 80–85 → 328–439 ms per 800² frame).
-pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 4× the frame time: \
+/// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe's multisampled fragment path
+/// costs about three times a single-sampled one per fragment, so 4× multisampling costs about 3.3× the frame
+/// (`diffract profile --width 800 --sweep samples=1,4 --no-reference` on the default scene: 21.4 → 70–76 ms;
+/// docs/performance.md).
+pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 3× the frame time: \
                                  edges are not anti-aliased (--samples 4 turns it on)";
 
 /// Frames between the soak's resizes and approach switches.

@@ -318,6 +318,12 @@ impl TablePlan {
         let g = &self.grid;
         let resolved = if g.texel <= self.lobe_width.0 * 1.0001 {
             "resolves every lobe".to_string()
+        } else if self.point {
+            // Texel-centre values: a pixel centre reads its own exact value, whatever lies between centres.
+            format!(
+                "one texel per pixel centre; lobes of {:.4}–{:.4} between centres are not stored",
+                self.lobe_width.0, self.lobe_width.1
+            )
         } else {
             format!(
                 "lobes of {:.4}–{:.4} narrower than a texel are averaged over it",
