@@ -46,11 +46,12 @@ test_binary() {
 }
 
 bin=$bin_dir/diffract
-if [ ! -x "$bin" ]; then
-  echo "gpu-check: $bin is missing: run \`cargo build --release\` first" >&2
-  exit 2
-fi
 if [ -n "$bundle" ]; then
+  if command -v cargo >/dev/null; then
+    cargo build --release -q || exit 2
+    cargo test --release --no-run -q || exit 2
+  fi
+  rm -rf "$bundle/target/release"
   mkdir -p "$bundle/target/release/deps"
   cp "$bin" "$bundle/target/release/"
   for name in "${test_names[@]}"; do
@@ -60,6 +61,10 @@ if [ -n "$bundle" ]; then
   done
   echo "gpu-check: bundle in $bundle/target/release ($(du -sh "$bundle" | cut -f1)); run it with --bin-dir $bundle/target/release"
   exit 0
+fi
+if [ ! -x "$bin" ]; then
+  echo "gpu-check: $bin is missing: run \`cargo build --release\` first" >&2
+  exit 2
 fi
 out=${out:-$(mktemp -d)}
 mkdir -p "$out"
