@@ -31,6 +31,26 @@
 //!   (progress bars on stderr), [`error`], and [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.
+//!
+//! ## Example
+//! The exact BRDF of a height field at chosen directions, on the CPU (no GPU needed): a flat mirror sends all of
+//! the light into the mirror direction, where |P|² is 1 (the reflectance adds Stam's geometric factor, which is
+//! 1 at normal incidence).
+//! ```
+//! use diffract::brdf::{evaluate, Accuracy, Evaluator};
+//! use diffract::physics::{HeightField, Method, Query};
+//!
+//! let mirror = HeightField::new(64, 64, 0.1, 0.1, vec![0.0; 64 * 64])?; // 6.4 µm square, 0.1 µm pixels
+//! let mirror_view = Query { lambda_nm: 550.0, theta_i: 30.0, phi_i: 0.0, theta_r: 30.0, phi_r: 180.0 };
+//! let accuracy =
+//!     Accuracy { tolerance: 1e-4, order: None, coherence_um: 6.4, window_radius: None, accept_f32_error: false };
+//! let p = evaluate(&mirror, &[mirror_view], Evaluator::Cpu(Method::Exact), &accuracy, None)?;
+//! assert!((p.samples[0].power - 1.0).abs() < 1e-9);
+//! # Ok::<(), diffract::Error>(())
+//! ```
+//! The repository's `examples/` go further: `exact_brdf` (a grating's first order where the grating equation
+//! puts it), `render_frame` (bake the tables a frame needs and render it offscreen to PNG) and
+//! `profile_approaches` (two approaches timed pass by pass and measured against the exact reference).
 
 pub mod brdf;
 pub mod cache;
