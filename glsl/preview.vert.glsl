@@ -1,5 +1,5 @@
 #version 460
-// The preview pass: a mesh lit by one directional light (the default scene until diffraction shading lands).
+// The preview pass: a mesh lit by one directional light, without diffraction (`diffract render --preview`).
 #include "preview_frame.glsl"
 
 layout(location = 0) in vec3 in_position;

@@ -199,6 +199,23 @@ pub fn fallback_tangent(n: Vec3, axis: Vec3) -> Vec3 {
     n.any_orthonormal_vector()
 }
 
+/// Indices of a (rows+1)×(cols+1) vertex grid; `ccw_from_row_order` picks the winding that faces outwards for
+/// the generators ([`shapes`], [`snake`]).
+pub(crate) fn grid_indices(m: &mut Mesh, rows: u32, cols: u32, ccw_from_row_order: bool) {
+    let stride = cols + 1;
+    for r in 0..rows {
+        for c in 0..cols {
+            let a = r * stride + c;
+            let b = a + stride;
+            if ccw_from_row_order {
+                m.indices.extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
+            } else {
+                m.indices.extend_from_slice(&[a, a + 1, b, a + 1, b + 1, b]);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,7 +6,7 @@
 
 use glam::Vec3;
 
-use super::{Mesh, Vertex, UNTINTED};
+use super::{grid_indices, Mesh, Vertex, UNTINTED};
 
 /// The shapes a scene can name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, clap::ValueEnum)]
@@ -104,23 +104,6 @@ pub fn cube(half: f32) -> Mesh {
         m.indices.extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     m
-}
-
-/// Indices of a (rows+1)×(cols+1) vertex grid; `ccw_from_row_order` picks the winding that faces outwards for
-/// the generators above.
-pub(super) fn grid_indices(m: &mut Mesh, rows: u32, cols: u32, ccw_from_row_order: bool) {
-    let stride = cols + 1;
-    for r in 0..rows {
-        for c in 0..cols {
-            let a = r * stride + c;
-            let b = a + stride;
-            if ccw_from_row_order {
-                m.indices.extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
-            } else {
-                m.indices.extend_from_slice(&[a, a + 1, b, a + 1, b + 1, b]);
-            }
-        }
-    }
 }
 
 #[cfg(test)]

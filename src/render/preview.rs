@@ -1,5 +1,6 @@
 //! The preview pass: a mesh lit by one directional light, with an anisotropic streak along the tangent so
-//! the patch orientation shows. It is the default scene until diffraction shading replaces it.
+//! the patch orientation shows, without diffraction (`diffract render --preview`: a scene's geometry, tangent
+//! frames and pigment at a glance).
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -44,8 +45,8 @@ pub struct PreviewScene {
 }
 
 impl PreviewScene {
-    /// The project's default scene for now: a sphere under a light from the upper right.
-    pub fn default_scene() -> Self {
+    /// A sphere under a light from the upper right: the pass's test scene (its golden image).
+    pub fn lit_sphere() -> Self {
         Self {
             mesh: Mesh::uv_sphere(1.0, 64, 32),
             model: Mat4::IDENTITY,

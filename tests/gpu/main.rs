@@ -166,7 +166,7 @@ fn rg32f_array_texture_round_trips() {
 #[test]
 fn preview_scene_matches_golden_image() {
     let frame = gpu_test(|ctx| {
-        render_offscreen(ctx, &PreviewScene::default_scene(), 128, 128, ash::vk::SampleCountFlags::TYPE_1).unwrap()
+        render_offscreen(ctx, &PreviewScene::lit_sphere(), 128, 128, ash::vk::SampleCountFlags::TYPE_1).unwrap()
     });
     assert!(frame.gpu_ms().is_some(), "lavapipe has timestamps");
     golden::check("preview_128", frame.width, frame.height, frame.rgba8().expect("RGBA8"));
@@ -175,7 +175,7 @@ fn preview_scene_matches_golden_image() {
 #[test]
 fn odd_sized_frames_render() {
     let frame = gpu_test(|ctx| {
-        render_offscreen(ctx, &PreviewScene::default_scene(), 33, 7, ash::vk::SampleCountFlags::TYPE_1).unwrap()
+        render_offscreen(ctx, &PreviewScene::lit_sphere(), 33, 7, ash::vk::SampleCountFlags::TYPE_1).unwrap()
     });
     assert_eq!(frame.rgba8().expect("RGBA8").len(), 33 * 7 * 4);
 }

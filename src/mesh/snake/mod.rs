@@ -14,7 +14,7 @@ use glam::{Quat, Vec3};
 
 use self::eye::eye;
 use self::pattern::PatternField;
-use super::shapes::grid_indices;
+use super::grid_indices;
 use super::{Mesh, Vertex, UNTINTED};
 
 /// The skin's colour pattern.
