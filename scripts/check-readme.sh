@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Runs every complete `diffract …` command the README shows (in backticks or after `$ ` in a code block), as
-# written, in a scratch folder beside a link to assets/: any non-zero exit fails the script. Commands with
+# Runs every complete `diffract …` command the documentation shows (README.md, ARCHITECTURE.md and docs/*.md; in
+# backticks or after `$ ` in a code block), as written, in a scratch folder beside a link to assets/: any non-zero
+# exit fails the script. Commands with
 # placeholders (FILE, SCENE, N, …, [optional parts], a|b choices, the user's own files) and `view` without
 # --frames (it waits for a window to close) are listed as skipped. A command still running after the time limit
 # (default 120 s per command; the README's longest, FLSS profiles at 800², take many minutes on lavapipe) is
@@ -26,16 +27,17 @@ export PATH="$work/bin:$PATH" DIFFRACT_CACHE="$work/cache"
 
 # Commands: backticked spans, and code-block lines starting with "diffract" or "$ diffract", joined over trailing
 # backslashes. A bare command name in prose (`diffract map`) is not a command.
-mapfile -t commands < <(python3 - README.md <<'PY'
+mapfile -t commands < <(python3 - README.md ARCHITECTURE.md docs/*.md <<'PY'
 import re, sys
-text = open(sys.argv[1], encoding="utf-8").read()
 found = []
-for block in re.findall(r"```[^\n]*\n(.*?)```", text, re.S):
-    lines = re.sub(r"\s*\\\n\s*", " ", block).splitlines()
-    # In a table of commands, two spaces part a command from its description.
-    found += [re.split(r"\s{2,}", l.removeprefix("$ ").strip())[0] for l in lines if l.startswith(("$ diffract ", "diffract "))]
-text = re.sub(r"```.*?```", "", text, flags=re.S)
-found += [c.strip() for c in re.findall(r"`(diffract [^`]+)`", text.replace("\n", " "))]
+for name in sys.argv[1:]:
+    text = open(name, encoding="utf-8").read()
+    for block in re.findall(r"```[^\n]*\n(.*?)```", text, re.S):
+        lines = re.sub(r"\s*\\\n\s*", " ", block).splitlines()
+        # In a table of commands, two spaces part a command from its description.
+        found += [re.split(r"\s{2,}", l.removeprefix("$ ").strip())[0] for l in lines if l.startswith(("$ diffract ", "diffract "))]
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
+    found += [c.strip() for c in re.findall(r"`(diffract [^`]+)`", text.replace("\n", " "))]
 seen = set()
 for c in found:
     c = re.sub(r"\s+", " ", c)

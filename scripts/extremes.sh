@@ -3,7 +3,7 @@
 # from 2² to 4096², coherence 1 µm–1 m, lights and views up to 89.99°, 360–830 nm, through every evaluator of P
 # (exact, taylor, taylor-f32, the GPU's compute shader on lavapipe) and a BRDF map per approach. Every
 # evaluation must pass (finite, within the tolerance of exact) or be refused with its reason; any failure
-# fails the script. Its summary is written to docs/extremes.md (the README quotes it).
+# fails the script. Its summary is written to docs/extremes.md (docs/reliability.md quotes it).
 # Usage: scripts/extremes.sh        (release build; about half an hour on a 2-core machine)
 set -euo pipefail
 cd "$(dirname "$0")/.."

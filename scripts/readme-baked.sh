@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's figures for the baked approach, each from one command whose full output lands in
+# The figures for the baked approach (docs/performance.md), each from one command whose full output lands in
 # docs/profile/baked-<tag>/ (lavapipe on this project's machine unless --device says otherwise):
 #   maps-*.md/csv     the blazed grating and the Xenopeltis scan at 256², FLSS at its defaults against baked
 #                     (the Elaphe map is in scripts/readme-profile.sh's run, with every approach)

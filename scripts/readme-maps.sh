@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Renders the README's BRDF maps: a blazed grating and the two AFM snake patches (tiled to 65 µm), with each
+# Renders the BRDF maps of docs/approaches.md: a blazed grating and the two AFM snake patches (tiled to 65 µm), with each
 # approach, at normal incidence, and prints the time each took (`diffract map` reports the GPU time).
 # Usage: scripts/readme-maps.sh [OUT_DIR] [SIZE]   (default docs/images/maps, 256)
 set -euo pipefail

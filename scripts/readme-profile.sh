@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's "Performance and accuracy" figures: `diffract profile` of the Elaphe BRDF map (the AFM cut-out
+# The "Performance and accuracy" figures of docs/performance.md: `diffract profile` of the Elaphe BRDF map (the AFM cut-out
 # tiled to 65 µm, normal incidence) at 256², across the five approaches, Taylor orders and wavelength steps,
 # with the roofline probe. Writes docs/profile/elaphe-256-<tag>.csv and docs/images/profile-elaphe-<tag>.png.
 # Usage: scripts/readme-profile.sh [TAG] [extra diffract options, e.g. --device 0]   (default tag: lavapipe)

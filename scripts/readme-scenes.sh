@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The README's pictures of scenes, each from the diffract command its caption names (lavapipe on this project's
+# The pictures of scenes (README and docs/usage.md), each from the diffract command its caption names (lavapipe on this project's
 # machine unless extra options, e.g. --device 0, say otherwise); the commands' output lands in
 # docs/profile/scenes-<tag>.txt:
 #   docs/images/snake.png            the default scene at 800² (the README's first image)

@@ -11,7 +11,7 @@
 //!
 //! Anything else — a non-finite value, a value outside the tolerance, a refusal of `exact`, a panic — fails.
 //! `cargo test` runs a coarse grid ([`coarse_grid`]); `scripts/extremes.sh` runs the full one ([`full_grid`],
-//! release build) and writes the summary the README quotes to `docs/extremes.md`.
+//! release build) and writes the summary docs/reliability.md quotes to `docs/extremes.md`.
 
 #[path = "gpu/harness.rs"]
 mod harness;

@@ -9,7 +9,7 @@ use crate::camera::Camera;
 use crate::scene::Scene;
 use crate::shading::{Approach, Material, Overrides};
 
-/// The key bindings, as `H` prints them and the README lists them.
+/// The key bindings, as `H` prints them and docs/usage.md lists them.
 pub const BINDINGS: &str = "\
 mouse: left drag orbit · right drag (or shift + left drag) pan · wheel zoom · ctrl + left drag move the light
 keys:  1 … 5     approach flss / nmm / pq / gem / baked
