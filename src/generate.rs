@@ -10,7 +10,8 @@ use crate::error::{Error, Result};
 use crate::physics::heightfield::{check_dims, HeightField};
 
 /// The structures `diffract gen patch` makes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum PatchKind {
     /// h = H/2·(1 + cos 2πx/d): a sinusoidal phase grating (orders of power J_m²)

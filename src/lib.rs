@@ -7,7 +7,8 @@
 //!
 //! ## Architecture
 //! From the top down (each layer uses only those below it):
-//! - [`cli`]: the `diffract` command line (a thin binary calls [`cli::main`]); `anyhow` lives only there.
+//! - `cli`: the `diffract` command line (a thin binary calls `cli::main`), behind the default feature `cli`:
+//!   `clap` and `anyhow` live only there, and a library user can leave both out (`default-features = false`).
 //! - [`view`]: the interactive viewer (winit window, input, live settings); it draws through
 //!   [`render::window::WindowTarget`].
 //! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
@@ -55,6 +56,7 @@
 pub mod brdf;
 pub mod cache;
 pub mod camera;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod error;
 pub mod fuzz;

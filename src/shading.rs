@@ -21,7 +21,8 @@ use crate::physics::HeightField;
 use crate::progress::Progress;
 
 /// The thesis's shading approaches (model.md §3.1–§3.4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Approach {
     /// Full λ-space sampling: every wavelength step, the Taylor sum with the Gaussian window (the reference)

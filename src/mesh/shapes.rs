@@ -9,7 +9,8 @@ use glam::Vec3;
 use super::{grid_indices, Mesh, Vertex, UNTINTED};
 
 /// The shapes a scene can name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Shape {
     Plane,

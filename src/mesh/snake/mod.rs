@@ -18,7 +18,8 @@ use super::grid_indices;
 use super::{Mesh, Vertex, UNTINTED};
 
 /// The skin's colour pattern.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Pattern {
     /// A corn snake (Pantherophis guttatus): red-orange saddles bordered in black on a lighter orange-tan ground,
