@@ -45,10 +45,10 @@ pub struct Stamp {
 impl Stamp {
     /// The entry's file under `dir`: the kind and a hash of the version and plan.
     pub fn file(&self, dir: &Path) -> PathBuf {
-        let mut h = Fnv::default();
+        let mut h = KeyHash::default();
         h.u64(self.version);
         h.bytes(&self.plan);
-        dir.join(format!("{}-{:016x}.bin", self.kind, h.0))
+        dir.join(format!("{}-{:016x}.bin", self.kind, h.finish()))
     }
 
     /// The header of this stamp's entry for a payload of `len` bytes, without the checksum.
@@ -168,21 +168,19 @@ fn mismatch(header: &[u8], stamp: &Stamp) -> String {
     }
 }
 
-/// 64-bit FNV-1a (stable across builds and platforms, unlike std's hasher): the name of a cached result.
-pub struct Fnv(pub u64);
+/// A stable 64-bit hash (XXH3 from `xxhash-rust`: the same across builds and platforms, unlike std's hasher): the
+/// name of a cached result, and the key of what it depends on.
+pub struct KeyHash(xxhash_rust::xxh3::Xxh3);
 
-impl Default for Fnv {
+impl Default for KeyHash {
     fn default() -> Self {
-        Self(0xcbf2_9ce4_8422_2325)
+        Self(xxhash_rust::xxh3::Xxh3::new())
     }
 }
 
-impl Fnv {
+impl KeyHash {
     pub fn bytes(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= u64::from(b);
-            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
-        }
+        self.0.update(bytes);
     }
 
     pub fn u64(&mut self, v: u64) {
@@ -191,6 +189,11 @@ impl Fnv {
 
     pub fn f64(&mut self, v: f64) {
         self.u64(v.to_bits());
+    }
+
+    /// The hash of everything fed so far.
+    pub fn finish(&self) -> u64 {
+        self.0.digest()
     }
 }
 
@@ -231,5 +234,24 @@ impl<'a> Reader<'a> {
     /// Whether every byte was read.
     pub fn finished(&self) -> bool {
         self.at == self.bytes.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::KeyHash;
+
+    #[test]
+    fn key_hash_is_xxh3_and_stable() {
+        // XXH3-64 of no input, as the reference implementation publishes it: cache names must not drift.
+        assert_eq!(KeyHash::default().finish(), 0x2d06_8005_38d3_94c2);
+        let key = |v: f64| {
+            let mut h = KeyHash::default();
+            h.u64(7);
+            h.f64(v);
+            h.finish()
+        };
+        assert_eq!(key(0.5), key(0.5));
+        assert_ne!(key(0.5), key(0.25));
     }
 }

@@ -63,7 +63,7 @@ impl HeightField {
     }
 
     /// Feeds everything a height field's results depend on into a cache key: size, pixel size and every height.
-    pub fn hash_into(&self, h: &mut crate::cache::Fnv) {
+    pub fn hash_into(&self, h: &mut crate::cache::KeyHash) {
         h.u64(self.nx as u64);
         h.u64(self.ny as u64);
         h.f64(self.dx_um);

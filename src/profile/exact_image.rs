@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use glam::DVec3;
 
-use crate::cache::Fnv;
+use crate::cache::KeyHash;
 use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab};
 use crate::physics::exact::{window_gain, Method, Reference};
@@ -99,9 +99,9 @@ impl ReferenceJob<'_> {
             .collect()
     }
 
-    /// FNV-1a of everything the image depends on.
+    /// A hash of everything the image depends on.
     fn key(&self) -> u64 {
-        let mut h = Fnv::default();
+        let mut h = KeyHash::default();
         h.u64(u64::from(CACHE_VERSION));
         for m in &self.materials {
             m.heightfield.hash_into(&mut h);
@@ -122,7 +122,7 @@ impl ReferenceJob<'_> {
                 None => h.u64(u64::MAX),
             }
         }
-        h.0
+        h.finish()
     }
 
     /// Computes the image (on every core, with progress on a terminal), or reads it from `cache` where an

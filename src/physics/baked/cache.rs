@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::{BakedTable, Certificate, Estimate, Grid, TableLevel, TablePlan, LAYER_CHANNELS, MAX_TERMS};
-use crate::cache::{Fnv, PlanBytes, Reader, Stamp};
+use crate::cache::{KeyHash, PlanBytes, Reader, Stamp};
 use crate::physics::HeightField;
 
 /// Bumped whenever the build's definition changes: tables of other versions are rebuilt.
@@ -16,10 +16,14 @@ const MAX_REPORT: usize = 1024;
 
 /// Everything the estimate of `plan` depends on (the grid is not sized yet: the domain stands for it).
 fn estimate_plan(hf: &HeightField, plan: &TablePlan) -> PlanBytes {
-    let mut h = Fnv::default();
+    let mut h = KeyHash::default();
     hf.hash_into(&mut h);
     let mut p = PlanBytes::default();
-    p.u64(h.0).f64(plan.coherence_um).f64(plan.tolerance).u64(plan.nodes.count as u64).u64(u64::from(plan.lattice));
+    p.u64(h.finish())
+        .f64(plan.coherence_um)
+        .f64(plan.tolerance)
+        .u64(plan.nodes.count as u64)
+        .u64(u64::from(plan.lattice));
     let d = plan.domain;
     for v in [d.u.0, d.u.1, d.v.0, d.v.1, d.w.0, d.w.1] {
         p.f64(v);
