@@ -5,6 +5,8 @@
 //! depth pre-pass (vertex shader only), then the shading pass with an EQUAL depth test, so that overlapping
 //! surfaces (a snake's scales lie four deep) are shaded once per pixel, not once per layer.
 
+use std::mem::offset_of;
+
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -90,11 +92,16 @@ pub fn orientation(degrees: f32) -> [f32; 2] {
 /// The attributes of [`Vertex`] the vertex shaders read: position, normal, tangent and pigment tint. The UVs stay
 /// on the CPU (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be
 /// stripped by the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
+/// The offsets follow [`Vertex`]'s fields (`offset_of!`), so reordering them needs no edit here.
 pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
-    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: 0 },
-    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: 12 },
-    VertexAttribute { location: 2, format: vk::Format::R32G32B32A32_SFLOAT, offset: 24 },
-    VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: 48 },
+    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, position) as u32 },
+    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, normal) as u32 },
+    VertexAttribute {
+        location: 2,
+        format: vk::Format::R32G32B32A32_SFLOAT,
+        offset: offset_of!(Vertex, tangent) as u32,
+    },
+    VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, pigment) as u32 },
 ];
 
 /// What the renderer draws: a material (prepared patch) with its orientation on the surface and the pigment
