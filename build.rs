@@ -2,7 +2,10 @@
 //! tree) and writes `$OUT_DIR/shaders.rs`, which `src/shaders.rs` includes: one `pub const NAME_STAGE: &[u8]`
 //! per shader, embedded with `include_bytes!`.
 //!
-//! `#include "x.glsl"` resolves against `glsl/include/`. Every file read is announced with `rerun-if-changed`, so editing an include rebuilds its users.
+//! `#include "x.glsl"` resolves against `glsl/include/`, then `$OUT_DIR/include/`, where `interface.glsl` is
+//! generated from `src/shaders/interface.rs` (the one source of the numbers both sides use: every
+//! `pub const NAME: u32 | f64 = value;` becomes `#define NAME value`). Every file read is announced with
+//! `rerun-if-changed`, so editing an include rebuilds its users.
 //! A compile error fails the build with shaderc's `file:line: error: ...` lines.
 
 use std::fmt::Write as _;
@@ -35,7 +38,10 @@ fn main() {
     println!("cargo:rerun-if-changed={}", glsl.display());
     println!("cargo:rerun-if-changed={}", include_dir.display());
 
-    check_interface(&root.join("src/shaders/interface.rs"), &include_dir.join("interface.glsl"));
+    let generated = out.join("include");
+    std::fs::create_dir_all(&generated).expect("create $OUT_DIR/include");
+    let header = interface_header(&root.join("src/shaders/interface.rs"));
+    std::fs::write(generated.join("interface.glsl"), header).expect("write interface.glsl");
 
     let compiler = shaderc::Compiler::new().expect("shaderc compiler");
     let debug = std::env::var("PROFILE").map(|p| p == "debug").unwrap_or(false);
@@ -70,7 +76,7 @@ fn main() {
         let display = format!("glsl/{file}");
         let variants = VARIANTS.iter().filter(|v| v.0 == stem).map(|&(_, variant, define)| (variant, Some(define)));
         for (variant, define) in std::iter::once((stem, None)).chain(variants) {
-            match compile(&compiler, &text, kind, &display, &include_dir, debug, define) {
+            match compile(&compiler, &text, kind, &display, [&include_dir, &generated], debug, define) {
                 Ok(spirv) => {
                     let spv = out.join(format!("{variant}.spv"));
                     std::fs::write(&spv, spirv).expect("write .spv");
@@ -97,7 +103,7 @@ fn compile(
     text: &str,
     kind: shaderc::ShaderKind,
     display: &str,
-    include_dir: &Path,
+    include_dirs: [&Path; 2],
     debug: bool,
     define: Option<&str>,
 ) -> Result<Vec<u8>, String> {
@@ -112,12 +118,16 @@ fn compile(
     } else {
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
     }
-    let include_dir = include_dir.to_path_buf();
+    let [include_dir, generated] = include_dirs.map(Path::to_path_buf);
     options.set_include_callback(move |requested, _ty, _requester, _depth| {
-        let path = include_dir.join(requested);
-        match std::fs::read_to_string(&path) {
-            Ok(content) => Ok(shaderc::ResolvedInclude { resolved_name: format!("glsl/include/{requested}"), content }),
-            Err(e) => Err(format!("cannot read glsl/include/{requested}: {e}")),
+        let found = [(&include_dir, "glsl/include"), (&generated, "$OUT_DIR/include")]
+            .into_iter()
+            .find_map(|(dir, name)| Some((std::fs::read_to_string(dir.join(requested)).ok()?, name)));
+        match found {
+            Some((content, dir)) => {
+                Ok(shaderc::ResolvedInclude { resolved_name: format!("{dir}/{requested}"), content })
+            }
+            None => Err(format!("cannot read {requested} in glsl/include or $OUT_DIR/include")),
         }
     });
     compiler
@@ -132,43 +142,35 @@ fn compile(
         .map_err(|e| e.to_string())
 }
 
-/// The `NAME = value` pairs of the shader interface: `pub const NAME: u32 = value;` lines in Rust, `#define NAME
-/// value` lines in GLSL.
-fn interface_pairs(path: &Path, rust: bool) -> std::collections::BTreeMap<String, String> {
-    println!("cargo:rerun-if-changed={}", path.display());
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    text.lines()
-        .filter_map(|line| {
-            let line = line.trim();
-            if rust {
-                let rest = line.strip_prefix("pub const ")?;
-                let (name, value) = rest.split_once(": u32 = ")?;
-                Some((name.to_string(), value.trim_end_matches(';').to_string()))
-            } else {
-                let mut words = line.strip_prefix("#define ")?.split_whitespace();
-                let (name, value) = (words.next()?, words.next()?);
-                Some((name.to_string(), value.to_string()))
-            }
-        })
-        .collect()
-}
-
-/// Refuses to build when src/shaders/interface.rs and glsl/include/interface.glsl disagree on a name or a value.
-fn check_interface(rust: &Path, glsl: &Path) {
-    let (r, g) = (interface_pairs(rust, true), interface_pairs(glsl, false));
-    let mut differences = Vec::new();
-    for name in r.keys().chain(g.keys().filter(|k| !r.contains_key(*k))) {
-        match (r.get(name), g.get(name)) {
-            (Some(a), Some(b)) if a == b => {}
-            (a, b) => differences.push(format!("{name}: Rust {a:?}, GLSL {b:?}")),
+/// The shaders' `interface.glsl`: a `#define NAME value` for every `pub const NAME: u32 | f64 = value;` line of
+/// `src/shaders/interface.rs` (u32 as integer literals, f64 as float literals), with its `//` comments.
+fn interface_header(rust: &Path) -> String {
+    println!("cargo:rerun-if-changed={}", rust.display());
+    let text = std::fs::read_to_string(rust).unwrap_or_else(|e| panic!("cannot read {}: {e}", rust.display()));
+    let mut out = String::from(
+        "// Generated by build.rs from src/shaders/interface.rs, the one source of these numbers: edit them there.\n\
+         #ifndef INTERFACE_GLSL\n#define INTERFACE_GLSL\n",
+    );
+    let mut count = 0;
+    for line in text.lines().map(str::trim) {
+        if let Some(comment) = line.strip_prefix("// ") {
+            writeln!(out, "\n// {comment}").unwrap();
+            continue;
         }
+        let Some(rest) = line.strip_prefix("pub const ") else { continue };
+        let Some((name, rest)) = rest.split_once(": ") else { continue };
+        let Some((ty, value)) = rest.split_once(" = ") else { continue };
+        let value = value.trim_end_matches(';').replace('_', "");
+        let literal = match ty {
+            "u32" => value.parse::<u32>().map(|v| v.to_string()).map_err(|e| e.to_string()),
+            "f64" => value.parse::<f64>().map(|v| format!("{v:?}")).map_err(|e| e.to_string()),
+            _ => continue,
+        };
+        let literal = literal.unwrap_or_else(|e| panic!("{}: {name} = {value} is not a literal ({e})", rust.display()));
+        writeln!(out, "#define {name} {literal}").unwrap();
+        count += 1;
     }
-    if !differences.is_empty() {
-        panic!(
-            "the shader interface differs between {} and {}: {}",
-            rust.display(),
-            glsl.display(),
-            differences.join("; ")
-        );
-    }
+    assert!(count > 0, "{} declares no constants", rust.display());
+    out.push_str("\n#endif\n");
+    out
 }

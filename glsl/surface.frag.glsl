@@ -23,9 +23,8 @@ layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
 layout(location = 0) out vec4 out_color;
 
-// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror
-// (`optics::SUN_SOLID_ANGLE`).
-const float SUN_SOLID_ANGLE = 6.8e-5;
+// SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
+// its glint in a mirror.
 
 // The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`optics::transmittance`).
 float transmittance(float cos_theta) {

@@ -19,6 +19,7 @@ use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLER
 use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};
 use crate::physics::HeightField;
 use crate::progress::Progress;
+use crate::shaders::interface;
 
 /// The thesis's shading approaches (model.md §3.1–§3.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
@@ -44,11 +45,11 @@ impl Approach {
     /// The value of the `APPROACH` specialization constant.
     pub fn id(self) -> u32 {
         match self {
-            Approach::Flss => 0,
-            Approach::Nmm => 1,
-            Approach::Pq => 2,
-            Approach::Gem => 3,
-            Approach::Baked => 4,
+            Approach::Flss => interface::APPROACH_FLSS,
+            Approach::Nmm => interface::APPROACH_NMM,
+            Approach::Pq => interface::APPROACH_PQ,
+            Approach::Gem => interface::APPROACH_GEM,
+            Approach::Baked => interface::APPROACH_BAKED,
         }
     }
 

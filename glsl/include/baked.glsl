@@ -8,10 +8,10 @@ const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
 // Texels a trilinear sample reads (`shading::TRILINEAR_TEXELS`): what the counting variant adds per fetch.
 const uint TRILINEAR_TEXELS = 8u;
 
-// How much finer than a pixel's footprint the mip level is chosen (`baked::FOOTPRINT_LOD_BIAS`): a trilinear fetch
-// averages a level's texels (a box, variance T²/12) and interpolates between them (a tent, T²/6); their sum matches
-// the pixel's box of width F (F²/12) for texels T = F/√3, one log2(√3) below the level whose texels are F wide.
-const float FOOTPRINT_LOD_BIAS = 0.7924812503605781;
+// How much finer than a pixel's footprint the mip level is chosen (FOOTPRINT_LOD_BIAS, from interface.glsl): a
+// trilinear fetch averages a level's texels (a box, variance T²/12) and interpolates between them (a tent, T²/6);
+// their sum matches the pixel's box of width F (F²/12) for texels T = F/√3, one log2(√3) below the level whose
+// texels are F wide.
 
 // The mip level for a pixel whose footprint in (u, v) is `footprint`, clamped to the levels there are
 // (`BakedTable::lod`).

@@ -1,6 +1,6 @@
 // Geometric factors of Stam's BRDF in the patch frame; mirrors src/physics/optics.rs (same names).
 
-const float SKIN_INDEX = 1.5;
+#include "interface.glsl" // SKIN_INDEX
 
 // Schlick's R(θ)/R0 with cos θ = H·ω_r, unsquared (model.md §7.2 item 2).
 float fresnel_ratio(vec3 omega_i, vec3 omega_r, float n) {

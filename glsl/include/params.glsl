@@ -30,12 +30,6 @@ void record_fetches() {
 #endif
 }
 
-const uint APPROACH_FLSS = 0u;
-const uint APPROACH_NMM = 1u;
-const uint APPROACH_PQ = 2u;
-const uint APPROACH_GEM = 3u;
-const uint APPROACH_BAKED = 4u;
-
 layout(std140, set = 0, binding = BINDING_PARAMS) uniform DiffractionParams {
     ivec4 patch_px;  // nx, ny, layers, 0
     vec4 patch_um;   // Lx, Ly, dx, dy (µm)

@@ -1,7 +1,8 @@
 //! The numbers the shaders and the Rust side must agree on: specialization-constant ids, descriptor bindings
-//! (all in set 0), workgroup sizes, and the push-constant blocks. `glsl/include/interface.glsl` declares the same
-//! names as `#define`s; build.rs compares the two files and refuses to compile the shaders if they differ, so a
-//! number changes in one place per side, never by luck.
+//! (all in set 0), workgroup sizes, approach ids, the physical constants both sides use, and the push-constant
+//! blocks. This file is their one source: build.rs reads every `pub const NAME: u32 | f64 = value;` line here and
+//! writes the shaders' `interface.glsl` (`#define NAME value`) into `$OUT_DIR` before compiling them, so a number
+//! changes in one place and the GLSL follows.
 
 // Specialization constants of the diffraction shaders (glsl/include/params.glsl).
 /// Taylor terms F_0..F_{TERMS−1}; the baked approach: Chebyshev terms in w.
@@ -49,6 +50,22 @@ pub const BINDING_SELFTEST_OUT: u32 = 1;
 // Workgroup sizes.
 /// Invocations per workgroup of every compute shader (`local_size_x`); dispatches divide by it.
 pub const LOCAL_SIZE_X: u32 = 64;
+
+// Approach ids: the value of SPEC_APPROACH (`shading::Approach::id`).
+pub const APPROACH_FLSS: u32 = 0;
+pub const APPROACH_NMM: u32 = 1;
+pub const APPROACH_PQ: u32 = 2;
+pub const APPROACH_GEM: u32 = 3;
+pub const APPROACH_BAKED: u32 = 4;
+
+// Physical constants (f64 on the CPU, float literals in the shaders).
+/// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds").
+pub const SKIN_INDEX: f64 = 1.5;
+/// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
+pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
+/// How much finer than a pixel's footprint F the baked table's mip level is chosen, log2 √3 (see
+/// `physics::baked::sample::FOOTPRINT_LOD_BIAS`).
+pub const FOOTPRINT_LOD_BIAS: f64 = 0.792_481_250_360_578_1;
 
 /// `map.frag`'s push constants (`MapPush`): the map's square in pixels and its offset in the target.
 #[repr(C)]
