@@ -163,6 +163,8 @@ struct State {
     /// When the last frame was drawn, and when the window was asked for (the first frame's latency is printed).
     last_drawn: Instant,
     opened: Instant,
+    /// The window was asked to shrink (`--resize-after`).
+    resized: bool,
     ctx: Context,
     target: WindowTarget,
     gpu: Gpu,
@@ -405,6 +407,7 @@ impl State {
             pending,
             last_drawn: Instant::now(),
             opened,
+            resized: false,
             ctx,
             target,
             gpu,
@@ -489,8 +492,10 @@ impl State {
         // Scripted frames count only once the asked-for materials are drawn.
         let last = self.pending.is_none() && options.frames.is_some_and(|n| self.timing.frame + 1 >= n);
         self.render(options, last && options.screenshot.is_some())?;
-        if let Some(n) = options.resize_after {
+        // Once: the frame count starts again when prepared materials replace a stand-in.
+        if let Some(n) = options.resize_after.filter(|_| !self.resized) {
             if self.timing.frame == n {
+                self.resized = true;
                 let size = self.window.inner_size();
                 let _ = self.window.request_inner_size(PhysicalSize::new(size.width * 3 / 4, size.height * 3 / 4));
             }
