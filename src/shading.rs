@@ -198,7 +198,8 @@ pub const APPROXIMATION_MAX_SIGMA_BINS: f64 = 1.0;
 /// Efficiency of each non-zero order in Stam's analytic grating (his GPU Gems shader scales orders by 0.1).
 pub const GEM_ORDER_EFFICIENCY: f32 = 0.1;
 
-/// Mirrors `DiffractionParams` in `glsl/include/params.glsl` (std140).
+/// The material's uniforms (std140): build.rs generates their GLSL block (`params`, included by
+/// `glsl/include/params.glsl`) from this struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DiffractionParams {

@@ -30,18 +30,8 @@ void record_fetches() {
 #endif
 }
 
-layout(std140, set = 0, binding = BINDING_PARAMS) uniform DiffractionParams {
-    ivec4 patch_px;  // nx, ny, layers, 0
-    vec4 patch_um;   // Lx, Ly, dx, dy (µm)
-    vec4 window;     // σ_x, σ_y (bins), σ_f (cycles/µm), 0
-    vec4 spectral;   // λ_min (nm), Δλ (nm), Σ ȳSΔλ of that sampling, ∫ȳS dλ (1 nm)
-    vec4 light;      // ω_i in the patch frame (maps, compute)
-    vec4 pq;         // periods along x, y
-    vec4 gem;        // grating direction (x, y), spacing (µm; 0 = none), order efficiency
-    vec4 display;    // 2^exposure
-    vec4 table_uv;   // baked: u, v of the table's lower edges; its extent in u and v
-    vec4 table_w;    // baked: middle of the w-interval, 1 / half-width, texel width in (u, v), coarsest mip level
-} params;
+// The material's uniforms, generated from `shading::DiffractionParams` (the Rust struct is their one source).
+#include "diffraction_params.glsl"
 
 #ifdef BAKED
 // The baked colour table: Chebyshev coefficients of X, Y, Z in w packed four to a layer (coefficient d of channel

@@ -20,14 +20,18 @@ use crate::vk::{
     SpecConstants,
 };
 
-/// Mirrors `FrameUniforms` in `glsl/include/preview_frame.glsl`.
+/// The preview pass's per-frame uniforms (std140): build.rs generates their GLSL block (`frame`, included by
+/// `glsl/include/preview_frame.glsl`) from this struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
     pub view_proj: [[f32; 4]; 4],
     pub model: [[f32; 4]; 4],
+    /// World space, w unused.
     pub camera_pos: [f32; 4],
+    /// World space, unit, towards the light.
     pub light_dir: [f32; 4],
+    /// Linear RGB.
     pub base_color: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 176);

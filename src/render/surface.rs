@@ -38,16 +38,20 @@ pub struct Instruments<'a> {
     pub laps: Laps<'a>,
 }
 
-/// Mirrors `SurfaceUniforms` in `glsl/include/surface_frame.glsl`.
+/// The surface pass's per-object uniforms (std140): build.rs generates their GLSL block (`frame`, included by
+/// `glsl/include/surface_frame.glsl`) from this struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct SurfaceUniforms {
     pub view_proj: [[f32; 4]; 4],
     pub model: [[f32; 4]; 4],
+    /// Inverse transpose of the model matrix's linear part (in a mat4 for std140).
     pub normal_matrix: [[f32; 4]; 4],
+    /// World space.
     pub camera_pos: [f32; 4],
+    /// World space, unit, towards the light.
     pub light_dir: [f32; 4],
-    /// cos and sin of the patch's rotation about the normal, 0, 0.
+    /// cos and sin of the patch's rotation about the normal, the material's index (the G-buffer writes it), 0.
     pub orientation: [f32; 4],
     /// Linear RGB albedo of the pigment under the grating, and the ambient (sky) radiance.
     pub pigment: [f32; 4],
