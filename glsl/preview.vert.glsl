@@ -2,10 +2,7 @@
 // The preview pass: a mesh lit by one directional light, without diffraction (`diffract render --preview`).
 #include "preview_frame.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec4 in_tangent;
-layout(location = 3) in vec3 in_pigment;
+#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment (render::surface::VERTEX_ATTRIBUTES)
 
 layout(location = 0) out vec3 world_pos;
 layout(location = 1) out vec3 world_normal;
