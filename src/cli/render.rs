@@ -231,22 +231,13 @@ fn render_frames(
 /// Where a frame's GPU time went, pass by pass (medians over the frames), and what uploading the materials'
 /// textures cost once: None where the device has no timestamps.
 fn pass_line(times: &[crate::vk::FrameTimes], uploads: &[crate::render::diffraction::Upload]) -> Option<String> {
-    let passes: Vec<String> = crate::render::pass::ALL
-        .iter()
-        .filter_map(|&name| {
-            let ms: Vec<f64> = times.iter().filter_map(|t| t.pass_ms(name)).collect();
-            crate::stats::median(&ms).map(|m| format!("{name} {m:.2}"))
-        })
-        .collect();
-    if passes.is_empty() {
-        return None;
-    }
+    let passes = crate::render::pass_medians(times)?;
     let bytes: u64 = uploads.iter().map(|u| u.bytes).sum();
     let gpu: Option<f64> = uploads.iter().map(|u| u.gpu_ms).sum();
     let upload = gpu.map_or(String::new(), |ms| {
         format!("; textures uploaded once: {:.1} MiB, GPU {ms:.2} ms", bytes as f64 / f64::from(1u32 << 20))
     });
-    Some(format!("GPU ms per pass (median): {}{upload}", passes.join(", ")))
+    Some(format!("GPU ms per pass (median): {passes}{upload}"))
 }
 
 /// The scene lit without diffraction: every object merged into one preview mesh.

@@ -41,6 +41,19 @@ pub mod pass {
     pub const ALL: [&str; 5] = [DEPTH, SHADING, RESOLVE, COPY, PRESENT];
 }
 
+/// Each pass's median GPU time over `frames`, for the passes every frame timed, in frame order:
+/// `depth pre-pass 7.03, shading 13.40, copy 0.71` (None where the frames have no timings).
+pub fn pass_medians(frames: &[crate::vk::FrameTimes]) -> Option<String> {
+    let passes: Vec<String> = pass::ALL
+        .iter()
+        .filter_map(|&name| {
+            let ms: Vec<f64> = frames.iter().filter_map(|t| t.pass_ms(name)).collect();
+            (ms.len() == frames.len()).then(|| crate::stats::median(&ms)).flatten().map(|m| format!("{name} {m:.2}"))
+        })
+        .collect();
+    (!passes.is_empty()).then(|| passes.join(", "))
+}
+
 /// What a pass draws into.
 #[derive(Clone, Copy, Debug)]
 pub struct TargetView {

@@ -572,18 +572,8 @@ impl State {
             spread.p90,
             fps.map(|f| format!(", {f:.1} fps in the window")).unwrap_or_default()
         );
-        let passes: Vec<String> = crate::render::pass::ALL
-            .iter()
-            .filter_map(|&name| {
-                let ms: Vec<f64> = t.frame_times.iter().filter_map(|f| f.pass_ms(name)).collect();
-                (ms.len() == t.frame_times.len())
-                    .then(|| crate::stats::median(&ms))
-                    .flatten()
-                    .map(|m| format!("{name} {m:.2}"))
-            })
-            .collect();
-        if !passes.is_empty() {
-            println!("GPU ms per pass (median): {}", passes.join(", "));
+        if let Some(passes) = crate::render::pass_medians(&t.frame_times) {
+            println!("GPU ms per pass (median): {passes}");
         }
     }
 
