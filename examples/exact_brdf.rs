@@ -4,9 +4,10 @@
 //!
 //! Run: `cargo run --release --example exact_brdf`
 
-use diffract::brdf::{evaluate, Accuracy, Evaluator};
+use diffract::brdf::{evaluate, Evaluator};
 use diffract::generate::{generate, PatchKind, PatchSpec};
 use diffract::physics::{Method, Query};
+use diffract::settings::Settings;
 
 fn main() -> diffract::Result<()> {
     // A 16 µm square of the grating, 0.1 µm pixels: its grooves run along y, so it diffracts along x (φ = 0°).
@@ -27,8 +28,7 @@ fn main() -> diffract::Result<()> {
         })
         .collect();
     // The exact evaluation: exp(i·k·w·h) summed directly in f64, under a Gaussian coherence window of 16 µm.
-    let accuracy =
-        Accuracy { tolerance: 1e-4, order: None, coherence_um: 16.0, window_radius: None, accept_f32_error: false };
+    let accuracy = Settings { tolerance: 1e-4, coherence_um: 16.0, ..Settings::default() };
     let evaluation = evaluate(&grating, &queries, Evaluator::Cpu(Method::Exact), &accuracy, None)?;
 
     println!("theta_r_deg,reflectance");

@@ -8,7 +8,7 @@ use diffract::generate::{generate, PatchKind, PatchSpec};
 use diffract::physics::optics;
 use diffract::profile::run::{run, Options, Progress, ReferenceOptions, Subject};
 use diffract::profile::{self, Config};
-use diffract::shading::{Approach, Overrides, Settings};
+use diffract::shading::{Approach, Settings, SettingsPatch};
 use diffract::vk::{Context, ContextDesc, DeviceSelector};
 
 fn main() -> diffract::Result<()> {
@@ -24,7 +24,7 @@ fn main() -> diffract::Result<()> {
     };
     let configs: Vec<Config> = [Approach::Flss, Approach::Baked]
         .map(|approach| Config {
-            overrides: Overrides { approach: Some(approach), ..Overrides::default() },
+            overrides: SettingsPatch { approach: Some(approach), ..SettingsPatch::default() },
             size: 64,
             samples: None,
         })

@@ -7,7 +7,7 @@
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::shading::Overrides;
+use diffract::shading::SettingsPatch;
 use diffract::vk::{Context, ContextDesc, DeviceSelector};
 
 fn main() -> diffract::Result<()> {
@@ -17,7 +17,7 @@ fn main() -> diffract::Result<()> {
     let ctx = Context::new(&ContextDesc::new(DeviceSelector::Auto, false))?;
     // A G-buffer of the frame says which (u, v, w) each material's pixels see; each baked table covers just that.
     let reaches = scene_reaches(&ctx, &scene, &[(scene.camera, scene.light_dir)], width, height)?;
-    let materials = prepare_materials(&scene, &Overrides::default(), &reaches)?;
+    let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches)?;
     for m in &materials {
         if let Some(line) = m.table_line() {
             println!("{line}");

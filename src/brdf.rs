@@ -15,6 +15,7 @@
 use crate::error::{number, Error, Result};
 use crate::physics::taylor::F64_UNIT_ROUNDOFF;
 use crate::physics::{HeightField, Lookup, Method, Query, Reference, Sample, TaylorPlan, Window};
+use crate::settings::Settings;
 
 /// Where and how P is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,20 +46,6 @@ impl Evaluator {
     }
 }
 
-/// The accuracy settings of one evaluation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Accuracy {
-    /// Bound on the amplitude error |P − P_N| the Taylor methods must meet.
-    pub tolerance: f64,
-    /// Forces the Taylor order N.
-    pub order: Option<usize>,
-    pub coherence_um: f64,
-    /// Window taps either side of the nearest bin (None: the full window, weights ≥ 1e-17).
-    pub window_radius: Option<u32>,
-    /// Evaluate f32 sums even where f32 cannot reach the tolerance.
-    pub accept_f32_error: bool,
-}
-
 /// The values, and what the evaluation used (for the user's notes).
 pub struct Evaluation {
     pub samples: Vec<Sample>,
@@ -71,7 +58,7 @@ pub fn evaluate(
     hf: &HeightField,
     queries: &[Query],
     evaluator: Evaluator,
-    accuracy: &Accuracy,
+    accuracy: &Settings,
     gpu: Option<&crate::vk::Context>,
 ) -> Result<Evaluation> {
     prepare(hf, queries, evaluator, accuracy)?.run(gpu)
@@ -82,7 +69,7 @@ pub struct Prepared<'a> {
     hf: &'a HeightField,
     queries: &'a [Query],
     evaluator: Evaluator,
-    accuracy: Accuracy,
+    accuracy: Settings,
     window: Window,
     /// The Taylor plan (None for exact).
     plan: Option<TaylorPlan>,
@@ -94,7 +81,7 @@ pub fn prepare<'a>(
     hf: &'a HeightField,
     queries: &'a [Query],
     evaluator: Evaluator,
-    accuracy: &Accuracy,
+    accuracy: &Settings,
 ) -> Result<Prepared<'a>> {
     for q in queries {
         q.check()?;
@@ -143,13 +130,11 @@ impl Prepared<'_> {
     fn run_gpu(&self, ctx: &crate::vk::Context) -> Result<Vec<Sample>> {
         let (hf, accuracy) = (self.hf, &self.accuracy);
         let plan = self.plan.ok_or_else(|| Error::Invalid("the GPU evaluation needs a Taylor plan".into()))?;
-        let settings = crate::shading::Settings {
+        let settings = Settings {
             order: Some(plan.order),
-            tolerance: accuracy.tolerance,
             window_radius: Some(self.window.radius_x.max(self.window.radius_y) as u32),
-            coherence_um: accuracy.coherence_um,
             accept_f32_error: true,
-            ..Default::default()
+            ..*accuracy
         };
         let material =
             crate::shading::Material::prepare(hf, settings, &crate::shading::Reach::Hemisphere { footprint: 0.0 })?;

@@ -38,13 +38,13 @@
 //! the light into the mirror direction, where |P|² is 1 (the reflectance adds Stam's geometric factor, which is
 //! 1 at normal incidence).
 //! ```
-//! use diffract::brdf::{evaluate, Accuracy, Evaluator};
+//! use diffract::brdf::{evaluate, Evaluator};
+//! use diffract::settings::Settings;
 //! use diffract::physics::{HeightField, Method, Query};
 //!
 //! let mirror = HeightField::new(64, 64, 0.1, 0.1, vec![0.0; 64 * 64])?; // 6.4 µm square, 0.1 µm pixels
 //! let mirror_view = Query { lambda_nm: 550.0, theta_i: 30.0, phi_i: 0.0, theta_r: 30.0, phi_r: 180.0 };
-//! let accuracy =
-//!     Accuracy { tolerance: 1e-4, order: None, coherence_um: 6.4, window_radius: None, accept_f32_error: false };
+//! let accuracy = Settings { tolerance: 1e-4, coherence_um: 6.4, ..Settings::default() };
 //! let p = evaluate(&mirror, &[mirror_view], Evaluator::Cpu(Method::Exact), &accuracy, None)?;
 //! assert!((p.samples[0].power - 1.0).abs() < 1e-9);
 //! # Ok::<(), diffract::Error>(())
@@ -69,6 +69,7 @@ pub mod profile;
 pub mod progress;
 pub mod render;
 pub mod scene;
+pub mod settings;
 pub mod shaders;
 pub mod shading;
 pub mod stats;

@@ -34,7 +34,7 @@ use crate::generate::{generate, PatchKind, PatchSpec};
 use crate::mesh::shapes::Shape;
 use crate::mesh::{obj, Mesh};
 use crate::physics::{HeightField, PngScale};
-use crate::shading::{Approach, Settings};
+use crate::shading::{Approach, Settings, SettingsPatch};
 
 /// The scene `diffract render` draws when given none: the Elaphe snake on the measured scan (built in, with the
 /// files it names, so it works from any folder).
@@ -151,15 +151,9 @@ struct MaterialDef {
     period_um: Option<f64>,
     seed: Option<u64>,
     tile: Option<TileDef>,
-    approach: Option<Approach>,
-    /// The Taylor order N (`terms`: its first name, still accepted).
-    #[serde(alias = "terms")]
-    order: Option<usize>,
-    tolerance: Option<f64>,
-    lambda_step_nm: Option<f64>,
-    window_radius: Option<u32>,
-    coherence_um: Option<f64>,
-    table_tolerance: Option<f64>,
+    /// The speed/accuracy settings (`src/settings.rs`), under their keys.
+    #[serde(flatten)]
+    settings: SettingsPatch,
     /// Rotation of the patch about the normal, from the mesh tangent towards the bitangent.
     #[serde(default)]
     orientation_deg: f32,
@@ -421,33 +415,14 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
         Some(TileDef::Both(n)) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
         Some(TileDef::Each([x, y])) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
     };
-    let numbers = [
-        ("tolerance", d.tolerance),
-        ("lambda_step_nm", d.lambda_step_nm),
-        ("coherence_um", d.coherence_um),
-        ("table_tolerance", d.table_tolerance),
-        ("orientation_deg", Some(f64::from(d.orientation_deg))),
-    ];
-    if let Some((key, v)) = numbers.iter().find(|(_, v)| v.is_some_and(|v| !v.is_finite())) {
-        return Err(at(format!("{key} = {}: expected a finite number", v.unwrap_or_default())));
+    if !f64::from(d.orientation_deg).is_finite() {
+        return Err(at(format!("orientation_deg = {}: expected a finite number", d.orientation_deg)));
     }
-    if d.window_radius.is_some_and(|r| r > crate::shading::MAX_WINDOW_RADIUS) {
-        return Err(at(format!("window_radius is at most {}", crate::shading::MAX_WINDOW_RADIUS)));
-    }
-    let defaults = Settings::default();
-    let settings = Settings {
-        approach: d.approach.unwrap_or(DEFAULT_APPROACH),
-        order: d.order,
-        tolerance: d.tolerance.unwrap_or(defaults.tolerance),
-        lambda_step_nm: d.lambda_step_nm.unwrap_or(defaults.lambda_step_nm),
-        window_radius: d.window_radius,
-        coherence_um: d.coherence_um.unwrap_or(defaults.coherence_um),
-        exposure_ev: 0.0,
-        accept_f32_error: false,
-        table_tolerance: d.table_tolerance.unwrap_or(defaults.table_tolerance),
-        // A scene that states its table tolerance means it: a table that cannot reach it is refused.
-        strict_table: d.table_tolerance.is_some(),
-    };
+    d.settings.check().map_err(at)?;
+    let mut patch = d.settings;
+    // A scene that states its table tolerance means it: a table that cannot reach it is refused.
+    patch.strict_table |= patch.table_tolerance.is_some();
+    let settings = patch.apply(Settings { approach: DEFAULT_APPROACH, ..Settings::default() });
     if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
         return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));
     }
@@ -577,6 +552,14 @@ tile = [2, 3]
             .contains("parallel"));
         assert!(error_of(&GOOD.replace("size_um = 6.5", "size_um = 6.5\ncoherence_um = inf")).contains("coherence_um"));
         assert!(error_of(&format!("{GOOD}\n[render]\nexposure_ev = nan\n")).contains("exposure_ev"));
+        // The material's settings (declared in settings.rs) are checked as the command line's are, at the line.
+        let setting = |line: &str| error_of(&GOOD.replace("size_um = 6.5", &format!("size_um = 6.5\n{line}")));
+        assert!(setting("window_radius = 99").starts_with("s.toml:16: [material.blaze] window_radius: "));
+        assert!(setting("lambda_step_nm = 0").contains("(0, 400]"));
+        assert!(setting("colour = 1").contains("unknown field `colour`"), "{}", setting("colour = 1"));
+        let fast = error_of(&GOOD.replace("approach = \"nmm\"", "approach = \"fast\""));
+        assert!(fast.contains("unknown variant `fast`"), "{fast}");
+        assert!(setting("order = \"many\"").starts_with("s.toml:"), "{}", setting("order = \"many\""));
         for e in [error_of("x = 1"), error_of(&GOOD.replace("scale = 0.5", "scale = -1.0"))] {
             assert_eq!(e.lines().count(), 1, "{e}");
         }

@@ -12,11 +12,11 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::physics::baked::{self, BakedTable, Domain, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE};
+use crate::physics::baked::{self, BakedTable, Domain, TablePlan, TableRequest};
 use crate::physics::exact::window_gain;
 use crate::physics::spectrum::{self, Sampling};
-use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms, DEFAULT_TOLERANCE};
-use crate::physics::window::{Window, DEFAULT_COHERENCE_UM};
+use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms};
+use crate::physics::window::Window;
 use crate::physics::HeightField;
 use crate::progress::Progress;
 use crate::shaders::interface;
@@ -115,81 +115,12 @@ impl Reach {
     }
 }
 
-/// Every setting that trades speed for accuracy, with the defaults a user gets.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    pub approach: Approach,
-    /// Force the Taylor order N (terms 0..=N); default: the smallest N meeting `tolerance`.
-    pub order: Option<usize>,
-    pub tolerance: f64,
-    /// Wavelength step of FLSS and PQ (and of gem's specular term), nm.
-    pub lambda_step_nm: f64,
-    /// Window taps either side of the nearest bin; default: until the weight falls below 10⁻³.
-    pub window_radius: Option<u32>,
-    pub coherence_um: f64,
-    /// Linear scene-referred RGB is scaled by 2^EV before the sRGB transfer function.
-    pub exposure_ev: f64,
-    /// Render although f32 cannot reach the tolerance (the plan's estimate says so).
-    pub accept_f32_error: bool,
-    /// Baked: tolerance on the Chebyshev tail in w, relative to each texel's brightest value.
-    pub table_tolerance: f64,
-    /// Baked: refuse a table whose certified tail exceeds `table_tolerance` (memory or the term cap kept fewer
-    /// terms than it needs) instead of warning.
-    pub strict_table: bool,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Self {
-            approach: Approach::Flss,
-            order: None,
-            tolerance: DEFAULT_TOLERANCE,
-            lambda_step_nm: 5.0,
-            window_radius: None,
-            coherence_um: DEFAULT_COHERENCE_UM,
-            exposure_ev: 0.0,
-            accept_f32_error: false,
-            table_tolerance: DEFAULT_TABLE_TOLERANCE,
-            strict_table: false,
-        }
-    }
-}
-
-/// Settings that replace a material's own: the command line's `--approach`, `--order`, `--lambda-step`,
-/// `--window-radius` and `--accept-f32-error`, the viewer's keys, one configuration of a profile. `None` (and
-/// `false`) leaves the material's setting as it is.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Overrides {
-    pub approach: Option<Approach>,
-    pub order: Option<usize>,
-    pub lambda_step_nm: Option<f64>,
-    pub window_radius: Option<u32>,
-    pub accept_f32_error: bool,
-    /// `--strict`: a baked table that misses its tolerance is refused.
-    pub strict_table: bool,
-}
-
-impl Overrides {
-    /// `settings` with these overrides in place.
-    pub fn apply(&self, settings: Settings) -> Settings {
-        Settings {
-            approach: self.approach.unwrap_or(settings.approach),
-            order: self.order.or(settings.order),
-            lambda_step_nm: self.lambda_step_nm.unwrap_or(settings.lambda_step_nm),
-            window_radius: self.window_radius.or(settings.window_radius),
-            accept_f32_error: settings.accept_f32_error || self.accept_f32_error,
-            strict_table: settings.strict_table || self.strict_table,
-            ..settings
-        }
-    }
-}
+pub use crate::settings::{Settings, SettingsPatch, MAX_WINDOW_RADIUS};
 
 /// The window weight at which the default render window stops (the first tap left out weighs less).
 pub const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
 /// Most wavelengths one pixel may sample (a 1 nm step over 380–780 nm is 401).
 pub const MAX_LAMBDA_COUNT: usize = 4001;
-/// Largest window radius (taps (2r+1)² per term and wavelength).
-pub const MAX_WINDOW_RADIUS: u32 = 16;
 /// The widest coherence window (σ in DFT bins) under which NMM, PQ and gem stay approximations of a few ΔE00: they
 /// assume light coherent across the patch (one wavelength per bin crossed, an exact periodic tiling, sharp orders).
 /// Measured on the Elaphe scan's 24² map against the exact reference: at σ = 1 bin mean ΔE00 1.0 (NMM), 4.0 (PQ),
@@ -281,7 +212,8 @@ impl Material {
             light: [0.0, 0.0, 1.0, 0.0],
             pq: [(s.coherence_um / lx).ceil().max(1.0) as f32, (s.coherence_um / ly).ceil().max(1.0) as f32, 0.0, 0.0],
             gem: [gx as f32, gy as f32, spacing as f32, GEM_ORDER_EFFICIENCY],
-            display: [s.exposure_ev.exp2() as f32, 0.0, 0.0, 0.0],
+            // The exposure a window applies (0 EV here; the viewer sets its own).
+            display: [1.0, 0.0, 0.0, 0.0],
             table_uv: baked.as_ref().map_or([0.0; 4], |b| b.uv),
             table_w: baked.as_ref().map_or([0.0; 4], |b| b.w),
         };
@@ -346,6 +278,11 @@ impl Material {
             .u32(SPEC_LAMBDA_COUNT, self.sampling.count as u32)
             .u32(SPEC_APPROACH, self.settings.approach.id())
             .u32(SPEC_DISPLAY_OUTPUT, u32::from(display_output))
+    }
+
+    /// Sets the exposure a shader that writes display values applies (a window's; 0 EV as prepared).
+    pub fn set_exposure(&mut self, exposure_ev: f64) {
+        self.params.display[0] = exposure_ev.exp2() as f32;
     }
 
     /// Texels one BRDF evaluation reads at most: FLSS/PQ's Taylor terms (NMM and gem vary per pixel), or the
@@ -496,26 +433,6 @@ mod tests {
     use super::*;
 
     const HEMISPHERE: Reach = Reach::Hemisphere { footprint: 0.0 };
-
-    #[test]
-    fn overrides_replace_what_they_set_and_keep_the_rest() {
-        let own = Settings { order: Some(6), window_radius: Some(3), coherence_um: 20.0, ..Settings::default() };
-        assert_eq!(Overrides::default().apply(own), own, "no override changes nothing");
-        let set = Overrides {
-            approach: Some(Approach::Baked),
-            order: Some(2),
-            lambda_step_nm: Some(1.0),
-            window_radius: None,
-            accept_f32_error: true,
-            strict_table: true,
-        };
-        let s = set.apply(own);
-        assert_eq!((s.approach, s.order, s.lambda_step_nm), (Approach::Baked, Some(2), 1.0));
-        assert_eq!((s.window_radius, s.coherence_um), (Some(3), 20.0), "what is not overridden stays the material's");
-        assert!(s.accept_f32_error && s.strict_table);
-        let material_accepts = Settings { accept_f32_error: true, ..own };
-        assert!(Overrides::default().apply(material_accepts).accept_f32_error, "an override cannot take it back");
-    }
 
     #[test]
     fn gem_finds_the_period_and_direction_of_a_grating() {

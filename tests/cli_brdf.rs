@@ -357,3 +357,37 @@ fn brdf_gpu_prints_the_same_csv_as_the_cpu() {
     let o = diffract(&[&args[..], &["--gpu", "--method", "exact"]].concat());
     assert_one_line_error(&o, "--gpu evaluates the Taylor sum");
 }
+
+/// The material settings are one declaration (src/settings.rs): every command takes the same flags, old names
+/// still work, and a command that does not read a setting says so instead of ignoring it.
+#[test]
+fn settings_flags_are_shared_and_old_names_still_work() {
+    let patch = scratch("settings-flat.gsf");
+    assert!(diffract(&["gen", "patch", "flat", "--size-um", "2", "--out", patch.to_str().unwrap()]).status.success());
+    let p = patch.to_str().unwrap();
+    let terms = |extra: &[&str]| {
+        let mut args = vec!["terms", "--heightfield", p];
+        args.extend_from_slice(extra);
+        diffract(&args)
+    };
+    // `--terms` is the Taylor order's first name, `--strict` the strict table's.
+    for (new, old) in [
+        (["--order", "3"], ["--terms", "3"]),
+        (["--strict-table", "--window-radius=2"], ["--strict", "--window-radius=2"]),
+    ] {
+        let (a, b) = (terms(&new), terms(&old));
+        assert!(a.status.success() && b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
+        assert_eq!(a.stdout, b.stdout, "{new:?} and {old:?} are one setting");
+    }
+    assert!(String::from_utf8_lossy(&terms(&["--order", "3"]).stdout).contains("N = 3"));
+    // A setting `terms` does not read is refused, and hidden from its help.
+    assert_one_line_error(&terms(&["--approach", "gem"]), "--approach has no effect on `diffract terms`");
+    assert_one_line_error(&terms(&["--lambda-step", "10"]), "--lambda-step-nm has no effect");
+    assert_one_line_error(&terms(&["--window-radius", "17"]), "0 to 16");
+    let help = String::from_utf8_lossy(&diffract(&["terms", "--help"]).stdout).to_string();
+    assert!(help.contains("--coherence-um") && !help.contains("--approach"), "{help}");
+    let help = String::from_utf8_lossy(&diffract(&["render", "--help"]).stdout).to_string();
+    for flag in ["--approach", "--order", "--lambda-step-nm", "--coherence-um", "--table-tolerance", "--strict-table"] {
+        assert!(help.contains(flag), "render --help lacks {flag}");
+    }
+}

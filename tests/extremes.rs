@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use diffract::brdf::{Accuracy, Evaluator};
+use diffract::brdf::Evaluator;
 use diffract::physics::{HeightField, Method, PngScale, Query, Sample};
 use diffract::profile::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
 use diffract::render::diffraction;
@@ -110,8 +110,8 @@ fn views(block: &Block, theta_i: f64) -> Vec<(f64, f64)> {
     v
 }
 
-fn accuracy(coherence_um: f64) -> Accuracy {
-    Accuracy { tolerance: TOLERANCE, order: None, coherence_um, window_radius: None, accept_f32_error: false }
+fn accuracy(coherence_um: f64) -> Settings {
+    Settings { tolerance: TOLERANCE, coherence_um, ..Settings::default() }
 }
 
 /// Compares an evaluator's values with exact's.

@@ -5,9 +5,9 @@ use std::io::Write;
 use anyhow::{bail, Context as _};
 use clap::{Args, ValueEnum};
 
-use super::args::{AccuracyArgs, HeightFieldArgs, LightArgs};
+use super::args::{HeightFieldArgs, LightArgs, MaterialArgs};
 use super::parse;
-use crate::brdf::{Accuracy, Evaluator};
+use crate::brdf::Evaluator;
 use crate::physics::{HeightField, Method, Query, Window};
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
@@ -44,12 +44,15 @@ pub struct BrdfArgs {
     /// Evaluate the Taylor sum on the GPU with the shaders' code (f32), printing the same CSV
     #[arg(long)]
     pub gpu: bool,
-    /// With --gpu or --method taylor-f32: evaluate even where f32 cannot reach --tolerance (the note's estimate)
-    #[arg(long)]
-    pub accept_f32_error: bool,
     #[command(flatten)]
-    pub accuracy: AccuracyArgs,
+    pub material: MaterialArgs,
 }
+
+/// The settings `brdf` reads (the others are refused): an exact or Taylor evaluation at given wavelengths.
+pub const BRDF_SETTINGS: [&str; 5] = ["order", "tolerance", "coherence_um", "window_radius", "accept_f32_error"];
+/// The settings `terms` reads.
+pub const TERMS_SETTINGS: [&str; 6] =
+    ["order", "tolerance", "coherence_um", "window_radius", "table_tolerance", "strict_table"];
 
 pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::process::ExitCode> {
     let hf = args.heightfield.load()?;
@@ -79,7 +82,7 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
             })
         })
         .collect();
-    let acc = &args.accuracy;
+    let acc = args.material.settings("brdf", &BRDF_SETTINGS)?;
     let method = args.method.unwrap_or(if args.gpu { MethodArg::Taylor } else { MethodArg::Exact });
     let evaluator = match (args.gpu, method) {
         (true, MethodArg::Taylor) => Evaluator::Gpu,
@@ -88,15 +91,8 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         (false, MethodArg::Taylor) => Evaluator::Cpu(Method::Taylor),
         (false, MethodArg::TaylorF32) => Evaluator::Cpu(Method::TaylorF32),
     };
-    let accuracy = Accuracy {
-        tolerance: acc.material.tolerance,
-        order: acc.order,
-        coherence_um: acc.material.coherence_um,
-        window_radius: acc.window_radius,
-        accept_f32_error: args.accept_f32_error,
-    };
     // Every refusal comes before the device is opened (a machine without one still hears why).
-    let prepared = crate::brdf::prepare(&hf, &queries, evaluator, &accuracy)?;
+    let prepared = crate::brdf::prepare(&hf, &queries, evaluator, &acc)?;
     let ctx = match evaluator {
         Evaluator::Gpu => Some(crate::vk::Context::new(&gpu.context_desc())?),
         Evaluator::Cpu(_) => None,
@@ -155,17 +151,11 @@ pub struct TermsArgs {
     /// Largest |w| in use (2 covers every pair of directions)
     #[arg(value_parser = parse::finite, long, default_value_t = 2.0)]
     pub w_max: f64,
-    #[command(flatten)]
-    pub accuracy: AccuracyArgs,
     /// Also run the precomputation (Taylor terms and baked table) and report its time
     #[arg(long)]
     pub compute: bool,
-    /// Baked table: tolerance on its Chebyshev tail in w, relative to each texel's brightest value
-    #[arg(value_parser = parse::finite, long, value_name = "T", default_value_t = crate::physics::baked::DEFAULT_TABLE_TOLERANCE)]
-    pub table_tolerance: f64,
-    /// With --compute: refuse a baked table that cannot reach --table-tolerance instead of warning
-    #[arg(long)]
-    pub strict: bool,
+    #[command(flatten)]
+    pub material: MaterialArgs,
 }
 
 pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
@@ -177,15 +167,15 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         bail!("--lambda-min must lie between 100 and 10000 nm");
     }
     let (lx, ly) = hf.size_um();
-    let acc = &args.accuracy;
-    let window = Window::new(lx, ly, acc.material.coherence_um, acc.window_radius)?;
+    let acc = args.material.settings("terms", &TERMS_SETTINGS)?;
+    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
     let gain = crate::physics::exact::window_gain(&window, &hf);
     let plan = crate::physics::TaylorPlan::new(
         args.lambda_min * 1e-3,
         args.w_max,
         &crate::physics::HeightStats::of(&hf),
         gain,
-        acc.material.tolerance,
+        acc.tolerance,
         acc.order,
     )?;
     let (lo, hi) = hf.range();
@@ -193,7 +183,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     println!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
     println!(
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
-        window.sigma_x, window.sigma_y, acc.material.coherence_um
+        window.sigma_x, window.sigma_y, acc.coherence_um
     );
     let (gx, gy, spacing) = crate::shading::dominant_grating(&hf);
     if spacing > 0.0 {
@@ -209,7 +199,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     }
     // The table `view` and rendered sequences use: any light and view, as fine as the lobes within 256 MiB.
     let request = crate::shading::Reach::ANY.table_request();
-    let table = crate::physics::baked::TablePlan::new(&hf, acc.material.coherence_um, &request, args.table_tolerance)?;
+    let table = crate::physics::baked::TablePlan::new(&hf, acc.coherence_um, &request, acc.table_tolerance)?;
     println!("any light and view: {}", table.describe());
     if args.compute {
         let start = std::time::Instant::now();
@@ -220,7 +210,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
             start.elapsed().as_secs_f64() * 1e3,
             built.certificate.describe()
         );
-        crate::physics::baked::check_certificate(&built, args.strict)?;
+        crate::physics::baked::check_certificate(&built, acc.strict_table)?;
     }
     Ok(())
 }

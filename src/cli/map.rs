@@ -6,7 +6,8 @@ use std::time::Instant;
 use anyhow::Context as _;
 use clap::Args;
 
-use super::args::{HeightFieldArgs, LightArgs, ShadingArgs};
+use super::args::{HeightFieldArgs, LightArgs, MaterialArgs};
+use super::parse;
 use super::GpuArgs;
 use crate::physics::optics;
 use crate::physics::spectrum::Sampling;
@@ -31,8 +32,11 @@ pub struct MapArgs {
     /// Map size in pixels (odd sizes put a pixel exactly at normal view)
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub size: u32,
+    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
+    #[arg(value_parser = parse::finite, long, value_name = "EV", default_value_t = 0.0, alias = "exposure-ev")]
+    pub exposure: f64,
     #[command(flatten)]
-    pub shading: ShadingArgs,
+    pub material: MaterialArgs,
 }
 
 pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCode> {
@@ -46,7 +50,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let start = Instant::now();
     let material = Material::prepare(
         &hf,
-        args.shading.settings(),
+        args.material.patch.apply(crate::shading::Settings::default()),
         &Reach::Map { light, size: args.size, filtered: args.footprint },
     )?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -57,7 +61,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if bad > 0 {
         anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");
     }
-    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(args.shading.exposure))?;
+    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(args.exposure))?;
     if let Some(exr) = &args.exr {
         crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
     }

@@ -145,7 +145,7 @@ pub fn main() -> ExitCode {
     // SAFETY: restoring a signal's default disposition at start-up, before any other thread exists.
     unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
     crate::output::install_interrupt_cleanup();
-    let matches = match Cli::command().try_get_matches() {
+    let matches = match command().try_get_matches() {
         Ok(m) => m,
         Err(e) => return usage_error(e),
     };
@@ -167,6 +167,13 @@ pub fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The command line: clap's derive, with the setting flags a command does not read hidden from its help.
+pub fn command() -> clap::Command {
+    Cli::command()
+        .mut_subcommand("brdf", |c| args::hide_unused_settings(c, &brdf::BRDF_SETTINGS))
+        .mut_subcommand("terms", |c| args::hide_unused_settings(c, &brdf::TERMS_SETTINGS))
 }
 
 /// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own

@@ -33,16 +33,6 @@ pub fn finite(text: &str) -> Result<f64, String> {
     text.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{text:?} is not a finite number"))
 }
 
-/// A window radius in taps, within the shaders' limit (every command takes the same).
-pub fn window_radius(text: &str) -> Result<u32, String> {
-    let limit = crate::shading::MAX_WINDOW_RADIUS;
-    text.trim()
-        .parse::<u32>()
-        .ok()
-        .filter(|&r| r <= limit)
-        .ok_or_else(|| format!("{text:?}: the window radius is a whole number of taps from 0 to {limit}"))
-}
-
 /// Samples per pixel: a power of two from 1 to 64 (whether the device has that many is checked later).
 pub fn samples(text: &str) -> Result<u32, String> {
     text.trim()

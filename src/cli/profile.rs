@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use anyhow::{bail, Context as _};
 use clap::Args;
 
-use super::args::{HeightFieldArgs, MaterialArgs, SceneOverrideArgs};
+use super::args::{HeightFieldArgs, SceneOverrideArgs};
 use super::{parse, GpuArgs};
 use crate::physics::optics;
 use crate::profile::run::{self, Options, Progress, ReferenceOptions, Report, Subject};
@@ -42,9 +42,6 @@ pub struct ProfileArgs {
     /// BRDF map: light azimuth φ_i in degrees
     #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
-    /// A BRDF map's material (a scene's materials set their own).
-    #[command(flatten)]
-    pub material: Option<MaterialArgs>,
     /// Image width in pixels (a BRDF map is square: its side)
     #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=prof::MAX_SIZE as i64))]
     pub width: u32,
@@ -57,8 +54,9 @@ pub struct ProfileArgs {
     /// Untimed frames first, per configuration
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub warmup: u32,
-    /// Vary settings: KEY=V1,V2,... items (keys: approach, order (or terms), lambda_step_nm, window_radius, size, samples); one
-    /// --sweep runs the cross product of its items, several --sweep flags run one list after the other
+    /// Vary settings: KEY=V1,V2,... items (keys: every material setting by its scene key, e.g. approach, order,
+    /// lambda_step_nm, window_radius, coherence_um; and size, samples); one --sweep runs the cross product of its
+    /// items, several --sweep flags run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
     /// The `--sweep` flags' items, one list per flag (filled from clap's occurrences by `cli::main`).
@@ -109,7 +107,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
-    let base = Config { overrides: args.settings.overrides(), size: args.width, samples: None };
+    let base = Config { overrides: args.settings.patch, size: args.width, samples: None };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;
@@ -161,18 +159,15 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
         return Ok(Subject::Map {
             heightfield: heightfield.load()?,
             light: optics::direction(theta, phi),
-            settings: args.material.as_ref().map_or_else(Settings::default, MaterialArgs::settings),
+            settings: Settings::default(),
             name: path.display().to_string(),
             light_deg: (theta, phi),
         });
     }
     // Refused here, not by clap: a `requires = "heightfield"` lets them through beside SCENE (which conflicts
     // with --heightfield), tried with clap 4.6.
-    if args.material.is_some() || args.light_theta != 0.0 || args.light_phi != 0.0 {
-        bail!(
-            "--light-theta, --light-phi, --tolerance and --coherence-um are a BRDF map's (--heightfield); a scene has \
-             its own light and materials"
-        );
+    if args.light_theta != 0.0 || args.light_phi != 0.0 {
+        bail!("--light-theta and --light-phi are a BRDF map's (--heightfield); a scene has its own light");
     }
     let scene = match &args.scene {
         Some(path) => Scene::load(path)?,

@@ -161,7 +161,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     } else {
         vec![crate::shading::Reach::ANY]
     };
-    let materials = prepare_materials(&scene, &args.settings.overrides(), &reaches)?;
+    let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
     for (m, material) in scene.materials.iter().zip(&materials) {
         if let Some(line) = material.table_line() {
             eprintln!("material {:?}: {line}", m.name);

@@ -68,7 +68,7 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         height: args.height,
         vsync: matches!(args.vsync, OnOff::On),
         context: gpu.context_desc(),
-        overrides: args.settings.overrides(),
+        overrides: args.settings.patch,
         exposure_ev,
         frames: args.frames,
         screenshot: args.screenshot.clone(),

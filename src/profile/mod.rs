@@ -20,62 +20,35 @@ use std::fmt::Write as _;
 use crate::error::{Error, Result};
 use crate::render::diffraction::Upload;
 use crate::render::pass;
-use crate::shading::{Approach, Overrides, Settings, MAX_WINDOW_RADIUS};
+use crate::shading::{Approach, Settings, SettingsPatch};
 use crate::stats::Spread;
 
 /// One configuration of a profile: the settings it sets for every material (the rest are each material's own;
 /// a BRDF map's are [`Settings::default`]'s with the command line's tolerance and coherence) and the image size.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Config {
-    pub overrides: Overrides,
+    pub overrides: SettingsPatch,
     /// Image width (maps: the side) in pixels.
     pub size: u32,
     /// Samples per pixel of a scene's frames (None: the profile's `--samples`, else the scene's).
     pub samples: Option<u32>,
 }
 
-/// The keys a sweep may vary.
-pub const SWEEP_KEYS: [&str; 6] = ["approach", "order", "lambda_step_nm", "window_radius", "size", "samples"];
+/// The keys a sweep may vary besides the material settings ([`Settings::KEYS`]).
+pub const FRAME_KEYS: [&str; 2] = ["size", "samples"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
+
+/// Every key a sweep may vary: the material settings, then the frame's.
+pub fn sweep_keys() -> Vec<&'static str> {
+    Settings::KEYS.iter().chain(&FRAME_KEYS).copied().collect()
+}
 
 impl Config {
     /// Sets `key` to `value` (as written on the command line).
     pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
         let bad = |what: &str| Error::Invalid(format!("--sweep {key}={value}: {what}"));
-        let o = &mut self.overrides;
         match key {
-            "approach" => {
-                o.approach = Some(Approach::ALL.into_iter().find(|a| a.name() == value).ok_or_else(|| {
-                    bad(&format!("the approaches are {}", Approach::ALL.map(Approach::name).join(", ")))
-                })?);
-            }
-            // `terms`: the key's first name, still accepted.
-            "order" | "terms" => {
-                o.order = match value {
-                    "auto" => None,
-                    v => Some(v.parse().map_err(|_| bad("the Taylor order is N (0, 1, …) or auto"))?),
-                }
-            }
-            "lambda_step_nm" => {
-                let v: f64 = value.parse().map_err(|_| bad("the wavelength step is a number of nm"))?;
-                if !(v.is_finite() && v > 0.0 && v <= 400.0) {
-                    return Err(bad("the wavelength step must lie in (0, 400] nm"));
-                }
-                o.lambda_step_nm = Some(v);
-            }
-            "window_radius" => {
-                o.window_radius = match value {
-                    "auto" => None,
-                    v => {
-                        let r: u32 = v.parse().map_err(|_| bad("the window radius is a tap count or auto"))?;
-                        if r > MAX_WINDOW_RADIUS {
-                            return Err(bad(&format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
-                        }
-                        Some(r)
-                    }
-                }
-            }
             "size" => {
                 let v: u32 = value.parse().map_err(|_| bad("the size is a pixel count"))?;
                 if !(1..=MAX_SIZE).contains(&v) {
@@ -90,40 +63,43 @@ impl Config {
                 }
                 self.samples = Some(v);
             }
+            _ if Settings::canonical(key).is_some() => {
+                self.overrides.set(key, value).map_err(|e| Error::Invalid(format!("--sweep {e}")))?
+            }
             _ => {
                 return Err(Error::Invalid(format!(
                     "--sweep: unknown key `{key}` (the keys are {})",
-                    SWEEP_KEYS.join(", ")
+                    sweep_keys().join(", ")
                 )))
             }
         }
         Ok(())
     }
 
-    /// A short label, e.g. `flss N=12 Δλ=5 r=2 256px`: `own` where each material keeps its own approach or
-    /// wavelength step, `auto` where the order or window radius is not forced.
+    /// A short label, e.g. `flss N=12 Δλ=5 r=2 256px`: `own` where each material keeps its own setting, `auto`
+    /// where the shading chooses.
     pub fn label(&self) -> String {
-        let o = &self.overrides;
-        let label = label(
-            o.approach.map_or("own", Approach::name),
-            o.order,
-            &o.lambda_step_nm.map_or("own".to_string(), |v| v.to_string()),
-            o.window_radius,
-            self.size,
-        );
-        with_samples(label, self.samples)
+        let own = |key: &str| !self.overrides.keys_set().contains(&key);
+        let parts: Vec<String> = Settings::INFO
+            .iter()
+            .zip(self.overrides.apply(Settings::default()).values())
+            .filter_map(|(info, value)| {
+                let value = if own(info.key) && info.short.is_some() && value != "auto" { "own".into() } else { value };
+                match info.short {
+                    Some("") => Some(value),
+                    Some(short) => Some(format!("{short}={value}")),
+                    None if !own(info.key) => Some(format!("{}={value}", info.key)),
+                    None => None,
+                }
+            })
+            .collect();
+        with_samples(format!("{} {}px", parts.join(" "), self.size), self.samples)
     }
 }
 
 /// A label with the samples per pixel a sweep set (`… 800px 4spp`).
 fn with_samples(label: String, samples: Option<u32>) -> String {
     samples.map_or(label.clone(), |n| format!("{label} {n}spp"))
-}
-
-fn label(approach: &str, order: Option<usize>, lambda_step_nm: &str, window_radius: Option<u32>, size: u32) -> String {
-    let order = order.map_or("auto".to_string(), |n| n.to_string());
-    let radius = window_radius.map_or("auto".to_string(), |r| r.to_string());
-    format!("{approach} N={order} Δλ={lambda_step_nm} r={radius} {size}px")
 }
 
 /// One `--sweep`: items `KEY=V1,V2,...` whose cross product it stands for.
@@ -140,8 +116,8 @@ impl Sweep {
             let (key, values) = item
                 .split_once('=')
                 .ok_or_else(|| Error::Invalid(format!("--sweep {item}: expected KEY=V1,V2,... (e.g. order=4,8,16)")))?;
-            let key = key.trim().replace('-', "_");
-            let key = if key == "lambda_step" { "lambda_step_nm".to_string() } else { key };
+            let asked = key.trim().replace('-', "_");
+            let key = Settings::canonical(&asked).map_or(asked.clone(), str::to_string);
             if parsed.iter().any(|(k, _)| *k == key) {
                 return Err(Error::Invalid(format!("--sweep: `{key}` appears twice in one sweep")));
             }
@@ -152,7 +128,7 @@ impl Sweep {
             }
             let mut probe = Config::default();
             for v in &values {
-                probe.set(&key, v)?;
+                probe.set(&asked, v)?;
             }
             parsed.push((key, values));
         }
@@ -258,14 +234,10 @@ impl TableSummary {
     }
 }
 
-/// The CSV's column header (the schema a test checks).
-pub const CSV_COLUMNS: [&str; 34] = [
-    "approach",
-    "order_asked",
-    "order",
-    "lambda_step_nm",
+/// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
+pub const MEASURED_COLUMNS: [&str; 30] = [
+    "order_used",
     "lambda_count",
-    "window_radius",
     "taps",
     "width",
     "height",
@@ -296,6 +268,11 @@ pub const CSV_COLUMNS: [&str; 34] = [
     "label",
 ];
 
+/// The CSV's column header (the schema a test checks): the settings, then what was measured.
+pub fn csv_columns() -> Vec<&'static str> {
+    Settings::KEYS.iter().chain(&MEASURED_COLUMNS).copied().collect()
+}
+
 fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
     v.map_or(String::new(), |v| v.to_string())
 }
@@ -303,8 +280,7 @@ fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
 impl Row {
     /// The label of what ran, e.g. `flss N=12 Δλ=5 r=2 256px` (`auto`: the order or radius was not forced).
     pub fn label(&self) -> String {
-        let s = &self.settings;
-        let label = label(s.approach.name(), s.order, &s.lambda_step_nm.to_string(), s.window_radius, self.config.size);
+        let label = format!("{} {}px", self.settings.label(&self.config.overrides), self.config.size);
         with_samples(label, self.config.samples)
     }
 
@@ -313,16 +289,12 @@ impl Row {
         self.passes.iter().find(|(n, _)| n == name).map(|(_, s)| s.median)
     }
 
-    /// The row's CSV fields, in [`CSV_COLUMNS`] order (empty where the device cannot measure).
+    /// The row's CSV fields, in [`csv_columns`] order (empty where the device cannot measure).
     pub fn csv_fields(&self) -> Vec<String> {
-        let s = &self.settings;
-        vec![
-            s.approach.name().to_string(),
-            s.order.map_or("auto".into(), |n| n.to_string()),
+        let mut fields = self.settings.values();
+        fields.extend([
             opt(self.order),
-            format!("{}", s.lambda_step_nm),
             self.lambda_count.to_string(),
-            s.window_radius.map_or("auto".into(), |r| r.to_string()),
             self.taps.to_string(),
             self.width.to_string(),
             self.height.to_string(),
@@ -351,7 +323,8 @@ impl Row {
             opt(self.upload.map(|u| u.bytes)),
             opt(self.upload.and_then(|u| u.gpu_ms).map(|v| format!("{v:.4}"))),
             self.label(),
-        ]
+        ]);
+        fields
     }
 }
 
@@ -363,7 +336,7 @@ pub fn csv(comments: &[String], rows: &[Row]) -> String {
             let _ = writeln!(out, "# {line}");
         }
     }
-    let _ = writeln!(out, "{}", CSV_COLUMNS.join(","));
+    let _ = writeln!(out, "{}", csv_columns().join(","));
     for row in rows {
         let fields: Vec<String> = row.csv_fields().into_iter().map(|f| csv_escape(&f)).collect();
         let _ = writeln!(out, "{}", fields.join(","));
@@ -484,7 +457,8 @@ mod tests {
     use super::*;
 
     fn base() -> Config {
-        let overrides = Overrides { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..Overrides::default() };
+        let overrides =
+            SettingsPatch { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..SettingsPatch::default() };
         Config { overrides, size: 64, samples: None }
     }
 
@@ -510,12 +484,13 @@ mod tests {
     fn bad_sweeps_are_refused_with_the_item() {
         for (item, needle) in [
             ("speed=1", "unknown key"),
+            ("coherence_um=0", "positive"),
             ("order", "KEY=V1"),
             ("order=", "no values"),
             ("order=x", "order=x"),
             ("approach=fast", "flss, nmm"),
             ("lambda_step_nm=0", "(0, 400]"),
-            ("window_radius=99", "at most"),
+            ("window_radius=99", "0 to 16"),
             ("size=0", "1..="),
             ("samples=3", "1, 2, 4"),
             ("samples=128", "1, 2, 4"),

@@ -113,19 +113,31 @@ impl Subject {
         }
     }
 
-    /// The exact reference at `size`. With `samples` > 1 it is evaluated at `samples`² positions per pixel (an
+    /// Each material's coherence length under `config`: what the exact reference depends on besides the size
+    /// (every other setting is an approximation the reference does without).
+    fn coherences_um(&self, config: &Config) -> Vec<f64> {
+        match self {
+            Subject::Map { settings, .. } => vec![config.overrides.apply(*settings).coherence_um],
+            Subject::Scene { scene, .. } => {
+                scene.materials.iter().map(|m| config.overrides.apply(m.settings).coherence_um).collect()
+            }
+        }
+    }
+
+    /// The exact reference at `size` under each material's coherence length. With `samples` > 1 it is evaluated at `samples`² positions per pixel (an
     /// image that many times larger) and averaged.
     fn reference(
         &self,
         ctx: &Context,
         size: (u32, u32),
+        coherences_um: &[f64],
         samples: u32,
         cache: Option<&std::path::Path>,
     ) -> Result<ReferenceImage> {
         let fine = (size.0 * samples, size.1 * samples);
         let job = match self {
-            Subject::Map { heightfield, light, settings, .. } => ReferenceJob {
-                materials: vec![ReferenceMaterial { heightfield, coherence_um: settings.coherence_um }],
+            Subject::Map { heightfield, light, .. } => ReferenceJob {
+                materials: vec![ReferenceMaterial { heightfield, coherence_um: coherences_um[0] }],
                 width: fine.0,
                 height: fine.1,
                 pixels: ReferenceJob::map_pixels(fine.0, *light),
@@ -134,7 +146,8 @@ impl Subject {
                 materials: scene
                     .materials
                     .iter()
-                    .map(|m| ReferenceMaterial { heightfield: &m.heightfield, coherence_um: m.settings.coherence_um })
+                    .zip(coherences_um)
+                    .map(|(m, &coherence_um)| ReferenceMaterial { heightfield: &m.heightfield, coherence_um })
                     .collect(),
                 width: fine.0,
                 height: fine.1,
@@ -227,6 +240,9 @@ pub struct Report {
     pub references: Vec<((u32, u32), String)>,
 }
 
+/// What an exact reference image depends on in a profile: its size and each material's coherence length.
+type ReferenceKey = ((u32, u32), Vec<f64>);
+
 /// Measures `subject` under each of `configs`.
 pub fn run(
     ctx: &Context,
@@ -235,7 +251,8 @@ pub fn run(
     options: &Options,
     progress: &dyn Fn(Progress<'_>),
 ) -> Result<Report> {
-    let mut references: Vec<((u32, u32), ReferenceImage)> = Vec::new();
+    // One reference per size and coherence lengths (a sweep of coherence_um needs one each).
+    let mut references: Vec<(ReferenceKey, ReferenceImage)> = Vec::new();
     let mut rows = Vec::with_capacity(configs.len());
     let count = configs.len();
     for (i, config) in configs.iter().enumerate() {
@@ -251,17 +268,18 @@ pub fn run(
         for line in materials.iter().filter_map(Material::table_line) {
             progress(Progress::Line(format!("[{index}/{count}] {line}")));
         }
-        if let Some(r) = options.reference.as_ref().filter(|_| !references.iter().any(|(s, _)| *s == size)) {
+        let key = (size, subject.coherences_um(config));
+        if let Some(r) = options.reference.as_ref().filter(|_| !references.iter().any(|(k, _)| *k == key)) {
             let start = Instant::now();
-            let image = subject.reference(ctx, size, r.samples, r.cache.as_deref())?;
+            let image = subject.reference(ctx, size, &key.1, r.samples, r.cache.as_deref())?;
             let seconds = start.elapsed().as_secs_f64();
             progress(Progress::Line(format!(
                 "reference {}×{} ({seconds:.1} s): {}",
                 size.0, size.1, image.description
             )));
-            references.push((size, image));
+            references.push((key.clone(), image));
         }
-        let reference = references.iter().find(|(s, _)| *s == size).map(|r| &r.1);
+        let reference = references.iter().find(|(k, _)| *k == key).map(|r| &r.1);
         let measured = Measured { materials: &materials, precompute_ms, reference };
         let row = measure_config(ctx, subject, config, size, options, &measured, &step).map_err(in_config)?;
         progress(Progress::Line(format!(
@@ -272,7 +290,7 @@ pub fn run(
         )));
         rows.push(row);
     }
-    let references = references.into_iter().map(|(size, image)| (size, image.description)).collect();
+    let references = references.into_iter().map(|((size, _), image)| (size, image.description)).collect();
     Ok(Report { rows, references })
 }
 

@@ -10,12 +10,12 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
-use crate::shading::{Material, Overrides, Reach};
+use crate::shading::{Material, Reach, SettingsPatch};
 use crate::vk::{Context, Guard};
 
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
-pub fn prepare_materials(scene: &Scene, overrides: &Overrides, reaches: &[Reach]) -> Result<Vec<Material>> {
+pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach]) -> Result<Vec<Material>> {
     if reaches.is_empty() || (reaches.len() != 1 && reaches.len() != scene.materials.len()) {
         return Err(Error::Invalid(format!("{} reaches for {} materials", reaches.len(), scene.materials.len())));
     }

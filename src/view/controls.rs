@@ -7,7 +7,7 @@ use winit::keyboard::{Key, ModifiersState, NamedKey};
 
 use crate::camera::Camera;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material, Overrides};
+use crate::shading::{Approach, Material, SettingsPatch, MAX_WINDOW_RADIUS};
 
 /// The key bindings, as `H` prints them and docs/usage.md lists them.
 pub const BINDINGS: &str = "\
@@ -37,13 +37,11 @@ const DISTANCE_RANGE: (f32, f32) = (0.01, 1000.0);
 const LIGHT_STEP_DEGREES: f32 = 5.0;
 /// Exposure change per `+`/`−` press (EV).
 const EXPOSURE_STEP_EV: f64 = 0.5;
-/// The largest window radius `R` reaches (texels; the shaders' loops are bounded by it).
-const MAX_WINDOW_RADIUS: u32 = 16;
 
 /// The live settings the keys and the mouse change.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Live {
-    pub overrides: Overrides,
+    pub overrides: SettingsPatch,
     pub exposure_ev: f64,
     /// Show the first object's BRDF as a map instead of the geometry.
     pub map_mode: bool,
@@ -76,7 +74,7 @@ pub struct Input {
 
 impl Live {
     /// The scene's camera and light, with the viewer's settings.
-    pub fn from_scene(scene: &Scene, overrides: Overrides, exposure_ev: f64) -> Self {
+    pub fn from_scene(scene: &Scene, overrides: SettingsPatch, exposure_ev: f64) -> Self {
         let offset = scene.camera.position - scene.camera.target;
         let distance = offset.length();
         let light = scene.light_dir;
@@ -220,7 +218,7 @@ mod tests {
 
     fn live() -> Live {
         Live {
-            overrides: Overrides::default(),
+            overrides: SettingsPatch::default(),
             exposure_ev: 0.0,
             map_mode: false,
             yaw: 0.0,
@@ -239,7 +237,7 @@ mod tests {
     #[test]
     fn the_scene_camera_and_light_come_back_from_the_orbit() {
         let scene = Scene::default_scene().unwrap();
-        let live = Live::from_scene(&scene, Overrides::default(), 0.0);
+        let live = Live::from_scene(&scene, SettingsPatch::default(), 0.0);
         let camera = live.camera(&scene.camera);
         assert!((camera.position - scene.camera.position).length() < 1e-4, "{camera:?} vs {:?}", scene.camera);
         assert!((live.light() - scene.light_dir.normalize()).length() < 1e-5);

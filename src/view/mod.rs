@@ -28,7 +28,7 @@ use crate::render::surface::{Instruments, SceneRenderer};
 use crate::render::window::{WindowFrame, WindowTarget};
 use crate::render::SceneView;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material, Overrides, Reach};
+use crate::shading::{Approach, Material, Reach, SettingsPatch};
 use crate::vk::swapchain;
 use crate::vk::FrameTimes;
 use crate::vk::{Context, ContextDesc, Guard};
@@ -40,7 +40,7 @@ pub struct ViewOptions {
     pub height: u32,
     pub vsync: bool,
     pub context: ContextDesc,
-    pub overrides: Overrides,
+    pub overrides: SettingsPatch,
     pub exposure_ev: f64,
     /// Render this many frames, write the last to `screenshot` and exit.
     pub frames: Option<u32>,
@@ -135,7 +135,7 @@ struct Timing {
 /// while the window shows a stand-in; installed by the first frame drawn after they are ready.
 struct Pending {
     /// The settings they are prepared for (a key that changes them drops the job).
-    overrides: Overrides,
+    overrides: SettingsPatch,
     done: std::sync::mpsc::Receiver<Result<Vec<Material>>>,
     since: Instant,
 }
@@ -281,7 +281,7 @@ fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -
     match done.recv_timeout(first_frame_wait()) {
         Ok(materials) => Ok((Gpu::with_materials(ctx, scene, live, target, materials?)?, None)),
         Err(RecvTimeoutError::Timeout) => {
-            let stand_in = Overrides { approach: Some(STAND_IN), ..overrides };
+            let stand_in = SettingsPatch { approach: Some(STAND_IN), ..overrides };
             let materials = prepare_materials(scene, &stand_in, &[Reach::ANY])?;
             println!(
                 "view: preparing the materials (a baked table that is not in the cache yet takes a while); {} stands \
@@ -313,7 +313,7 @@ impl Gpu {
         mut materials: Vec<Material>,
     ) -> Result<Self> {
         for m in &mut materials {
-            m.params.display[0] = live.exposure_scale() as f32;
+            m.set_exposure(live.exposure_ev);
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
         let (format, samples) = (target.format(), target.samples());

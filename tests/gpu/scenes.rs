@@ -2,7 +2,7 @@
 
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::scene::Scene;
-use diffract::shading::Overrides;
+use diffract::shading::SettingsPatch;
 
 use crate::golden;
 use crate::harness::gpu_test;
@@ -19,7 +19,7 @@ fn every_asset_scene_renders_in_colour() {
         let linear = gpu_test(|ctx| {
             // As `diffract render` does: each baked table covers what this frame shows.
             let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-            let materials = prepare_materials(&scene, &Overrides::default(), &reaches).unwrap();
+            let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
             let samples = ctx.sample_count(scene.render.samples, diffract::render::LINEAR_FORMAT).unwrap();
             let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, samples).unwrap();
             let frame = capture.render(ctx, &diffract::render::SceneView::of(&scene));

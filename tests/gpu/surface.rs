@@ -60,8 +60,9 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
         .unwrap()
         .tiled(3, 3)
         .unwrap();
-    let settings = Settings { lambda_step_nm: 10.0, coherence_um: 8.0, exposure_ev: 2.0, ..Settings::default() };
-    let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
+    let settings = Settings { lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
+    let mut material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
+    material.set_exposure(2.0);
     let reference = Reference::new(&hf, material.window, Method::Taylor, material.plan).unwrap();
     let (w, h) = (64u32, 48u32);
     let (mesh, sc) = scene(30.0, -1.0);

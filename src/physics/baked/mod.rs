@@ -407,7 +407,7 @@ pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
     match shortfall(table) {
         None => Ok(()),
         Some(m) if strict => Err(Error::Invalid(format!(
-            "{m}; refused (--strict, or the scene's table_tolerance): raise the tolerance or narrow the views"
+            "{m}; refused (--strict-table, or the scene's table_tolerance): raise the tolerance or narrow the views"
         ))),
         Some(m) => {
             eprintln!("warning: {m}; {TABLE_SHORTFALL_HINT}");
@@ -417,7 +417,7 @@ pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
 }
 
 /// What a warning about a table that misses its tolerance adds.
-pub const TABLE_SHORTFALL_HINT: &str = "colours may be off by that much (--strict refuses such a table)";
+pub const TABLE_SHORTFALL_HINT: &str = "colours may be off by that much (--strict-table refuses such a table)";
 
 /// One mip level: RGBA32F texels, layer after layer, rows top (v0) first.
 #[derive(Clone, Debug, PartialEq)]
