@@ -155,7 +155,7 @@ impl Prepared<'_> {
 
 /// The f64 Taylor method where its own rounding stays below the tolerance; otherwise a refusal that names the
 /// method that can (exact: no series, no cancellation).
-pub fn refuse_unless_f64_suffices(plan: &TaylorPlan) -> Result<()> {
+pub(crate) fn refuse_unless_f64_suffices(plan: &TaylorPlan) -> Result<()> {
     if plan.f64_suffices() {
         return Ok(());
     }
@@ -173,7 +173,7 @@ pub fn refuse_unless_f64_suffices(plan: &TaylorPlan) -> Result<()> {
 
 /// The f32 sums (GPU and its CPU emulation) as `map` treats them: refused where f32 cannot reach the tolerance,
 /// unless the caller accepts the error.
-pub fn refuse_unless_f32_suffices(plan: &TaylorPlan, accept: bool) -> Result<()> {
+pub(crate) fn refuse_unless_f32_suffices(plan: &TaylorPlan, accept: bool) -> Result<()> {
     if plan.f32_suffices() || accept {
         return Ok(());
     }

@@ -54,26 +54,28 @@
 //! `profile_approaches` (two approaches timed pass by pass and measured against the exact reference).
 
 pub mod brdf;
-pub mod cache;
+pub(crate) mod cache;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod error;
+#[doc(hidden)] // the fuzz targets' entry points (fuzz/), not an API
 pub mod fuzz;
 pub mod generate;
-pub mod input;
+pub(crate) mod input;
 pub mod mesh;
 pub mod output;
 pub mod physics;
 pub mod profile;
-pub mod progress;
+pub(crate) mod progress;
 pub mod render;
 pub mod scene;
 pub mod settings;
 pub mod shaders;
 pub mod shading;
 pub mod stats;
-pub mod view;
+#[cfg(feature = "cli")]
+pub(crate) mod view;
 pub mod vk;
 
 pub use error::{Error, Result};

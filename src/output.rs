@@ -15,7 +15,7 @@ use std::sync::Mutex;
 use crate::error::{Error, Result};
 
 /// The prefix of every temporary file diffract writes (then the writer's process id, a counter and the name).
-pub const TEMP_PREFIX: &str = ".diffract-tmp-";
+pub(crate) const TEMP_PREFIX: &str = ".diffract-tmp-";
 /// The most bytes of the target's name a temporary file's name repeats (names stay under the 255-byte limit).
 const TEMP_NAME_BYTES: usize = 128;
 
@@ -25,7 +25,8 @@ static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 
 /// Ctrl-C and SIGTERM remove the temporary files being written and end the process with status 130 (what a
 /// shell reports for Ctrl-C); without this a temporary file would be left until the next run in its folder.
-pub fn install_interrupt_cleanup() {
+#[cfg_attr(not(feature = "cli"), allow(dead_code))] // the command line installs it
+pub(crate) fn install_interrupt_cleanup() {
     // A second handler (tests, a library user's own) is theirs to keep.
     let _ = ctrlc::set_handler(|| {
         let files = WRITING.lock().map(|w| w.clone().unwrap_or_default()).unwrap_or_default();
@@ -39,7 +40,7 @@ pub fn install_interrupt_cleanup() {
 
 /// Writes `bytes` to `file` through a temporary file in the same folder, flushed to disk, then renamed over it:
 /// an interrupted or failed write leaves an existing file as it was.
-pub fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub(crate) fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = file.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
     sweep_stale_temporaries(dir);
@@ -105,18 +106,18 @@ fn process_runs(pid: libc::pid_t) -> bool {
 }
 
 /// Checks, before any expensive work, that `path` names a PNG in a folder that exists.
-pub fn check_png_path(path: &Path) -> Result<()> {
+pub(crate) fn check_png_path(path: &Path) -> Result<()> {
     check_path(path, "png")
 }
 
 /// Checks, before any expensive work, that `path` names an OpenEXR file in a folder that exists.
-pub fn check_exr_path(path: &Path) -> Result<()> {
+pub(crate) fn check_exr_path(path: &Path) -> Result<()> {
     check_path(path, "exr")
 }
 
 /// Checks an output path before any work: the extension, not a folder, not an existing special file (a
 /// device, a pipe), in a folder that exists. The write itself is atomic ([`write_file`]).
-pub fn check_path(path: &Path, extension: &str) -> Result<()> {
+pub(crate) fn check_path(path: &Path, extension: &str) -> Result<()> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if ext.as_deref() != Some(extension) {
         return Err(Error::output(path, format!("the output must be a .{extension} file")));
@@ -138,7 +139,7 @@ pub fn check_path(path: &Path, extension: &str) -> Result<()> {
 
 /// Writes `bytes` to `path` through a temporary file in the same folder, flushed to disk, then renamed over
 /// it: a full disk or a failed write reports the error and leaves an existing file as it was.
-pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
+pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic(path, bytes).map_err(|e| Error::output(path, e))
 }
 

@@ -118,7 +118,7 @@ impl Reach {
 pub use crate::settings::{Settings, SettingsPatch, MAX_WINDOW_RADIUS};
 
 /// The window weight at which the default render window stops (the first tap left out weighs less).
-pub const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
+pub(crate) const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
 /// Most wavelengths one pixel may sample (a 1 nm step over 380–780 nm is 401).
 pub const MAX_LAMBDA_COUNT: usize = 4001;
 /// The widest coherence window (σ in DFT bins) under which NMM, PQ and gem stay approximations of a few ΔE00: they
@@ -396,7 +396,7 @@ impl Baked {
 }
 
 /// Texels a trilinear sample reads: 2 × 2 in each of two mip levels (what the counting shaders add per fetch).
-pub const TRILINEAR_TEXELS: usize = 8;
+pub(crate) const TRILINEAR_TEXELS: usize = 8;
 
 const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
 

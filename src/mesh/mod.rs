@@ -188,7 +188,7 @@ impl Mesh {
 }
 
 /// `axis` projected onto the plane of `n`, or another axis where `axis` is (nearly) parallel to `n`.
-pub fn fallback_tangent(n: Vec3, axis: Vec3) -> Vec3 {
+pub(crate) fn fallback_tangent(n: Vec3, axis: Vec3) -> Vec3 {
     for a in [axis, Vec3::X, Vec3::Y, Vec3::Z] {
         if let Some(t) = (a - n * n.dot(a)).try_normalize() {
             if t.dot(a) > 0.2 {

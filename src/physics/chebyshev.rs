@@ -32,7 +32,7 @@ pub fn coefficients(values: &[f64]) -> Vec<f64> {
 }
 
 /// The matrix of [`coefficients`]: `coefficients(f)[d] = Σ_c m[d][c]·f[c]` (applied to many functions at once).
-pub fn coefficient_matrix(n: usize) -> Vec<Vec<f64>> {
+pub(crate) fn coefficient_matrix(n: usize) -> Vec<Vec<f64>> {
     (0..n)
         .map(|d| {
             let scale = if d == 0 { 1.0 } else { 2.0 } / n as f64;
@@ -68,7 +68,7 @@ pub fn evaluate(a: &[f64], t: f64) -> f64 {
 
 /// An upper bound on Σ_{d ≥ n} |J_d(x)| for |x| ≤ `x` (from |J_d(x)| ≤ (|x|/2)^d/d!, summed as a geometric
 /// series once the ratio x/(2(d + 1)) is below 1): the Chebyshev tail of e^{ixt} beyond degree n − 1, halved.
-pub fn bessel_tail(x: f64, n: usize) -> f64 {
+pub(crate) fn bessel_tail(x: f64, n: usize) -> f64 {
     let half = 0.5 * x.abs();
     if half == 0.0 {
         return if n == 0 { 1.0 } else { 0.0 };
@@ -80,12 +80,6 @@ pub fn bessel_tail(x: f64, n: usize) -> f64 {
     // (x/2)^n / n! in logs, finite for large n.
     let log_term = n as f64 * half.ln() - (1..=n).map(|k| (k as f64).ln()).sum::<f64>();
     log_term.exp() / (1.0 - ratio)
-}
-
-/// The fewest terms n for which a function Σ_ω c_ω e^{iωρt} with |ω|ρ ≤ `x` and Σ|c_ω| ≤ `amplitude` keeps
-/// its Chebyshev tail below `tolerance` (2·amplitude·`bessel_tail`); at most `max`.
-pub fn terms_for(x: f64, amplitude: f64, tolerance: f64, max: usize) -> Option<usize> {
-    (1..=max).find(|&n| 2.0 * amplitude * bessel_tail(x, n) <= tolerance)
 }
 
 #[cfg(test)]
@@ -133,13 +127,5 @@ mod tests {
             // Past n ≈ 16 both are at the rounding floor of the 24-point DCT (a few 1e-15).
             assert!(tail <= 2.0 * bessel_tail(x, n) + 1e-14, "n = {n}: {tail} > {}", 2.0 * bessel_tail(x, n));
         }
-    }
-
-    #[test]
-    fn terms_grow_with_the_bandwidth() {
-        let small = terms_for(2.7, 6.0, 1e-6, 200).unwrap();
-        let large = terms_for(11.0, 6.0, 1e-6, 200).unwrap();
-        assert!((10..=16).contains(&small) && large > small + 10, "{small} {large}");
-        assert_eq!(terms_for(500.0, 1.0, 1e-6, 60), None);
     }
 }

@@ -151,7 +151,7 @@ impl HeightField {
 }
 
 /// Refuses empty, absurd or memory-exhausting sizes before anything is allocated.
-pub fn check_dims(nx: u64, ny: u64) -> Result<()> {
+pub(crate) fn check_dims(nx: u64, ny: u64) -> Result<()> {
     if nx == 0 || ny == 0 {
         return Err(Error::Invalid(format!("a height field of {nx}×{ny} pixels is empty")));
     }

@@ -17,7 +17,7 @@ pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] =
     [[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560], [0.0556434, -0.2040259, 1.0572252]];
 
 /// (x̄, ȳ, z̄, S/100) at `lambda_nm`, linearly interpolated in the 1 nm tables; zero outside 380–780 nm.
-pub fn spectrum_at(lambda_nm: f64) -> [f64; 4] {
+pub(crate) fn spectrum_at(lambda_nm: f64) -> [f64; 4] {
     if !(TABLE_LAMBDA_MIN_NM..=TABLE_LAMBDA_MAX_NM).contains(&lambda_nm) {
         return [0.0; 4];
     }
@@ -30,7 +30,7 @@ pub fn spectrum_at(lambda_nm: f64) -> [f64; 4] {
 }
 
 /// The table as the GPU reads it: (x̄, ȳ, z̄, S/100) per nm from 380 to 780 as f32 vec4s.
-pub fn gpu_table() -> Vec<[f32; 4]> {
+pub(crate) fn gpu_table() -> Vec<[f32; 4]> {
     (0..TABLE_ROWS).map(|k| spectrum_at(TABLE_LAMBDA_MIN_NM + k as f64).map(|v| v as f32)).collect()
 }
 

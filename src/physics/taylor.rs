@@ -39,7 +39,7 @@ pub const F32_UNIT_ROUNDOFF: f64 = 5.960_464_477_539_063e-8;
 pub const F64_UNIT_ROUNDOFF: f64 = 1.110_223_024_625_156_5e-16;
 
 /// The bound on |Σ_{n>N} (i·x)^n/n!| for |x| ≤ `x`.
-pub fn truncation_tail(x: f64, order: usize) -> f64 {
+pub(crate) fn truncation_tail(x: f64, order: usize) -> f64 {
     let n1 = order as f64 + 1.0;
     if n1 + 1.0 <= x {
         return f64::INFINITY;
@@ -303,7 +303,7 @@ fn i_pow(n: usize) -> Complex64 {
 }
 
 /// In-place unnormalised inverse 2D DFT (+i exponent) of a row-major `nx`×`ny` array.
-pub fn ifft2(data: &mut [Complex64], nx: usize, ny: usize, fx: &Arc<dyn Fft<f64>>, fy: &Arc<dyn Fft<f64>>) {
+pub(crate) fn ifft2(data: &mut [Complex64], nx: usize, ny: usize, fx: &Arc<dyn Fft<f64>>, fy: &Arc<dyn Fft<f64>>) {
     fx.process(data);
     if ny > 1 {
         let mut t = vec![Complex64::default(); nx * ny];

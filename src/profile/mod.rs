@@ -443,7 +443,7 @@ pub fn ms(v: f64) -> String {
 }
 
 /// A count with an SI suffix (k, M, G).
-pub fn si(v: f64) -> String {
+pub(crate) fn si(v: f64) -> String {
     match v {
         v if v >= 1e9 => format!("{:.2}G", v / 1e9),
         v if v >= 1e6 => format!("{:.2}M", v / 1e6),

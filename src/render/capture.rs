@@ -49,7 +49,7 @@ pub fn scene_reaches(
 }
 
 /// The renderer's view of `scene`'s materials (from [`prepare_materials`], in the same order).
-pub fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> Vec<MaterialInput<'a>> {
+pub(crate) fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> Vec<MaterialInput<'a>> {
     materials
         .iter()
         .zip(&scene.materials)
@@ -58,7 +58,7 @@ pub fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> Vec<Mate
 }
 
 /// `scene`'s objects as (mesh, material index) for [`SceneRenderer::new`].
-pub fn scene_objects(scene: &Scene) -> Vec<(&Mesh, usize)> {
+pub(crate) fn scene_objects(scene: &Scene) -> Vec<(&Mesh, usize)> {
     scene.objects.iter().map(|o| (&o.mesh, o.material)).collect()
 }
 

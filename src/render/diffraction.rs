@@ -26,7 +26,7 @@ use crate::vk::{
 const MAP_BAND_ROWS: u32 = 32;
 
 /// The descriptor bindings every diffraction shader declares (glsl/include/params.glsl).
-pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
+pub(crate) fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
     [
         Binding { binding: BINDING_PARAMS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
         Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
@@ -37,7 +37,7 @@ pub fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
 pub const TABLE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
 /// The fetch counters' binding for a fragment shader.
-pub fn count_binding() -> Binding {
+pub(crate) fn count_binding() -> Binding {
     Binding {
         binding: BINDING_FETCH_COUNTS,
         kind: vk::DescriptorType::STORAGE_BUFFER,
@@ -46,7 +46,7 @@ pub fn count_binding() -> Binding {
 }
 
 /// A material's GPU resources, uploaded once.
-pub struct PatchResources {
+pub(crate) struct PatchResources {
     pub terms: Image,
     pub sampler: Sampler,
     pub spectrum: Buffer,
@@ -190,14 +190,14 @@ impl MapImage {
 }
 
 /// The material's uniforms with the light direction `light` (unit, patch frame).
-pub fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
+pub(crate) fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
     let mut params = material.params;
     params.light = [light.x as f32, light.y as f32, light.z as f32, 0.0];
     params
 }
 
 /// The BRDF-map pipeline for one material.
-pub struct MapPass {
+pub(crate) struct MapPass {
     pipeline: Pipeline,
     counting: bool,
 }

@@ -189,7 +189,7 @@ impl GBuffer {
 
 /// The reaches of one or more frames' G-buffers merged, per material: the union of the boxes and the smallest
 /// footprint; a material no frame shows lit gets the smallest table (any will do).
-pub fn merge_reaches(frames: &[Vec<Option<(Domain, f64)>>], count: usize) -> Vec<Reach> {
+pub(crate) fn merge_reaches(frames: &[Vec<Option<(Domain, f64)>>], count: usize) -> Vec<Reach> {
     (0..count)
         .map(|m| {
             let seen: Vec<(Domain, f64)> = frames.iter().filter_map(|f| f.get(m).copied().flatten()).collect();
@@ -204,4 +204,4 @@ pub fn merge_reaches(frames: &[Vec<Option<(Domain, f64)>>], count: usize) -> Vec
 }
 
 /// The footprint a table for an unseen material is sized with (a coarse one: nothing reads it).
-pub const UNSEEN_FOOTPRINT: f64 = 0.05;
+pub(crate) const UNSEEN_FOOTPRINT: f64 = 0.05;

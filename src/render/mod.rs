@@ -231,7 +231,7 @@ impl OffscreenTarget {
 
 /// Begins dynamic rendering into `target` within `area` (the whole target when `None`), clearing colour to
 /// `clear` and depth to 1 there; the viewport covers the whole target.
-pub fn begin_rendering(
+pub(crate) fn begin_rendering(
     ctx: &Context,
     cmd: vk::CommandBuffer,
     target: &TargetView,
@@ -283,7 +283,7 @@ pub fn begin_rendering(
     }
 }
 
-pub fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {
+pub(crate) fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {
     // SAFETY: paired with begin_rendering.
     unsafe { ctx.device().cmd_end_rendering(cmd) };
 }
@@ -291,12 +291,12 @@ pub fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {
 /// Whether a scene's passes cull back faces: only where no mesh shows a back ([`Mesh::one_sided`]). Every pass
 /// that draws the scene asks here, so that they all rasterise the same fragments (the shading pass's EQUAL depth
 /// test needs its pre-pass's; the G-buffer's must be the frame's).
-pub fn culls_back_faces<'a>(meshes: impl IntoIterator<Item = &'a Mesh>) -> bool {
+pub(crate) fn culls_back_faces<'a>(meshes: impl IntoIterator<Item = &'a Mesh>) -> bool {
     meshes.into_iter().all(|m| m.one_sided)
 }
 
 /// A mesh's vertex and index buffers on the GPU.
-pub struct MeshBuffers {
+pub(crate) struct MeshBuffers {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub index_count: u32,

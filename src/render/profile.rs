@@ -81,7 +81,7 @@ pub struct Counts {
 const _: () = assert!(std::mem::size_of::<Counts>() == 8);
 
 /// Zeroed per-pixel counters, drawn into by `record`, read back.
-pub fn counted_frame(
+pub(crate) fn counted_frame(
     ctx: &Context,
     width: u32,
     height: u32,

@@ -33,7 +33,7 @@ use crate::physics::window::Window;
 pub const MAX_NODES: usize = 96;
 /// Most sample positions per axis of the estimate: beyond it (a large patch that is no tiling, where every bin is
 /// a lobe centre) the estimate samples a regular grid and says so.
-pub const MAX_PROBE_AXIS: usize = 192;
+pub(crate) const MAX_PROBE_AXIS: usize = 192;
 /// Lobes whose centres lie within this many window widths σ outside the table's box still reach into it.
 const PROBE_REACH_SIGMAS: f64 = 3.0;
 
@@ -89,7 +89,7 @@ pub struct Nodes {
 /// The fewest nodes (at least 2) whose unseen error is below INVISIBLE/4 in every channel, for w ∈ `w`:
 /// Σ_λ weight_λ · 2 · 2·gain²·Σ_{d≥M}|J_d(Ω_λ·ρ)| (the Chebyshev coefficients of e^{iωρt} are 2·i^d·J_d(ωρ),
 /// the interpolant's error at most twice the tail). Refused beyond [`MAX_NODES`].
-pub fn nodes_for(hf: &HeightField, window: &Window, cell: (usize, usize), w: (f64, f64)) -> Result<Nodes> {
+pub(crate) fn nodes_for(hf: &HeightField, window: &Window, cell: (usize, usize), w: (f64, f64)) -> Result<Nodes> {
     let (h0, h1) = hf.range();
     let rho = 0.5 * (w.1 - w.0);
     let gain = lattice_gain(window.sigma_x, (hf.nx / cell.0) as f64, window.radius_x)
@@ -326,14 +326,14 @@ impl Certificate {
 
 /// The most terms a table on `grid` may keep: what fits in [`MAX_TABLE_BYTES`], at most [`MAX_TERMS`] and the
 /// build's `nodes`.
-pub fn terms_that_fit(grid: &Grid, nodes: usize) -> usize {
+pub(crate) fn terms_that_fit(grid: &Grid, nodes: usize) -> usize {
     (1..=nodes.min(MAX_TERMS)).rev().find(|&n| grid.bytes(n) <= MAX_TABLE_BYTES).unwrap_or(1)
 }
 
 /// Turns the build's node values (`data[t·3M + c·3 + ch]`, M = `nodes.count`) into Chebyshev coefficients in
 /// place (`data[t·3M + d·3 + ch]`) and certifies the degree kept: the fewest terms the tolerance needs in every
 /// texel and channel, or `fit` ([`terms_that_fit`]) where that is fewer.
-pub fn certify(data: &mut [f64], fit: usize, nodes: &Nodes, tolerance: f64) -> Result<Certificate> {
+pub(crate) fn certify(data: &mut [f64], fit: usize, nodes: &Nodes, tolerance: f64) -> Result<Certificate> {
     let m = nodes.count;
     let matrix = chebyshev::coefficient_matrix(m);
     let floor = nodes.unseen.map(|u| INVISIBLE - u);

@@ -53,11 +53,11 @@ pub const TABLE_LAMBDA_STEP_NM: f64 = 1.0;
 pub const MAX_TERMS: usize = 64;
 /// The wavelength step of the estimate of the degree, nm (the degree in w hardly depends on the spectral
 /// sampling; the build's certificate is made at the table's own 1 nm).
-pub const PROBE_LAMBDA_STEP_NM: f64 = 5.0;
+pub(crate) const PROBE_LAMBDA_STEP_NM: f64 = 5.0;
 /// Most sub-samples per texel axis on the coherent path.
 pub const MAX_SUBSAMPLES: usize = 8;
 /// Coefficients per texel of an RGBA32F layer.
-pub const LAYER_CHANNELS: usize = 4;
+pub(crate) const LAYER_CHANNELS: usize = 4;
 
 /// The (u, v, w) a table covers.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -176,7 +176,7 @@ impl Grid {
 }
 
 /// RGBA layers holding `terms` coefficients of X, Y and Z: coefficient d of channel c is scalar 3d + c.
-pub fn layers_for(terms: usize) -> usize {
+pub(crate) fn layers_for(terms: usize) -> usize {
     (3 * terms).div_ceil(LAYER_CHANNELS)
 }
 
@@ -210,7 +210,7 @@ pub struct TablePlan {
 
 /// Tiling strides (in window widths σ) beyond which neighbouring lobes no longer interfere: their cross term
 /// carries exp(−(T/σ)²/4) ≤ 10⁻¹².
-pub const INDEPENDENT_STRIDE: f64 = 10.5;
+pub(crate) const INDEPENDENT_STRIDE: f64 = 10.5;
 
 impl TablePlan {
     pub fn new(hf: &HeightField, coherence_um: f64, request: &TableRequest, tolerance: f64) -> Result<Self> {
@@ -365,7 +365,7 @@ impl TablePlan {
 
 /// The table `plan` describes: from the cache folder ([`crate::cache::default_dir`]) when an earlier run built
 /// it, else built (and stored there). Returns the table and whether it came from the cache.
-pub fn load_or_build(
+pub(crate) fn load_or_build(
     hf: &HeightField,
     plan: &TablePlan,
     progress: Option<build::Progress<'_>>,
@@ -385,7 +385,7 @@ pub fn load_or_build(
 
 /// Where `table`'s certificate misses its tolerance (memory or [`MAX_TERMS`] kept fewer terms than it needs, or
 /// the nodes could not reach it), what it keeps and why, in words naming the tail and the tolerance.
-pub fn shortfall(table: &BakedTable) -> Option<String> {
+pub(crate) fn shortfall(table: &BakedTable) -> Option<String> {
     let c = &table.certificate;
     if c.meets_tolerance() {
         return None;
@@ -417,7 +417,7 @@ pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
 }
 
 /// What a warning about a table that misses its tolerance adds.
-pub const TABLE_SHORTFALL_HINT: &str = "colours may be off by that much (--strict-table refuses such a table)";
+pub(crate) const TABLE_SHORTFALL_HINT: &str = "colours may be off by that much (--strict-table refuses such a table)";
 
 /// One mip level: RGBA32F texels, layer after layer, rows top (v0) first.
 #[derive(Clone, Debug, PartialEq)]
