@@ -9,7 +9,7 @@
 //! From the top down (each layer uses only those below it):
 //! - `cli`: the `diffract` command line (a thin binary calls `cli::main`), behind the default feature `cli`:
 //!   `clap` and `anyhow` live only there, and a library user can leave both out (`default-features = false`).
-//! - [`view`]: the interactive viewer (winit window, input, live settings); it draws through
+//! - `view`: the interactive viewer (winit window, input, live settings); it draws through
 //!   [`render::window::WindowTarget`].
 //! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
 //!   [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, or the GPU's compute
@@ -26,9 +26,9 @@
 //!   (instance, device, allocator, queue) and leaf objects (buffers, images, pipelines, timestamp queries) that
 //!   are destroyed explicitly. Validation is on demand and every message is counted. [`shaders`]: the SPIR-V
 //!   that `build.rs` compiled from `glsl/`.
-//! - Shared services: [`input`] (bounded reading of user files), [`output`] (PNG and EXR; every write through
-//!   a recognisable temporary file and a rename), [`cache`] (the on-disk cache of tables and references, each
-//!   entry verified before use), [`stats`] (quantiles, the finite-pixel check), [`progress`]
+//! - Shared services: `input` (bounded reading of user files), [`output`] (PNG and EXR; every write through
+//!   a recognisable temporary file and a rename), `cache` (the on-disk cache of tables and references, each
+//!   entry verified before use), [`stats`] (quantiles, the finite-pixel check), `progress`
 //!   (progress bars on stderr), [`error`], and [`fuzz`] (the fuzz targets' entry points).
 //!
 //! Errors are [`error::Error`]: each renders as one line a user can act on.

@@ -3,7 +3,7 @@
 //!
 //! Temporary files are named `.diffract-tmp-<pid>-<n>-<name>` in the target's folder: a run killed while writing
 //! (SIGKILL, a power cut) leaves one behind, and the next run that writes in that folder removes every one whose
-//! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits ([`install_interrupt_cleanup`]).
+//! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits (`install_interrupt_cleanup`).
 
 use std::collections::HashSet;
 use std::ffi::OsString;

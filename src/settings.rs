@@ -1,6 +1,6 @@
 //! The material settings that trade speed for accuracy, declared once.
 //!
-//! [`settings!`] below is the only place a setting is named. From its list come:
+//! `settings!` below is the only place a setting is named. From its list come:
 //! - [`Settings`]: every setting's value, with the defaults a user gets;
 //! - [`SettingsPatch`]: the same settings, each either set or left alone: a scene's material (serde, with the old
 //!   names as aliases), the command line's flags (clap, under the `cli` feature), one configuration of a profile

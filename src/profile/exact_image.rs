@@ -342,7 +342,7 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
     })
 }
 
-/// The default cache folder ([`crate::cache::default_dir`]).
+/// The default cache folder (`crate::cache::default_dir`).
 pub fn default_cache_dir() -> Option<PathBuf> {
     crate::cache::default_dir()
 }

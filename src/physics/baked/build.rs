@@ -4,7 +4,7 @@
 //! A_k = DFT(exp(i·κ·h))(k) with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
 //! spectrum is its cell's spectrum on every T-th bin). Then, per texel:
 //!
-//! - lattice path (the tiling stride is ≥ [`super::INDEPENDENT_STRIDE`] window widths, so lobes do not
+//! - lattice path (the tiling stride is ≥ `super::INDEPENDENT_STRIDE` window widths, so lobes do not
 //!   interfere): |P(s)|² = Σ_k |A_k|²·exp(−|T·k − s|²/σ²), and a texel's average of each lobe is exactly
 //!   (σ_u√π/2)·Δerf(edges)/texel per axis (or its value at the texel's centre, for point tables). These
 //!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`super::INVISIBLE`], and
@@ -483,7 +483,7 @@ impl<'a> Pass<'a> {
 }
 
 /// Builds the table `plan` describes for `hf`: node values at `plan.nodes` nodes in w, turned into Chebyshev
-/// coefficients and certified ([`super::degree::certify`]), the degree kept the certificate's.
+/// coefficients and certified (`super::degree::certify`), the degree kept the certificate's.
 /// `progress(done, total)` counts wavelengths.
 pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>) -> Result<BakedTable> {
     let cell = Cell::new(hf, plan.cell);

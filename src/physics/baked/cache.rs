@@ -1,4 +1,4 @@
-//! Baked tables and their estimates on disk, as verified entries of [`crate::cache`]: each names the plan it was
+//! Baked tables and their estimates on disk, as verified entries of `crate::cache`: each names the plan it was
 //! computed for (the patch's hash, the coherence, the tolerance, the nodes, the grid), so a second run with the
 //! same patch and views loads in milliseconds, and a damaged, edited or foreign file is rebuilt, never used.
 

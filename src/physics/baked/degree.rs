@@ -6,14 +6,14 @@
 //! Chebyshev coefficients therefore fall like the Bessel functions J_d(Ω_λ·ρ) (see [`chebyshev`]). Three things
 //! are built on that:
 //!
-//! - **Nodes** ([`nodes_for`]): the build samples w at M Chebyshev nodes, M chosen so that what an M-point
+//! - **Nodes** (`nodes_for`): the build samples w at M Chebyshev nodes, M chosen so that what an M-point
 //!   interpolant cannot see — its error, at most 2·Σ_{d≥M}|a_d|, bounded by the Bessel tail — stays below a
 //!   quarter of [`INVISIBLE`] in every texel and channel, whatever the structure does between its lobes.
 //! - **The estimate** ([`estimate`]), before the build, sizes the table's memory: the tail of |P|² in w at every
 //!   lobe centre the tiling lattice (the patch's FFT) knows inside the table's (u, v) box and, on the coherent
 //!   path where neighbouring lobes interfere, at the midpoints between them — not at a blind grid, which a
 //!   narrow lobe slips through.
-//! - **The certificate** ([`certify`]), on the built table itself: per texel and channel, the coefficients of
+//! - **The certificate** (`certify`), on the built table itself: per texel and channel, the coefficients of
 //!   the M-point interpolant and the smallest degree whose dropped terms plus the unseen bound stay within the
 //!   tolerance × the texel's brightest value + [`INVISIBLE`]. The table keeps that degree or, where memory or
 //!   [`MAX_TERMS`] forbids it, fewer, and then the certificate says by how much it misses.

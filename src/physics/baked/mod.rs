@@ -402,7 +402,7 @@ pub(crate) fn shortfall(table: &BakedTable) -> Option<String> {
     ))
 }
 
-/// A warning where `table` misses its tolerance ([`shortfall`]), or, when `strict`, a refusal.
+/// A warning where `table` misses its tolerance (`shortfall`), or, when `strict`, a refusal.
 pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
     match shortfall(table) {
         None => Ok(()),
