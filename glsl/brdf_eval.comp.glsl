@@ -14,7 +14,7 @@ struct BrdfQuery {
 };
 layout(std430, set = 0, binding = BINDING_QUERIES) readonly buffer Queries { BrdfQuery queries[]; };
 layout(std430, set = 0, binding = BINDING_RESULTS) writeonly buffer Results { vec2 results[]; };  // power, reflectance
-layout(push_constant) uniform EvalPush { uint count; } eval;  // `interface::EvalPush`
+#include "eval_push.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

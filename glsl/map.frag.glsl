@@ -13,7 +13,7 @@
 #endif
 
 // The map's square (side `size`) starts at pixel `offset` of the target.
-layout(push_constant) uniform MapPush { vec2 size; vec2 offset; } map;  // `interface::MapPush`
+#include "map_push.glsl"
 layout(location = 0) out vec4 out_color;
 
 void main() {

@@ -6,7 +6,7 @@ layout(local_size_x = LOCAL_SIZE_X) in;
 layout(constant_id = SPEC_SELFTEST_SCALE) const float SCALE = 1.0;
 layout(set = 0, binding = BINDING_SELFTEST_IN) readonly buffer Input { float values_in[]; };
 layout(set = 0, binding = BINDING_SELFTEST_OUT) writeonly buffer Output { float values_out[]; };
-layout(push_constant) uniform Push { float offset; uint count; } pc;  // `interface::SelftestPush`
+#include "selftest_push.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -90,7 +90,8 @@ pub struct SelftestPush {
     pub count: u32,
 }
 
-// The GLSL blocks' sizes (std430 push-constant layout: these are tightly packed scalars and vec2s).
+// The push-constant blocks are generated from these structs by build.rs (PUSH_BLOCKS), which refuses a field GLSL
+// would place elsewhere; their sizes, for the pipelines' push-constant ranges:
 const _: () = assert!(std::mem::size_of::<MapPush>() == 16);
 const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
 const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);
