@@ -59,6 +59,7 @@ pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod error;
+pub mod exposure;
 #[doc(hidden)] // the fuzz targets' entry points (fuzz/), not an API
 pub mod fuzz;
 pub mod generate;

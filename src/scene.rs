@@ -197,7 +197,8 @@ pub struct SceneObject {
 pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
-    pub exposure_ev: f64,
+    /// Stops of exposure; None: measured from the frame ([`crate::exposure::AutoExposure`]).
+    pub exposure_ev: Option<f64>,
     pub background: [f32; 3],
     /// Samples per pixel: multisample anti-aliasing of edges (1: none). The device must support the count.
     pub samples: u32,
@@ -349,14 +350,14 @@ fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<RenderSettings> {
     let render = RenderSettings {
         width: r.width.unwrap_or(512),
         height: r.height.unwrap_or(512),
-        exposure_ev: r.exposure_ev.unwrap_or(0.0),
+        exposure_ev: r.exposure_ev,
         background: r.background.unwrap_or([0.0; 3]),
         samples: r.samples.unwrap_or(DEFAULT_SAMPLES),
     };
     if !(render.samples.is_power_of_two() && render.samples <= 64) {
         return Err(loc.whole("[render] samples is a power of two: 1 (no anti-aliasing), 2, 4, 8, …"));
     }
-    if !render.exposure_ev.is_finite() || render.exposure_ev.abs() > 100.0 {
+    if render.exposure_ev.is_some_and(|ev| !ev.is_finite() || ev.abs() > 100.0) {
         return Err(loc.whole("[render] exposure_ev must be a number of stops within ±100"));
     }
     if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {

@@ -74,6 +74,35 @@ fn a_users_obj_and_gsf_render_validation_clean() {
     assert!(image::open(&exr).is_ok());
 }
 
+/// A scene that sets no exposure gets one measured from its frame (stated on stderr): the picture is neither
+/// black nor white; a flag that sets a hopeless one is told so in one line, and still obeyed.
+#[test]
+fn a_scene_without_exposure_is_exposed_from_its_frame() {
+    let scene = own_scene("own-auto");
+    let out = scratch("auto.png");
+    let device = common::place::test_device();
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", s(&scene), "--out", s(&out), "--width", "48", "--height", "48", "--validation"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--device", &device]);
+        let o = diffract(&args);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success() && !err.contains("validation"), "{err}");
+        let img = image::open(&out).unwrap().to_rgb8();
+        let black = img.pixels().filter(|p| p.0.iter().all(|&c| c <= 12)).count();
+        let white = img.pixels().filter(|p| p.0.iter().any(|&c| c >= 254)).count();
+        (err, black as f64 / 2304.0, white as f64 / 2304.0)
+    };
+    let (err, black, white) = render(&[]);
+    assert!(err.contains("EV, measured (the 99.5th percentile"), "{err}");
+    assert!(!err.contains("almost all") && !err.contains("mostly white"), "{err}");
+    assert!(black < 0.99 && white < 0.3, "auto: {black} black, {white} clipped");
+    let (err, black, _) = render(&["--exposure", "-30"]);
+    assert!(err.contains("almost all black at -30.00 EV") && black >= 0.99, "{err}");
+    let (err, _, white) = render(&["--exposure", "30"]);
+    assert!(err.contains("mostly white at +30.00 EV") && white > 0.3, "{err}");
+}
+
 /// `diffract render SCENE --out OUT` of a 24² sequence with `extra` flags.
 fn render_sequence(scene: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
     // Earlier runs of the test left the frames: this run replaces them.

@@ -32,9 +32,10 @@ pub struct MapArgs {
     /// Map size in pixels (odd sizes put a pixel exactly at normal view)
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub size: u32,
-    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear)
-    #[arg(value_parser = parse::finite, long, value_name = "EV", default_value_t = 0.0, alias = "exposure-ev")]
-    pub exposure: f64,
+    /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear); default:
+    /// measured from the map (its lit pixels' 99.5th percentile of luminance shown at 0.9)
+    #[arg(value_parser = parse::finite, long, value_name = "EV", alias = "exposure-ev")]
+    pub exposure: Option<f64>,
     #[command(flatten)]
     pub material: MaterialArgs,
 }
@@ -61,7 +62,23 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if bad > 0 {
         anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");
     }
-    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(args.exposure))?;
+    let exposure = match args.exposure {
+        Some(ev) => ev,
+        None => match crate::exposure::AutoExposure::of(&map.rgba) {
+            Some(auto) => {
+                eprintln!("{}", auto.describe());
+                auto.ev
+            }
+            None => {
+                eprintln!("warning: nothing in the map is lit, so no exposure can be measured: 0 EV");
+                0.0
+            }
+        },
+    };
+    if let Some(line) = crate::exposure::verdict(&map.rgba, exposure) {
+        eprintln!("{line}");
+    }
+    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
     if let Some(exr) = &args.exr {
         crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
     }

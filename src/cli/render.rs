@@ -10,6 +10,7 @@ use glam::{Mat4, Quat, Vec3};
 
 use super::args::SceneOverrideArgs;
 use super::GpuArgs;
+use crate::exposure::AutoExposure;
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
@@ -147,7 +148,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     };
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
-    let exposure = args.settings.exposure.unwrap_or(scene.render.exposure_ev);
+    let exposure = args.settings.exposure.or(scene.render.exposure_ev);
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     if args.preview {
         let samples = args.settings.sample_count(&ctx, &scene, crate::render::COLOR_FORMAT)?;
@@ -200,10 +201,13 @@ fn render_frames(
     args: &RenderArgs,
     capture: &mut SceneCapture,
     (width, height): (u32, u32),
-    exposure: f64,
+    exposure: Option<f64>,
 ) -> anyhow::Result<Vec<crate::vk::FrameTimes>> {
     let bar = Progress::new_if(args.frames > 1, "rendering frames", args.frames as usize);
     let mut times = Vec::new();
+    // Set by the flag or the scene, else measured from the first frame and kept for the sequence.
+    let mut exposure = exposure;
+    let mut warned = false;
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
         let frame = capture
@@ -211,12 +215,22 @@ fn render_frames(
             .with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
-        crate::output::write_png_rgba8(
-            &png,
-            width,
-            height,
-            &crate::physics::spectrum::linear_to_rgba8(linear, exposure),
-        )?;
+        let ev = *exposure.get_or_insert_with(|| match AutoExposure::of(linear) {
+            Some(auto) => {
+                bar.line(&auto.describe());
+                auto.ev
+            }
+            None => {
+                bar.line("warning: nothing in the first frame is lit, so no exposure can be measured: 0 EV");
+                0.0
+            }
+        });
+        // One verdict per sequence is enough: the rest would repeat it.
+        if let Some(line) = crate::exposure::verdict(linear, ev).filter(|_| !warned) {
+            bar.line(&format!("{line} (frame {})", f + 1));
+            warned = true;
+        }
+        crate::output::write_png_rgba8(&png, width, height, &crate::physics::spectrum::linear_to_rgba8(linear, ev))?;
         if let Some(exr) = &args.exr {
             crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
         }

@@ -86,11 +86,12 @@ impl Subject {
         }
     }
 
-    /// The exposure the error is measured at unless one is asked for: the scene's, a map's 0.
+    /// The exposure the error is measured at unless one is asked for: the scene's (0 where it sets none), a
+    /// map's 0.
     pub fn exposure(&self) -> f64 {
         match self {
             Subject::Map { .. } => 0.0,
-            Subject::Scene { scene, .. } => scene.render.exposure_ev,
+            Subject::Scene { scene, .. } => scene.render.exposure_ev.unwrap_or(0.0),
         }
     }
 

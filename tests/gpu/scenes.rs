@@ -27,7 +27,10 @@ fn every_asset_scene_renders_in_colour() {
             unsafe { capture.destroy(ctx) };
             frame.unwrap().linear().unwrap().to_vec()
         });
-        let rgba8 = diffract::physics::spectrum::linear_to_rgba8(&linear, scene.render.exposure_ev);
+        let rgba8 = diffract::physics::spectrum::linear_to_rgba8(
+            &linear,
+            scene.render.exposure_ev.expect("every shipped scene sets its exposure"),
+        );
         let coloured =
             rgba8.chunks(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 40).count();
         assert!(coloured > 5, "{}: only {coloured} coloured pixels", path.display());
