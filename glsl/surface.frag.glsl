@@ -60,7 +60,7 @@ void main() {
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif
     float normal_up = normalize(world_normal).y;
-    rgb += pigment_rgb(omega_i, omega_r, normal_up, frame.pigment.rgb * tint, frame.pigment.w);
+    rgb += pigment_rgb(omega_i, omega_r, normal_up, frame.pigment.rgb * tint, frame.pigment.w) * params.light_white.rgb;
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

@@ -33,6 +33,7 @@ use crate::error::{Error, Result};
 use crate::generate::{generate, PatchKind, PatchSpec};
 use crate::mesh::shapes::Shape;
 use crate::mesh::{obj, Mesh};
+use crate::physics::illuminant::Illuminant;
 use crate::physics::{HeightField, PngScale};
 use crate::shading::{Approach, Settings, SettingsPatch};
 
@@ -217,6 +218,8 @@ pub struct Scene {
     pub light_dir: Vec3,
     /// The sky's radiance relative to the sun seen in a mirror.
     pub ambient: f32,
+    /// The light's spectrum (`[light] illuminant`, D65 unless named); every material is prepared under it.
+    pub illuminant: Illuminant,
     pub objects: Vec<SceneObject>,
     pub materials: Vec<SceneMaterial>,
     pub render: RenderSettings,
@@ -270,16 +273,15 @@ impl Scene {
         let light_dir = Vec3::from(*file.light.direction.get_ref())
             .try_normalize()
             .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
-        if let Some(ill) = &file.light.illuminant {
-            if !ill.get_ref().eq_ignore_ascii_case("D65") {
-                return Err(loc.at(ill.span(), format!("illuminant {:?}: only \"D65\" is supported", ill.get_ref())));
-            }
-        }
+        let illuminant = match &file.light.illuminant {
+            Some(ill) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
+            None => Illuminant::d65(),
+        };
         let mut materials = Vec::new();
         let mut index = BTreeMap::new();
         for (mat_name, def) in &file.material {
             index.insert(mat_name.clone(), materials.len());
-            materials.push(material(&loc, base, mat_name, def)?);
+            materials.push(material(&loc, base, mat_name, def, illuminant)?);
         }
         if file.objects.is_empty() {
             return Err(loc.whole("the scene has no [[object]]"));
@@ -293,7 +295,7 @@ impl Scene {
         if !(ambient.is_finite() && ambient >= 0.0) {
             return Err(loc.whole("[light] ambient must be a non-negative number"));
         }
-        Ok(Self { name: name.to_string(), camera, light_dir, ambient, objects, materials, render })
+        Ok(Self { name: name.to_string(), camera, light_dir, ambient, illuminant, objects, materials, render })
     }
 }
 
@@ -375,7 +377,13 @@ impl Get3 for Spanned<[f32; 3]> {
     }
 }
 
-fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDef>) -> Result<SceneMaterial> {
+fn material(
+    loc: &Locator<'_>,
+    base: &Path,
+    name: &str,
+    def: &Spanned<MaterialDef>,
+    illuminant: Illuminant,
+) -> Result<SceneMaterial> {
     let span = def.span();
     let d = def.get_ref();
     let at = |msg: String| loc.at(span.clone(), format!("[material.{name}] {msg}"));
@@ -423,7 +431,7 @@ fn material(loc: &Locator<'_>, base: &Path, name: &str, def: &Spanned<MaterialDe
     let mut patch = d.settings;
     // A scene that states its table tolerance means it: a table that cannot reach it is refused.
     patch.strict_table |= patch.table_tolerance.is_some();
-    let settings = patch.apply(Settings { approach: DEFAULT_APPROACH, ..Settings::default() });
+    let settings = patch.apply(Settings { approach: DEFAULT_APPROACH, illuminant, ..Settings::default() });
     if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
         return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));
     }
@@ -523,6 +531,9 @@ tile = [2, 3]
         assert_eq!(s.materials[0].heightfield.nx, 2 * 100);
         assert_eq!(s.materials[0].heightfield.ny, 3 * 100);
         assert!((s.light_dir.length() - 1.0).abs() < 1e-6);
+        // The light's illuminant reaches every material's settings.
+        let a = Scene::parse(&GOOD.replace("\"D65\"", "\"a\""), "s.toml", Path::new(".")).unwrap();
+        assert_eq!((a.illuminant.name, a.materials[0].settings.illuminant), ("A", a.illuminant));
         // The Taylor order, by its name or by its first one.
         for key in ["order", "terms"] {
             let s = Scene::parse(
@@ -545,7 +556,11 @@ tile = [2, 3]
             .starts_with("s.toml:17: heightfield"));
         assert!(error_of(&GOOD.replace("shape = \"sphere\"", "shape = \"torus\""))
             .starts_with("s.toml:12: unknown variant `torus`"));
-        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"A\"")).contains("only \"D65\""));
+        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"D300\"")).starts_with("s.toml:9: "));
+        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"G\"")).contains("D65, D50"));
+        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"nope.csv\"")).contains("nope.csv"));
+        // The light's spectrum is the light's: a material does not take it.
+        assert!(error_of(&GOOD.replace("size_um = 6.5", "size_um = 6.5\nilluminant = \"A\"")).contains("illuminant"));
         assert!(error_of(&GOOD.replace("[camera]", "[camera\n")).starts_with("s.toml:2:"));
         assert!(error_of(&GOOD.replace("scale = 0.5", "scale = 0.5\ntranslate = [nan, 0.0, 0.0]"))
             .starts_with("s.toml:11: translate"));

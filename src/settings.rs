@@ -13,9 +13,13 @@
 //! - `value`: always has a value (`Settings` holds `TYPE`);
 //! - `auto`: `None` lets the shading choose (`Settings` holds `Option<TYPE>`; `auto` on the command line);
 //! - `switch`: a flag that is off unless a material or the command line turns it on (`TYPE` is `bool`).
+//!
+//! An entry with `set_in "[light]"` is the light's, not a material's: a scene sets it once, in that table, for
+//! every material, so a material table does not take its key.
 
 use crate::error::{Error, Result};
 use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
+use crate::physics::illuminant::Illuminant;
 use crate::physics::taylor::DEFAULT_TOLERANCE;
 use crate::physics::window::DEFAULT_COHERENCE_UM;
 use crate::shading::Approach;
@@ -70,6 +74,16 @@ impl SettingValue for Approach {
     }
     fn show(&self) -> String {
         self.name().to_string()
+    }
+}
+
+impl SettingValue for Illuminant {
+    /// A name, or a CSV file relative to the working folder (a scene's are relative to the scene).
+    fn parse(text: &str) -> std::result::Result<Self, String> {
+        Illuminant::parse(text, std::path::Path::new(".")).map_err(|e| e.to_string())
+    }
+    fn show(&self) -> String {
+        self.name.to_string()
     }
 }
 
@@ -242,6 +256,8 @@ pub struct SettingInfo {
     pub short: Option<&'static str>,
     /// The default as the help states it, where [`Settings::default`]'s value is not the whole story.
     pub default_help: Option<&'static str>,
+    /// Where a scene sets it when not in its materials (`"[light]"`).
+    pub set_in: Option<&'static str>,
 }
 
 macro_rules! settings {
@@ -252,7 +268,8 @@ macro_rules! settings {
             $(, short $short:literal)?
             $(, default_help $default_help:literal)?
             $(, aliases [$($alias:literal),*])?
-            $(, flag_aliases [$($flag_alias:literal),*])?;
+            $(, flag_aliases [$($flag_alias:literal),*])?
+            $(, set_in $set_in:literal)?;
     )+) => {
         /// Every setting that trades speed for accuracy, with the defaults a user gets (declared in
         /// `src/settings.rs`).
@@ -272,7 +289,8 @@ macro_rules! settings {
         #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Deserialize)]
         #[serde(default)]
         pub struct SettingsPatch {
-            $( $(#[doc = $doc])+ $($(#[serde(alias = $alias)])*)? pub $key: kind::$kind::Patch<$ty>, )+
+            $( $(#[doc = $doc])+ $($(#[serde(alias = $alias)])*)? $(#[serde(skip)] #[doc = concat!("(A scene sets it in `", $set_in, "`.)")])?
+               pub $key: kind::$kind::Patch<$ty>, )+
         }
 
         impl Settings {
@@ -286,6 +304,7 @@ macro_rules! settings {
                     doc: concat!($($doc, "\n"),+),
                     short: optional!($($short)?),
                     default_help: optional!($($default_help)?),
+                    set_in: optional!($($set_in)?),
                 },
             )+];
             /// The settings' keys (the CSV's first columns).
@@ -404,6 +423,10 @@ settings! {
     /// terms than it needs) instead of warning
     strict_table: switch<bool> = false, check any,
         flag "strict-table", flag_aliases ["strict"];
+    /// The light's spectrum: D65, D50, D55, D75 (`D<N>`: N·100 K daylight), A, E, F1 … F12, or a CSV of nm,relative
+    /// power, for every material
+    illuminant: value<Illuminant> = Illuminant::d65(), check any,
+        flag "illuminant", value_name "NAME|FILE.csv", set_in "[light]";
 }
 
 /// A flag's help: the setting's doc on one line and its default.
@@ -411,9 +434,11 @@ settings! {
 fn help(key: &str, default: Option<String>) -> String {
     let info = Settings::INFO.iter().find(|i| i.key == key).expect("every flag is a setting");
     let doc = info.doc.lines().map(str::trim).collect::<Vec<_>>().join(" ");
+    let scene =
+        info.set_in.map_or("a scene's material may set its own".to_string(), |t| format!("a scene's {t} may set it"));
     match info.default_help.map(str::to_string).or(default) {
         None => format!("{doc} (a scene's material may turn it on itself)"),
-        Some(default) => format!("{doc} [default: {default}; a scene's material may set its own]"),
+        Some(default) => format!("{doc} [default: {default}; {scene}]"),
     }
 }
 

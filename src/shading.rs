@@ -154,8 +154,11 @@ pub struct DiffractionParams {
     pub table_uv: [f32; 4],
     /// Baked table: middle of its w-interval, 1/half-width, the texel width in (u, v), the coarsest mip level.
     pub table_w: [f32; 4],
+    /// The light's white (a mirror's colour under its illuminant), linear sRGB with Y = 1, 0: what lights the
+    /// pigment.
+    pub light_white: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 160);
+const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 176);
 
 /// A patch prepared for one approach and its settings.
 pub struct Material {
@@ -207,7 +210,7 @@ impl Material {
                 sampling.lambda_min_nm as f32,
                 sampling.step_nm as f32,
                 sampling.y_norm() as f32,
-                spectrum::y_norm_continuous() as f32,
+                spectrum::y_norm_continuous(s.illuminant) as f32,
             ],
             light: [0.0, 0.0, 1.0, 0.0],
             pq: [(s.coherence_um / lx).ceil().max(1.0) as f32, (s.coherence_um / ly).ceil().max(1.0) as f32, 0.0, 0.0],
@@ -216,6 +219,7 @@ impl Material {
             display: [1.0, 0.0, 0.0, 0.0],
             table_uv: baked.as_ref().map_or([0.0; 4], |b| b.uv),
             table_w: baked.as_ref().map_or([0.0; 4], |b| b.w),
+            light_white: spectrum::white_rgb(s.illuminant).as_vec3().extend(0.0).to_array(),
         };
         let (table, table_plan, table_ms, table_cached) = match baked {
             Some(b) => (Some(b.table), Some(b.plan), b.ms, b.cached),
@@ -317,7 +321,7 @@ fn checked_sampling(s: &Settings) -> Result<Sampling> {
             crate::error::number(s.lambda_step_nm)
         )));
     }
-    let sampling = Sampling::visible(s.lambda_step_nm);
+    let sampling = Sampling::visible_under(s.lambda_step_nm, s.illuminant);
     if sampling.count > MAX_LAMBDA_COUNT {
         return Err(Error::Invalid(format!(
             "a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})",
@@ -372,7 +376,7 @@ struct Baked {
 
 impl Baked {
     fn prepare(hf: &HeightField, s: &Settings, reach: &Reach) -> Result<Self> {
-        let plan = TablePlan::new(hf, s.coherence_um, &reach.table_request(), s.table_tolerance)?;
+        let plan = TablePlan::new_under(hf, s.coherence_um, &reach.table_request(), s.table_tolerance, s.illuminant)?;
         let start = Instant::now();
         let bar = Progress::new("baking the colour table", 0);
         let (table, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;

@@ -103,6 +103,44 @@ fn a_scene_without_exposure_is_exposed_from_its_frame() {
     assert!(err.contains("mostly white at +30.00 EV") && white > 0.3, "{err}");
 }
 
+/// A scene lit by a measured lamp (an SPD file beside it) renders; a broken SPD ends in one line naming the
+/// file and the row, and a name outside the CIE's list names what is accepted.
+#[test]
+fn a_measured_illuminant_lights_the_scene_and_bad_ones_are_refused() {
+    let scene = own_scene("own-lamp");
+    let dir = scene.parent().unwrap();
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let lit = |illuminant: &str| {
+        let with = dir.join("lamp-scene.toml");
+        std::fs::write(&with, text.replace("[light]\n", &format!("[light]\nilluminant = \"{illuminant}\"\n"))).unwrap();
+        let out = scratch("lamp.png");
+        diffract(&[
+            "render",
+            s(&with),
+            "--out",
+            s(&out),
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "--validation",
+            "--device",
+            &common::place::test_device(),
+        ])
+    };
+    std::fs::write(dir.join("lamp.csv"), "nm,relative power\n380,20\n560,100\n780,160\n").unwrap();
+    let o = lit("lamp.csv");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::write(dir.join("bad.csv"), "380,20\n560,100\n500,160\n").unwrap();
+    assert_one_line_error(&lit("bad.csv"), "bad.csv: line 3: the wavelengths must increase");
+    std::fs::write(dir.join("neg.csv"), "380,20\n560,-1\n").unwrap();
+    assert_one_line_error(&lit("neg.csv"), "non-negative");
+    std::fs::write(dir.join("far.csv"), "300,20\n560,1\n").unwrap();
+    assert_one_line_error(&lit("far.csv"), "outside 360–830 nm");
+    assert_one_line_error(&lit("sunlight"), "F1 … F12");
+    assert_one_line_error(&lit("missing.csv"), "missing.csv");
+}
+
 /// `diffract render SCENE --out OUT` of a 24² sequence with `extra` flags.
 fn render_sequence(scene: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
     // Earlier runs of the test left the frames: this run replaces them.

@@ -190,7 +190,7 @@ fn map_point(ctx: &Context, patch: &Patch, coherence_um: f64, theta_i: f64, size
     let light = diffract::physics::optics::direction(theta_i, 0.0);
     let point = format!("{}, L = {coherence_um} µm, θ_i = {theta_i}°, {size}² map", patch.label);
     let job = ReferenceJob {
-        materials: vec![ReferenceMaterial { heightfield: &patch.hf, coherence_um }],
+        materials: vec![ReferenceMaterial { heightfield: &patch.hf, coherence_um, illuminant: Default::default() }],
         width: size,
         height: size,
         pixels: ReferenceJob::map_pixels(size, light),

@@ -16,6 +16,7 @@ pub mod colour;
 pub mod exact;
 pub mod formats;
 pub mod heightfield;
+pub mod illuminant;
 pub mod optics;
 pub mod spectrum;
 pub mod taylor;

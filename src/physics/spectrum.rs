@@ -1,12 +1,15 @@
 //! Spectral integration into colour (model.md §1.8, with the thesis's errors of §7.2 items 7–9 fixed):
-//! X = Σ_λ ρ(λ)·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ (likewise Y, Z) with the CIE 1931 2° observer and S = D65, so a
-//! perfect mirror integrates to the D65 white point with Y = 1; then XYZ → linear sRGB (IEC 61966-2-1, not the
-//! thesis's CIE-RGB matrix), exposure 2^EV, and the sRGB transfer function.
+//! X = Σ_λ ρ(λ)·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ (likewise Y, Z) with the CIE 1931 2° observer and S the light's
+//! illuminant (D65 unless a scene names another, [`super::illuminant`]), so a perfect mirror integrates to the
+//! illuminant's white point with Y = 1; then XYZ → linear sRGB (IEC 61966-2-1, not the thesis's CIE-RGB matrix),
+//! exposure 2^EV, and the sRGB transfer function. The display's white is D65: a mirror under illuminant A looks
+//! orange, as a photograph without white balance shows it.
 //! `glsl/include/spectrum.glsl` implements the same functions under the same names.
 
 use glam::DVec3;
 
-use super::cie_tables::{CIE1931_XYZ, D65, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use super::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use super::illuminant::Illuminant;
 
 /// The visible range the renderer integrates over, nm (model.md §5.2).
 pub const VISIBLE_MIN_NM: f64 = TABLE_LAMBDA_MIN_NM;
@@ -16,37 +19,77 @@ pub const VISIBLE_MAX_NM: f64 = TABLE_LAMBDA_MAX_NM;
 pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] =
     [[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560], [0.0556434, -0.2040259, 1.0572252]];
 
-/// (x̄, ȳ, z̄, S/100) at `lambda_nm`, linearly interpolated in the 1 nm tables; zero outside 380–780 nm.
-pub(crate) fn spectrum_at(lambda_nm: f64) -> [f64; 4] {
+/// (x̄, ȳ, z̄, S/100) at `lambda_nm` under `illuminant`, linearly interpolated in the 1 nm tables; zero outside
+/// 380–780 nm. S is the illuminant averaged over the `step_nm` the wavelengths are sampled at (its 1 nm rows
+/// within ±step/2, the rows on the edges half): a sample stands for its step, so a lamp's narrow lines (the
+/// F-series' mercury lines at 436 and 546 nm) count at the nearest sample instead of falling between samples.
+pub(crate) fn spectrum_at(lambda_nm: f64, illuminant: &Illuminant, step_nm: f64) -> [f64; 4] {
     if !(TABLE_LAMBDA_MIN_NM..=TABLE_LAMBDA_MAX_NM).contains(&lambda_nm) {
         return [0.0; 4];
     }
     let x = lambda_nm - TABLE_LAMBDA_MIN_NM;
     let i = (x.floor() as usize).min(TABLE_ROWS - 2);
     let t = x - i as f64;
-    let row = |k: usize| [CIE1931_XYZ[k][0], CIE1931_XYZ[k][1], CIE1931_XYZ[k][2], D65[k] / 100.0];
-    let (a, b) = (row(i), row(i + 1));
-    [0, 1, 2, 3].map(|c| a[c] + (b[c] - a[c]) * t)
+    let cmf = |k: usize| CIE1931_XYZ[k];
+    let (a, b) = (cmf(i), cmf(i + 1));
+    let [xb, yb, zb] = [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * t);
+    [xb, yb, zb, illuminant_over_step(illuminant, lambda_nm, step_nm) / 100.0]
 }
 
-/// The table as the GPU reads it: (x̄, ȳ, z̄, S/100) per nm from 380 to 780 as f32 vec4s.
-pub(crate) fn gpu_table() -> Vec<[f32; 4]> {
-    (0..TABLE_ROWS).map(|k| spectrum_at(TABLE_LAMBDA_MIN_NM + k as f64).map(|v| v as f32)).collect()
+/// The illuminant's mean over [λ − step/2, λ + step/2] from its 1 nm rows (rows on an edge count half), within
+/// 380–780 nm; its interpolated value for steps of 1 nm or less.
+fn illuminant_over_step(illuminant: &Illuminant, lambda_nm: f64, step_nm: f64) -> f64 {
+    if step_nm <= 1.0 {
+        return illuminant.power(lambda_nm);
+    }
+    let half = 0.5 * step_nm;
+    let (lo, hi) = ((lambda_nm - half).max(TABLE_LAMBDA_MIN_NM), (lambda_nm + half).min(TABLE_LAMBDA_MAX_NM));
+    let (mut sum, mut weight) = (0.0, 0.0);
+    let mut m = lo.ceil();
+    while m <= hi {
+        let w = if (m - lo).abs() < 1e-9 || (hi - m).abs() < 1e-9 { 0.5 } else { 1.0 };
+        sum += w * illuminant.power(m);
+        weight += w;
+        m += 1.0;
+    }
+    if weight > 0.0 {
+        sum / weight
+    } else {
+        illuminant.power(lambda_nm)
+    }
 }
 
-/// Evenly spaced wavelengths: `lambda_min_nm + k·step` for k = 0..count, each weighing `step` nm.
+/// The table as the GPU reads it for `sampling`: (x̄, ȳ, z̄, S/100) per nm from 380 to 780 as f32 vec4s, S
+/// averaged over the sampling's step as [`Sampling::weights_at`] does.
+pub(crate) fn gpu_table(sampling: &Sampling) -> Vec<[f32; 4]> {
+    (0..TABLE_ROWS).map(|k| sampling.weights_at(TABLE_LAMBDA_MIN_NM + k as f64).map(|v| v as f32)).collect()
+}
+
+/// Evenly spaced wavelengths: `lambda_min_nm + k·step` for k = 0..count, each weighing `step` nm, under the
+/// light's `illuminant`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sampling {
     pub lambda_min_nm: f64,
     pub step_nm: f64,
     pub count: usize,
+    pub illuminant: Illuminant,
 }
 
 impl Sampling {
-    /// Every `step_nm` from 380 nm up to 780 nm (inclusive when the step divides 400 nm).
+    /// Every `step_nm` from 380 nm up to 780 nm (inclusive when the step divides 400 nm), under D65.
     pub fn visible(step_nm: f64) -> Self {
+        Self::visible_under(step_nm, Illuminant::d65())
+    }
+
+    /// Every `step_nm` from 380 nm up to 780 nm under `illuminant`.
+    pub fn visible_under(step_nm: f64, illuminant: Illuminant) -> Self {
         let count = ((VISIBLE_MAX_NM - VISIBLE_MIN_NM) / step_nm + 1e-9).floor() as usize + 1;
-        Self { lambda_min_nm: VISIBLE_MIN_NM, step_nm, count }
+        Self { lambda_min_nm: VISIBLE_MIN_NM, step_nm, count, illuminant }
+    }
+
+    /// (x̄, ȳ, z̄, S/100) at `lambda_nm` under this sampling's illuminant, averaged over its step.
+    pub fn weights_at(&self, lambda_nm: f64) -> [f64; 4] {
+        spectrum_at(lambda_nm, &self.illuminant, self.step_nm)
     }
 
     pub fn wavelengths(&self) -> impl Iterator<Item = f64> + '_ {
@@ -55,23 +98,29 @@ impl Sampling {
 
     /// The normaliser Σ ȳ·S·Δλ of this sampling: a mirror then has Y = 1.
     pub fn y_norm(&self) -> f64 {
-        self.wavelengths().map(|l| spectrum_at(l)[1] * spectrum_at(l)[3] * self.step_nm).sum()
+        self.wavelengths().map(|l| self.weights_at(l)[1] * self.weights_at(l)[3] * self.step_nm).sum()
     }
 }
 
-/// The normaliser ∫ ȳ·S dλ over the 1 nm tables: the constant for non-uniform samplings (NMM).
-pub fn y_norm_continuous() -> f64 {
-    Sampling::visible(1.0).y_norm()
+/// The normaliser ∫ ȳ·S dλ over the 1 nm tables under `illuminant`: the constant for non-uniform samplings (NMM).
+pub fn y_norm_continuous(illuminant: Illuminant) -> f64 {
+    Sampling::visible_under(1.0, illuminant).y_norm()
 }
 
-/// XYZ of a spectral reflectance ρ(λ) under D65, normalised so a mirror has Y = 1.
+/// XYZ of a spectral reflectance ρ(λ) under the sampling's illuminant, normalised so a mirror has Y = 1.
 pub fn reflectance_to_xyz(sampling: &Sampling, rho: impl Fn(f64) -> f64) -> DVec3 {
     let mut xyz = DVec3::ZERO;
     for l in sampling.wavelengths() {
-        let s = spectrum_at(l);
+        let s = sampling.weights_at(l);
         xyz += DVec3::new(s[0], s[1], s[2]) * (rho(l) * s[3] * sampling.step_nm);
     }
     xyz / sampling.y_norm()
+}
+
+/// A white mirror's colour under `illuminant`, linear sRGB with Y = 1: what the light adds to a diffuse surface
+/// (≈ (1, 1, 1) under D65, orange under A).
+pub fn white_rgb(illuminant: Illuminant) -> DVec3 {
+    xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible_under(1.0, illuminant), |_| 1.0))
 }
 
 pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
@@ -146,13 +195,29 @@ mod tests {
     }
 
     #[test]
+    fn a_lamps_lines_count_at_coarse_steps() {
+        // F11's mercury lines sit between 5 nm samples: point-sampled, its white was off by 0.05 in x; averaged over
+        // each step it keeps its chromaticity.
+        let f11 = Illuminant::named("F11").unwrap();
+        let xy = |step: f64| {
+            let w = reflectance_to_xyz(&Sampling::visible_under(step, f11), |_| 1.0);
+            (w.x / (w.x + w.y + w.z), w.y / (w.x + w.y + w.z))
+        };
+        let (fine, coarse) = (xy(1.0), xy(5.0));
+        assert!((fine.0 - coarse.0).abs() < 2e-3 && (fine.1 - coarse.1).abs() < 2e-3, "{fine:?} vs {coarse:?}");
+        let (x, y) = f11.xy(1);
+        assert!((fine.0 - x).abs() < 1e-9 && (fine.1 - y).abs() < 1e-9, "1 nm steps are the table itself");
+    }
+
+    #[test]
     fn tables_match_published_values() {
-        let s = spectrum_at(555.0);
+        let d65 = Illuminant::d65();
+        let s = spectrum_at(555.0, &d65, 1.0);
         assert!((s[1] - 1.0).abs() < 1e-3, "ȳ peaks at 1 near 555 nm: {s:?}");
-        assert!((spectrum_at(560.0)[3] - 1.0).abs() < 1e-12, "D65 is 100 at 560 nm");
-        assert_eq!(spectrum_at(379.0), [0.0; 4]);
-        let mid = spectrum_at(550.5);
-        let (a, b) = (spectrum_at(550.0), spectrum_at(551.0));
+        assert!((spectrum_at(560.0, &d65, 1.0)[3] - 1.0).abs() < 1e-12, "D65 is 100 at 560 nm");
+        assert_eq!(spectrum_at(379.0, &d65, 1.0), [0.0; 4]);
+        let mid = spectrum_at(550.5, &d65, 1.0);
+        let (a, b) = (spectrum_at(550.0, &d65, 1.0), spectrum_at(551.0, &d65, 1.0));
         assert!((mid[0] - 0.5 * (a[0] + b[0])).abs() < 1e-15);
     }
 

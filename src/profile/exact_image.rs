@@ -21,6 +21,7 @@ use crate::cache::KeyHash;
 use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab};
 use crate::physics::exact::{window_gain, Method, Reference};
+use crate::physics::illuminant::Illuminant;
 use crate::physics::spectrum::{linear_srgb_to_xyz, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 use crate::physics::window::Window;
@@ -51,11 +52,12 @@ pub struct PixelQuery {
     pub extra_xyz: DVec3,
 }
 
-/// A material as the reference sees it: its height field and coherence length.
+/// A material as the reference sees it: its height field, coherence length and the light's spectrum.
 #[derive(Clone, Copy, Debug)]
 pub struct ReferenceMaterial<'a> {
     pub heightfield: &'a HeightField,
     pub coherence_um: f64,
+    pub illuminant: Illuminant,
 }
 
 /// A reference image: XYZ per pixel (relative to a D65 mirror) and which pixels count.
@@ -106,6 +108,7 @@ impl ReferenceJob<'_> {
         for m in &self.materials {
             m.heightfield.hash_into(&mut h);
             h.f64(m.coherence_um);
+            m.illuminant.hash_into(&mut h);
         }
         h.u64(u64::from(self.width));
         h.u64(u64::from(self.height));
@@ -142,12 +145,16 @@ impl ReferenceJob<'_> {
         }
         let made = (0..self.materials.len()).map(|i| self.material_reference(i)).collect::<Result<Vec<_>>>()?;
         let (references, descriptions): (Vec<Reference>, Vec<String>) = made.into_iter().unzip();
-        let sampling = Sampling::visible(REFERENCE_STEP_NM);
-        let pixel = |q: &PixelQuery, sampling: &Sampling| {
-            references[q.material].flss_xyz(q.omega_i, q.omega_r, sampling) + q.extra_xyz
+        // Each material's wavelengths under its light.
+        let samplings = |step: f64| -> Vec<Sampling> {
+            self.materials.iter().map(|m| Sampling::visible_under(step, m.illuminant)).collect()
         };
-        let xyz = evaluate_rows(self, |q| pixel(q, &sampling));
-        let quadrature = quadrature_check(self, |q| pixel(q, &Sampling::visible(CHECK_STEP_NM)), &xyz);
+        let (fine, check) = (samplings(REFERENCE_STEP_NM), samplings(CHECK_STEP_NM));
+        let pixel = |q: &PixelQuery, samplings: &[Sampling]| {
+            references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) + q.extra_xyz
+        };
+        let xyz = evaluate_rows(self, |q| pixel(q, &fine));
+        let quadrature = quadrature_check(self, |q| pixel(q, &check), &xyz);
         let description = format!(
             "{}; {} nm steps (vs {} nm on {} pixels: ΔE00 ≤ {:.2e} at EV 0, relative XYZ ≤ {:.1e})",
             descriptions.join("; "),

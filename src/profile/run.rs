@@ -11,6 +11,7 @@ use glam::DVec3;
 use super::exact_image::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use super::{Config, Row, TableSummary, MAX_SIZE};
 use crate::error::{Error, Result};
+use crate::physics::illuminant::Illuminant;
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
 use crate::render::diffraction::Upload;
@@ -114,31 +115,32 @@ impl Subject {
         }
     }
 
-    /// Each material's coherence length under `config`: what the exact reference depends on besides the size
-    /// (every other setting is an approximation the reference does without).
-    fn coherences_um(&self, config: &Config) -> Vec<f64> {
+    /// Each material's coherence length and light under `config`: what the exact reference depends on besides the
+    /// size (every other setting is an approximation the reference does without).
+    fn reference_lights(&self, config: &Config) -> Vec<(f64, Illuminant)> {
+        let of = |s: Settings| (s.coherence_um, s.illuminant);
         match self {
-            Subject::Map { settings, .. } => vec![config.overrides.apply(*settings).coherence_um],
+            Subject::Map { settings, .. } => vec![of(config.overrides.apply(*settings))],
             Subject::Scene { scene, .. } => {
-                scene.materials.iter().map(|m| config.overrides.apply(m.settings).coherence_um).collect()
+                scene.materials.iter().map(|m| of(config.overrides.apply(m.settings))).collect()
             }
         }
     }
 
-    /// The exact reference at `size` under each material's coherence length. With `samples` > 1 it is evaluated at `samples`² positions per pixel (an
+    /// The exact reference at `size` under each material's coherence length and light. With `samples` > 1 it is evaluated at `samples`² positions per pixel (an
     /// image that many times larger) and averaged.
     fn reference(
         &self,
         ctx: &Context,
         size: (u32, u32),
-        coherences_um: &[f64],
+        lights: &[(f64, Illuminant)],
         samples: u32,
         cache: Option<&std::path::Path>,
     ) -> Result<ReferenceImage> {
         let fine = (size.0 * samples, size.1 * samples);
         let job = match self {
             Subject::Map { heightfield, light, .. } => ReferenceJob {
-                materials: vec![ReferenceMaterial { heightfield, coherence_um: coherences_um[0] }],
+                materials: vec![ReferenceMaterial { heightfield, coherence_um: lights[0].0, illuminant: lights[0].1 }],
                 width: fine.0,
                 height: fine.1,
                 pixels: ReferenceJob::map_pixels(fine.0, *light),
@@ -147,12 +149,16 @@ impl Subject {
                 materials: scene
                     .materials
                     .iter()
-                    .zip(coherences_um)
-                    .map(|(m, &coherence_um)| ReferenceMaterial { heightfield: &m.heightfield, coherence_um })
+                    .zip(lights)
+                    .map(|(m, &(coherence_um, illuminant))| ReferenceMaterial {
+                        heightfield: &m.heightfield,
+                        coherence_um,
+                        illuminant,
+                    })
                     .collect(),
                 width: fine.0,
                 height: fine.1,
-                pixels: scene_pixels(ctx, scene, fine)?,
+                pixels: scene_pixels(ctx, scene, fine, lights)?,
             },
         };
         Ok(job.compute(cache)?.downsample(samples))
@@ -189,7 +195,14 @@ fn map_filtered(options: &Options) -> bool {
 /// What each pixel of `scene` at `size` asks of the exact reference: the directions come from the GPU's
 /// rasteriser (the same triangles, the same fragments as the frames); everything after them (the BRDF, the
 /// pigment term) is evaluated on the CPU.
-fn scene_pixels(ctx: &Context, scene: &Scene, size: (u32, u32)) -> Result<Vec<Option<PixelQuery>>> {
+fn scene_pixels(
+    ctx: &Context,
+    scene: &Scene,
+    size: (u32, u32),
+    lights: &[(f64, Illuminant)],
+) -> Result<Vec<Option<PixelQuery>>> {
+    // The pigment is lit by the light's white (the shaders' `params.light_white`).
+    let whites: Vec<DVec3> = lights.iter().map(|&(_, illuminant)| spectrum::white_rgb(illuminant)).collect();
     let gbuffer = GBuffer::draw(ctx, scene, &scene.camera, scene.light_dir, size.0, size.1)?;
     let ambient = f64::from(scene.ambient);
     Ok(gbuffer
@@ -197,7 +210,7 @@ fn scene_pixels(ctx: &Context, scene: &Scene, size: (u32, u32)) -> Result<Vec<Op
         .iter()
         .map(|seen| {
             let Seen { omega_i, omega_r, material, albedo, normal_up, .. } = (*seen)?;
-            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient);
+            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient) * whites[material];
             Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
         })
         .collect())
@@ -241,8 +254,8 @@ pub struct Report {
     pub references: Vec<((u32, u32), String)>,
 }
 
-/// What an exact reference image depends on in a profile: its size and each material's coherence length.
-type ReferenceKey = ((u32, u32), Vec<f64>);
+/// What an exact reference image depends on in a profile: its size and each material's coherence length and light.
+type ReferenceKey = ((u32, u32), Vec<(f64, Illuminant)>);
 
 /// Measures `subject` under each of `configs`.
 pub fn run(
@@ -269,7 +282,7 @@ pub fn run(
         for line in materials.iter().filter_map(Material::table_line) {
             progress(Progress::Line(format!("[{index}/{count}] {line}")));
         }
-        let key = (size, subject.coherences_um(config));
+        let key = (size, subject.reference_lights(config));
         if let Some(r) = options.reference.as_ref().filter(|_| !references.iter().any(|(k, _)| *k == key)) {
             let start = Instant::now();
             let image = subject.reference(ctx, size, &key.1, r.samples, r.cache.as_deref())?;

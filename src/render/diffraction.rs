@@ -116,13 +116,13 @@ impl PatchResources {
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         };
         let sampler = Guard::new(ctx, ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
-        let table = spectrum::gpu_table();
+        let table = spectrum::gpu_table(&material.sampling);
         let spectrum = Guard::new(
             ctx,
             ctx.create_buffer_init(
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 bytemuck::cast_slice(&table),
-                "CIE 1931 × D65",
+                "CIE 1931 × the illuminant",
             )?,
         );
         let size = std::mem::size_of_val(&material.params) as u64;

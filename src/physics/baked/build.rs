@@ -30,7 +30,8 @@ use super::{degree, BakedTable, Grid, TablePlan, INVISIBLE, TABLE_LAMBDA_STEP_NM
 use crate::error::Result;
 use crate::physics::chebyshev;
 use crate::physics::heightfield::HeightField;
-use crate::physics::spectrum::{spectrum_at, Sampling};
+use crate::physics::illuminant::Illuminant;
+use crate::physics::spectrum::Sampling;
 
 /// Bytes of accumulators a band of texel rows may hold (about what a core's L2 cache keeps).
 const BAND_BYTES: usize = 512 << 10;
@@ -38,20 +39,20 @@ const BAND_BYTES: usize = 512 << 10;
 /// Progress callback: (steps done, steps in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
-/// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ: Σ_λ |P|²·weight is XYZ relative to a D65
-/// mirror, as `spectrum::reflectance_to_xyz` sums it.
+/// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ under the illuminant S: Σ_λ |P|²·weight is XYZ
+/// relative to a mirror under S, as `spectrum::reflectance_to_xyz` sums it.
 pub(super) struct Spectral {
     pub(super) lambda_um: Vec<f64>,
     pub(super) weight: Vec<[f64; 3]>,
 }
 
 impl Spectral {
-    pub(super) fn new(step_nm: f64) -> Self {
-        let sampling = Sampling::visible(step_nm);
+    pub(super) fn new(step_nm: f64, illuminant: &Illuminant) -> Self {
+        let sampling = Sampling::visible_under(step_nm, *illuminant);
         let norm = sampling.y_norm();
         let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
         for l in sampling.wavelengths() {
-            let s = spectrum_at(l);
+            let s = sampling.weights_at(l);
             let w = [s[0], s[1], s[2]].map(|c| c * s[3] * step_nm / norm);
             if w.iter().any(|&c| c != 0.0) {
                 lambda_um.push(l * 1e-3);
@@ -463,7 +464,7 @@ impl<'a> Pass<'a> {
         Self {
             grid,
             nodes: plan.nodes.count,
-            spectral: Spectral::new(TABLE_LAMBDA_STEP_NM),
+            spectral: Spectral::new(TABLE_LAMBDA_STEP_NM, &plan.illuminant),
             cell,
             ax: axis(grid.u0, grid.nu, lx, w.sigma_x, hf.nx, cell.tx, w.radius_x),
             ay: axis(grid.v0, grid.nv, ly, w.sigma_y, hf.ny, cell.ty, w.radius_y),

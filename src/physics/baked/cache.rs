@@ -1,5 +1,5 @@
 //! Baked tables and their estimates on disk, as verified entries of `crate::cache`: each names the plan it was
-//! computed for (the patch's hash, the coherence, the tolerance, the nodes, the grid), so a second run with the
+//! computed for (the patch's hash, the illuminant's, the coherence, the tolerance, the nodes, the grid), so a second run with the
 //! same patch and views loads in milliseconds, and a damaged, edited or foreign file is rebuilt, never used.
 
 use std::path::Path;
@@ -18,8 +18,11 @@ const MAX_REPORT: usize = 1024;
 fn estimate_plan(hf: &HeightField, plan: &TablePlan) -> PlanBytes {
     let mut h = KeyHash::default();
     hf.hash_into(&mut h);
+    let mut light = KeyHash::default();
+    plan.illuminant.hash_into(&mut light);
     let mut p = PlanBytes::default();
     p.u64(h.finish())
+        .u64(light.finish())
         .f64(plan.coherence_um)
         .f64(plan.tolerance)
         .u64(plan.nodes.count as u64)

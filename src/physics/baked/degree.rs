@@ -26,6 +26,7 @@ use super::{Grid, TablePlan, INVISIBLE, MAX_TABLE_BYTES, MAX_TERMS, PROBE_LAMBDA
 use crate::error::{Error, Result};
 use crate::physics::chebyshev;
 use crate::physics::heightfield::HeightField;
+use crate::physics::illuminant::Illuminant;
 use crate::physics::window::Window;
 
 /// Most Chebyshev nodes in w a build samples (a structure needing more is far deeper than the wavelengths it is
@@ -89,12 +90,18 @@ pub struct Nodes {
 /// The fewest nodes (at least 2) whose unseen error is below INVISIBLE/4 in every channel, for w ∈ `w`:
 /// Σ_λ weight_λ · 2 · 2·gain²·Σ_{d≥M}|J_d(Ω_λ·ρ)| (the Chebyshev coefficients of e^{iωρt} are 2·i^d·J_d(ωρ),
 /// the interpolant's error at most twice the tail). Refused beyond [`MAX_NODES`].
-pub(crate) fn nodes_for(hf: &HeightField, window: &Window, cell: (usize, usize), w: (f64, f64)) -> Result<Nodes> {
+pub(crate) fn nodes_for(
+    hf: &HeightField,
+    window: &Window,
+    cell: (usize, usize),
+    w: (f64, f64),
+    illuminant: &Illuminant,
+) -> Result<Nodes> {
     let (h0, h1) = hf.range();
     let rho = 0.5 * (w.1 - w.0);
     let gain = lattice_gain(window.sigma_x, (hf.nx / cell.0) as f64, window.radius_x)
         * lattice_gain(window.sigma_y, (hf.ny / cell.1) as f64, window.radius_y);
-    let spectral = Spectral::new(TABLE_LAMBDA_STEP_NM);
+    let spectral = Spectral::new(TABLE_LAMBDA_STEP_NM, illuminant);
     let unseen = |m: usize| {
         let mut u = [0.0; 3];
         for (lambda, weight) in spectral.lambda_um.iter().zip(&spectral.weight) {
@@ -198,7 +205,7 @@ impl ProbeAxis {
 /// lobes, where they interfere.
 pub fn estimate(hf: &HeightField, plan: &TablePlan) -> Estimate {
     let cell = Cell::new(hf, plan.cell);
-    let spectral = Spectral::new(PROBE_LAMBDA_STEP_NM);
+    let spectral = Spectral::new(PROBE_LAMBDA_STEP_NM, &plan.illuminant);
     let m = plan.nodes.count;
     let ws: Vec<f64> = chebyshev::nodes(m).into_iter().map(|t| plan.grid.w_of(t)).collect();
     let matrix = chebyshev::coefficient_matrix(m);

@@ -37,6 +37,7 @@ pub use sample::FOOTPRINT_LOD_BIAS;
 use glam::DVec3;
 
 use super::heightfield::HeightField;
+use super::illuminant::Illuminant;
 use super::window::Window;
 use crate::error::{Error, Result};
 
@@ -206,6 +207,8 @@ pub struct TablePlan {
     /// The window (full: taps down to 10⁻¹⁷) in bins of the whole patch.
     pub window: Window,
     pub coherence_um: f64,
+    /// The light's spectrum the table integrates under (its colours are XYZ relative to that white mirror).
+    pub illuminant: Illuminant,
 }
 
 /// Tiling strides (in window widths σ) beyond which neighbouring lobes no longer interfere: their cross term
@@ -214,6 +217,17 @@ pub(crate) const INDEPENDENT_STRIDE: f64 = 10.5;
 
 impl TablePlan {
     pub fn new(hf: &HeightField, coherence_um: f64, request: &TableRequest, tolerance: f64) -> Result<Self> {
+        Self::new_under(hf, coherence_um, request, tolerance, Illuminant::d65())
+    }
+
+    /// [`Self::new`] for light of `illuminant`'s spectrum.
+    pub fn new_under(
+        hf: &HeightField,
+        coherence_um: f64,
+        request: &TableRequest,
+        tolerance: f64,
+        illuminant: Illuminant,
+    ) -> Result<Self> {
         if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
             return Err(Error::Invalid(format!("the table tolerance must lie in (0, 1), got {tolerance}")));
         }
@@ -235,7 +249,7 @@ impl TablePlan {
         let cell = hf.period_cell();
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
-        let nodes = degree::nodes_for(hf, &window, cell, d.w)?;
+        let nodes = degree::nodes_for(hf, &window, cell, d.w, &illuminant)?;
         let mut plan = Self {
             domain: d,
             // Unsized until the estimate is in; the estimate reads only its w-interval, the domain's.
@@ -251,6 +265,7 @@ impl TablePlan {
             coarsened_from: None,
             window,
             coherence_um,
+            illuminant,
         };
         plan.estimate = cache::estimate(hf, &plan, || degree::estimate(hf, &plan));
         plan.terms = plan.estimate.terms;
