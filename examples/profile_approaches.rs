@@ -33,7 +33,7 @@ fn main() -> diffract::Result<()> {
     let options = Options {
         frames: 5,
         warmup: 1,
-        exposure: 3.0,
+        exposure: Some(3.0),
         samples: ctx.sample_count(1, diffract::render::LINEAR_FORMAT)?,
         // One position per pixel, nothing cached: the exact reference of a 64² map takes seconds.
         reference: Some(ReferenceOptions { samples: 1, cache: None }),

@@ -40,8 +40,12 @@ pub struct AutoExposure {
 impl AutoExposure {
     /// Measures linear RGBA (rows of pixels, 4 floats each); None where no pixel is lit or finite.
     pub fn of(rgba: &[f32]) -> Option<Self> {
-        let mut lit: Vec<f64> =
-            rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]])).filter(|y| y.is_finite() && *y > 0.0).collect();
+        Self::of_luminance(rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]])))
+    }
+
+    /// Measures pixels' luminances (Y; the profiler's exact reference gives XYZ); None where none is lit.
+    pub fn of_luminance(values: impl Iterator<Item = f64>) -> Option<Self> {
+        let mut lit: Vec<f64> = values.filter(|y| y.is_finite() && *y > 0.0).collect();
         let count = lit.len();
         let luminance = crate::stats::percentile(&mut lit, AUTO_QUANTILE);
         if count == 0 || luminance.is_nan() || luminance <= 0.0 {

@@ -307,6 +307,40 @@ fn other_illuminants_match_their_own_exact_reference() {
     assert!(table.rows[1]["label"].contains("illuminant=A"), "{:?}", table.rows[1]["label"]);
 }
 
+/// A scene that sets no exposure has its ΔE00 measured at an exposure measured from its exact reference (as
+/// `render` measures a frame), and the CSV says so.
+#[test]
+fn a_scene_without_exposure_is_measured_at_a_measured_exposure() {
+    let original = common::place::scene("blazed-disk.toml");
+    let text = std::fs::read_to_string(&original).unwrap().replace("exposure_ev = 3.0\n", "");
+    let patch = original.parent().unwrap().join("../patches/blazed-1.6um.gsf");
+    let scene = scratch("no-exposure.toml");
+    std::fs::write(&scene, text.replace("../patches/blazed-1.6um.gsf", s(&patch))).unwrap();
+    let csv = scratch("no-exposure.csv");
+    let o = diffract(&[
+        "profile",
+        s(&scene),
+        "--width",
+        "24",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--approach",
+        "baked",
+        "--no-reference-cache",
+        "--csv",
+        s(&csv),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = read_csv(&csv);
+    let line = table.comments.iter().find(|c| c.starts_with("delta_e:")).unwrap();
+    assert!(line.contains("measured from the reference"), "{line}");
+    let ev: f64 = line.split("exposure ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(ev > 0.0 && ev < 20.0, "{line}");
+    assert!(number(&table.rows[0], "mean_de2000").is_finite());
+}
+
 #[test]
 fn mistakes_end_in_one_line() {
     let patch = grating();

@@ -119,10 +119,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
             false => args.reference_cache.clone().or_else(exact_image::default_cache_dir),
         },
     });
-    let exposure = args.settings.exposure.unwrap_or(subject.exposure());
-    if !exposure.is_finite() {
-        bail!("--exposure must be a finite number of stops");
-    }
+    let exposure = args.settings.exposure.or(subject.exposure());
 
     let ctx = Context::new(&gpu.context_desc())?;
     let samples = ctx.sample_count(frame_samples, crate::render::LINEAR_FORMAT)?;
@@ -206,10 +203,14 @@ fn print_report(
         format!("resolution: {}", resolutions(rows)),
         format!("workload: {}", subject.describe()),
         format!("frames: {} timed after {} warm-up", args.frames, args.warmup),
-        format!(
-            "delta_e: CIEDE2000 at exposure {} EV against D65 white Y = 1, pixels showing the surface",
-            options.exposure
-        ),
+        match report.exposure {
+            Some((ev, measured)) => format!(
+                "delta_e: CIEDE2000 at exposure {ev:+.2} EV{} against the display's D65 white (a mirror under the \
+                 illuminant has Y = 1), pixels showing the surface",
+                if measured { " (measured from the reference: the scene sets none)" } else { "" }
+            ),
+            None => "delta_e: none (no reference)".to_string(),
+        },
     ];
     for (size, description) in &report.references {
         comments.push(format!("reference {}x{}: {description}", size.0, size.1));

@@ -11,6 +11,7 @@ use glam::DVec3;
 use super::exact_image::{self, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use super::{Config, Row, TableSummary, MAX_SIZE};
 use crate::error::{Error, Result};
+use crate::exposure::AutoExposure;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
@@ -87,12 +88,12 @@ impl Subject {
         }
     }
 
-    /// The exposure the error is measured at unless one is asked for: the scene's (0 where it sets none), a
-    /// map's 0.
-    pub fn exposure(&self) -> f64 {
+    /// The exposure the error is measured at unless one is asked for: the scene's, a map's 0; None where the
+    /// scene sets none (then it is measured from the first reference image).
+    pub fn exposure(&self) -> Option<f64> {
         match self {
-            Subject::Map { .. } => 0.0,
-            Subject::Scene { scene, .. } => scene.render.exposure_ev.unwrap_or(0.0),
+            Subject::Map { .. } => Some(0.0),
+            Subject::Scene { scene, .. } => scene.render.exposure_ev,
         }
     }
 
@@ -230,8 +231,9 @@ pub struct Options {
     /// Timed frames (at least one) after `warmup` untimed ones.
     pub frames: u32,
     pub warmup: u32,
-    /// Exposure (EV) of the images as displayed, at which ΔE00 is measured.
-    pub exposure: f64,
+    /// Exposure (EV) of the images as displayed, at which ΔE00 is measured; None: measured from the first
+    /// reference image as `render` measures a frame ([`crate::exposure::AutoExposure`]).
+    pub exposure: Option<f64>,
     /// Samples per pixel of a scene's timed frames.
     pub samples: vk::SampleCountFlags,
     /// None: time only, no error columns.
@@ -252,6 +254,8 @@ pub enum Progress<'a> {
 pub struct Report {
     pub rows: Vec<Row>,
     pub references: Vec<((u32, u32), String)>,
+    /// The exposure ΔE00 was measured at, and whether it was measured from the reference (None: no reference).
+    pub exposure: Option<(f64, bool)>,
 }
 
 /// What an exact reference image depends on in a profile: its size and each material's coherence length and light.
@@ -265,6 +269,7 @@ pub fn run(
     options: &Options,
     progress: &dyn Fn(Progress<'_>),
 ) -> Result<Report> {
+    let mut exposure = options.exposure.map(|ev| (ev, false));
     // One reference per size and coherence lengths (a sweep of coherence_um needs one each).
     let mut references: Vec<(ReferenceKey, ReferenceImage)> = Vec::new();
     let mut rows = Vec::with_capacity(configs.len());
@@ -294,7 +299,15 @@ pub fn run(
             references.push((key.clone(), image));
         }
         let reference = references.iter().find(|(k, _)| *k == key).map(|r| &r.1);
-        let measured = Measured { materials: &materials, precompute_ms, reference };
+        // Set, or measured once from the first reference (its lit pixels' luminance) and kept for every row.
+        if exposure.is_none() {
+            exposure = reference.map(|r| {
+                let lit = r.xyz.iter().zip(&r.mask).filter(|(_, &m)| m).map(|(xyz, _)| xyz.y);
+                (AutoExposure::of_luminance(lit).map_or(0.0, |a| a.ev), true)
+            });
+        }
+        let ev = exposure.map_or(0.0, |(ev, _)| ev);
+        let measured = Measured { materials: &materials, precompute_ms, reference, exposure: ev };
         let row = measure_config(ctx, subject, config, size, options, &measured, &step).map_err(in_config)?;
         progress(Progress::Line(format!(
             "[{index}/{count}] {}: GPU {} ms{}",
@@ -305,7 +318,7 @@ pub fn run(
         rows.push(row);
     }
     let references = references.into_iter().map(|((size, _), image)| (size, image.description)).collect();
-    Ok(Report { rows, references })
+    Ok(Report { rows, references, exposure })
 }
 
 /// What one configuration is measured with and against.
@@ -313,6 +326,8 @@ struct Measured<'a> {
     materials: &'a [Material],
     precompute_ms: f64,
     reference: Option<&'a ReferenceImage>,
+    /// The exposure ΔE00 is measured at.
+    exposure: f64,
 }
 
 fn measure_config(
@@ -324,7 +339,7 @@ fn measure_config(
     with: &Measured<'_>,
     step: &dyn Fn(&str),
 ) -> Result<Row> {
-    let Measured { materials, precompute_ms, reference } = *with;
+    let Measured { materials, precompute_ms, reference, exposure } = *with;
     let samples = match config.samples {
         Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
         None => options.samples,
@@ -333,7 +348,7 @@ fn measure_config(
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();
     let result = measured.and_then(|(samples, image, fetches)| {
-        let error = reference.map(|r| exact_image::image_error(r, &image, options.exposure)).transpose()?;
+        let error = reference.map(|r| exact_image::image_error(r, &image, exposure)).transpose()?;
         Ok((samples, error, fetches))
     });
     // SAFETY: every frame was waited for.
