@@ -122,8 +122,12 @@ fn view_shows_a_stand_in_while_its_table_bakes() {
     let cache = common::scratch("cli_view", "cold-cache");
     let _ = std::fs::remove_dir_all(&cache);
     let shot = common::scratch("cli_view", "cold.png");
+    // Without an exposure: it is measured from the baked materials once they are in, not from the stand-in.
+    let cold = scene("cold.toml");
+    let text = std::fs::read_to_string(&cold).unwrap().replace("[render]\nexposure_ev = 4.0\n", "");
+    std::fs::write(&cold, text).unwrap();
     let o = Command::new(common::place::diffract_bin())
-        .args(["view", scene("cold.toml").to_str().unwrap(), "--width", "64", "--height", "48", "--frames", "3"])
+        .args(["view", cold.to_str().unwrap(), "--width", "64", "--height", "48", "--frames", "3"])
         .args(["--screenshot", shot.to_str().unwrap(), "--validation", "--device", &common::place::test_device()])
         .env("DISPLAY", &x.display)
         .env_remove("WAYLAND_DISPLAY")
@@ -140,6 +144,8 @@ fn view_shows_a_stand_in_while_its_table_bakes() {
     // The frames' summary comes after the materials are in: they are the baked approach's.
     let ready = out.find("materials are ready").unwrap();
     assert!(out[ready..].contains("frames at 64×48 after the first"), "{out}");
+    assert!(out[ready..].contains("view: exposure +") && out[ready..].contains("EV, measured"), "{out}");
+    assert!(!out[..ready].contains("EV, measured"), "the stand-in is not measured: {out}");
     assert!(image::open(&shot).is_ok());
 }
 

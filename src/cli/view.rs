@@ -61,13 +61,8 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         Some(path) => Scene::load(path)?,
         None => Scene::default_scene()?,
     };
-    let exposure_ev = match args.settings.exposure.or(scene.render.exposure_ev) {
-        Some(ev) => ev,
-        None => {
-            eprintln!("note: the scene sets no exposure: 0 EV to start (+ and - change it; --exposure EV sets one)");
-            0.0
-        }
-    };
+    // None: measured from the first frame of the prepared materials.
+    let exposure_ev = args.settings.exposure.or(scene.render.exposure_ev);
     let options = ViewOptions {
         scene,
         width: args.width,

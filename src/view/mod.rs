@@ -41,7 +41,8 @@ pub struct ViewOptions {
     pub vsync: bool,
     pub context: ContextDesc,
     pub overrides: SettingsPatch,
-    pub exposure_ev: f64,
+    /// None: measured from the first frame of the prepared materials (not the stand-in), as `render` does.
+    pub exposure_ev: Option<f64>,
     /// Render this many frames, write the last to `screenshot` and exit.
     pub frames: Option<u32>,
     pub screenshot: Option<PathBuf>,
@@ -173,6 +174,8 @@ struct State {
     timing: Timing,
     screenshots_taken: u32,
     soak: Soak,
+    /// The exposure is still to be measured (the scene and the command line set none).
+    measure_exposure: bool,
 }
 
 impl App {
@@ -399,10 +402,10 @@ impl State {
         let size = window.inner_size();
         let target = WindowTarget::new(&ctx, (display, handle), (size.width, size.height), options.vsync, samples)?;
         let target = Guard::new(&ctx, target);
-        let live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev);
+        let live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev.unwrap_or(0.0));
         let (gpu, pending) = first_gpu(&ctx, &options.scene, &live, &target)?;
         let target = target.keep();
-        Ok(Self {
+        let mut state = Self {
             window,
             pending,
             last_drawn: Instant::now(),
@@ -416,7 +419,40 @@ impl State {
             timing: Timing::new(),
             screenshots_taken: 0,
             soak: Soak::default(),
-        })
+            measure_exposure: options.exposure_ev.is_none(),
+        };
+        if state.pending.is_none() {
+            state.measure_exposure(options)?;
+        }
+        Ok(state)
+    }
+
+    /// Where the exposure is still to be measured: from a small offscreen frame of the prepared materials at the
+    /// live camera and light (the stand-in's colours are not the scene's), as `render` measures its first frame.
+    fn measure_exposure(&mut self, options: &ViewOptions) -> Result<()> {
+        if !self.measure_exposure {
+            return Ok(());
+        }
+        self.measure_exposure = false;
+        let scene = &options.scene;
+        let (w, h) = (128, (128 * options.height / options.width.max(1)).clamp(16, 512));
+        let one = ash::vk::SampleCountFlags::TYPE_1;
+        let mut capture = crate::render::capture::SceneCapture::new(&self.ctx, scene, &self.gpu.materials, w, h, one)?;
+        let view =
+            SceneView { camera: self.live.camera(&scene.camera), light_dir: self.live.light(), ..SceneView::of(scene) };
+        let frame = capture.render(&self.ctx, &view);
+        // SAFETY: render waited for its frame.
+        unsafe { capture.destroy(&self.ctx) };
+        let frame = frame?;
+        match frame.linear().and_then(crate::exposure::AutoExposure::of) {
+            Some(auto) => {
+                println!("view: {}", auto.describe());
+                self.live.exposure_ev = auto.ev;
+                self.gpu.renderer.set_exposure(auto.ev)?;
+            }
+            None => println!("view: nothing in the first frame is lit, so no exposure can be measured: 0 EV"),
+        }
+        Ok(())
     }
 
     /// Re-prepares the materials and passes for the live settings (the old ones stay if that fails).
@@ -483,6 +519,7 @@ impl State {
         let gpu = Gpu::with_materials(&self.ctx, &options.scene, &self.live, &self.target, materials)?;
         self.install(gpu)?;
         println!("view: the materials are ready after {seconds:.1} s; drawing them from now on");
+        self.measure_exposure(options)?;
         self.timing = Timing::new();
         Ok(())
     }
