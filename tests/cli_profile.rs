@@ -206,7 +206,11 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table = read_csv(&csv);
     assert!(table.comments.iter().any(|c| c.starts_with("resolution: 36x24")), "{:?}", table.comments);
-    assert!(table.comments.iter().any(|c| c.contains("exposure 3 EV")), "the scene's exposure: {:?}", table.comments);
+    assert!(
+        table.comments.iter().any(|c| c.contains("exposure +3.00 EV against")),
+        "the scene's exposure: {:?}",
+        table.comments
+    );
     assert_eq!(table.rows.len(), 3);
     // The disk's pigment-free grating under the scene's light: FLSS matches the exact reference pixel by pixel
     // (a wrong direction, frame or pigment term in the reference's inputs would show here).
@@ -225,35 +229,23 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
     }
 }
 
+/// A 16-pixel BRDF map of the grating at 4 µm coherence and +4 EV, one frame per configuration, profiled with
+/// `extra` flags (a `--sweep` among them) into the CSV `name`, which is returned parsed.
+fn profile_grating_map(name: &str, extra: &[&str]) -> Csv {
+    let patch = grating();
+    let csv = scratch(name);
+    let mut args = vec!["profile", "--heightfield", s(&patch), "--width", "16", "--coherence-um", "4"];
+    args.extend_from_slice(&["--exposure", "4", "--frames", "1", "--warmup", "0", "--no-reference-cache"]);
+    args.extend_from_slice(&["--validation", "--csv", s(&csv)]);
+    args.extend_from_slice(extra);
+    let o = diffract(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    read_csv(&csv)
+}
+
 #[test]
 fn an_area_sampled_reference_averages_positions_inside_each_pixel() {
-    let patch = grating();
-    let csv = scratch("area.csv");
-    let o = diffract(&[
-        "profile",
-        "--heightfield",
-        s(&patch),
-        "--width",
-        "16",
-        "--coherence-um",
-        "4",
-        "--exposure",
-        "4",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--sweep",
-        "approach=flss,baked",
-        "--reference-samples",
-        "3",
-        "--no-reference-cache",
-        "--validation",
-        "--csv",
-        s(&csv),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table = read_csv(&csv);
+    let table = profile_grating_map("area.csv", &["--reference-samples", "3", "--sweep", "approach=flss,baked"]);
     assert!(
         table.comments.iter().any(|c| c.starts_with("reference 16x16:") && c.contains("3×3 positions per pixel")),
         "{:?}",
@@ -270,32 +262,7 @@ fn an_area_sampled_reference_averages_positions_inside_each_pixel() {
 /// light: a sweep of the illuminant gives each row its own reference, and the CSV names the light.
 #[test]
 fn other_illuminants_match_their_own_exact_reference() {
-    let patch = grating();
-    let csv = scratch("illuminants.csv");
-    let o = diffract(&[
-        "profile",
-        "--heightfield",
-        s(&patch),
-        "--width",
-        "16",
-        "--coherence-um",
-        "4",
-        "--exposure",
-        "4",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--sweep",
-        "approach=flss,baked",
-        "illuminant=D65,A,F11",
-        "--no-reference-cache",
-        "--validation",
-        "--csv",
-        s(&csv),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table = read_csv(&csv);
+    let table = profile_grating_map("illuminants.csv", &["--sweep", "approach=flss,baked", "illuminant=D65,A,F11"]);
     assert_eq!(table.rows.len(), 6);
     // Measured: mean ΔE00 ≤ 0.034 (FLSS under F11 at 5 nm steps; 2.25 when the lamp's lines fell between the
     // samples, before each sample averaged the illuminant over its step), ≤ 0.0004 otherwise.
