@@ -124,8 +124,7 @@ impl Illuminant {
                         "illuminant {name:?}: the daylight series runs from D40 to D250 (4000 to 25000 K)"
                     )));
                 }
-                Self::daylight(f64::from(n) * 100.0 * 1.4388 / 1.4380)
-                    .map(|i| Illuminant { name: Box::leak(upper.clone().into_boxed_str()), ..i })
+                intern(upper.clone(), &upper, || daylight_table(f64::from(n) * 100.0 * 1.4388 / 1.4380))
             }
             _ => Err(unknown()),
         }
@@ -133,14 +132,7 @@ impl Illuminant {
 
     /// The CIE daylight illuminant at a correlated colour temperature of `cct_k` kelvin (4000 to 25000).
     pub fn daylight(cct_k: f64) -> Result<Self> {
-        let d = colorimetry::illuminant::Illuminant::d_illuminant(cct_k).map_err(|_| {
-            Error::Invalid(format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to 25000 K"))
-        })?;
-        let key = format!("D@{cct_k}");
-        intern(key, &format!("D {cct_k:.0} K"), || {
-            let spectrum: &colorimetry::spectrum::Spectrum = d.as_ref();
-            Ok(*spectrum.as_array())
-        })
+        intern(format!("D@{cct_k}"), &format!("D {cct_k:.0} K"), || daylight_table(cct_k))
     }
 
     /// A scene's `illuminant`: a name, or a CSV file (`….csv`, relative to `base`).
@@ -196,6 +188,15 @@ impl Illuminant {
     pub fn hash_into(&self, h: &mut crate::cache::KeyHash) {
         self.spd.iter().for_each(|v| h.f64(*v));
     }
+}
+
+/// The CIE daylight series' table at `cct_k` kelvin (before normalisation), as the `colorimetry` crate computes it.
+fn daylight_table(cct_k: f64) -> Result<Table> {
+    let d = colorimetry::illuminant::Illuminant::d_illuminant(cct_k).map_err(|_| {
+        Error::Invalid(format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to 25000 K"))
+    })?;
+    let spectrum: &colorimetry::spectrum::Spectrum = d.as_ref();
+    Ok(*spectrum.as_array())
 }
 
 /// The rows of an SPD CSV as a 1 nm table (before normalisation).
@@ -301,6 +302,8 @@ mod tests {
             assert!(e.contains(bad), "{e}");
         }
         assert!(std::ptr::eq(Illuminant::named("a").unwrap().spd, Illuminant::named("A").unwrap().spd));
+        let (d50, again) = (Illuminant::named("D50").unwrap(), Illuminant::named("d50").unwrap());
+        assert!(std::ptr::eq(d50.spd, again.spd) && std::ptr::eq(d50.name, again.name), "made once");
         assert_eq!(Illuminant::named("d65").unwrap(), Illuminant::d65());
         for name in ["A", "D50", "F11"] {
             assert!((Illuminant::named(name).unwrap().power(560.0) - 100.0).abs() < 1e-9, "{name}");
