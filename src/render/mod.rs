@@ -28,7 +28,7 @@ pub const MAX_EDGE: u32 = 16384;
 /// Linear, scene-referred float colour (BRDF maps, EXR output).
 pub const LINEAR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
-/// The names of a frame's passes, as timed ([`crate::vk::Laps`]), labelled and reported: a scene's frame is the
+/// The names of a frame's passes, as timed (`crate::vk::Laps`), labelled and reported: a scene's frame is the
 /// depth pre-pass, the shading, the resolve of its samples (multisampled frames), and the copy to the CPU
 /// (offscreen) or the hand-over to the window.
 pub mod pass {

@@ -184,7 +184,7 @@ impl Context {
         self.barrier_raw_image(cmd, image.raw, range, from, to);
     }
 
-    /// The same for an image this module does not own as an [`Image`] (a swapchain image).
+    /// The same for an image this module does not own as an `Image` (a swapchain image).
     pub fn barrier_raw_image(
         &self,
         cmd: vk::CommandBuffer,

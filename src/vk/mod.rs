@@ -3,9 +3,9 @@
 //! Design notes:
 //! - One top-level [`Context`] owns the instance, the device, the allocator and a command pool; it has the
 //!   crate's only `Drop` for Vulkan state (wait idle, destroy in reverse order, allocator before device).
-//! - Leaves ([`Buffer`], [`Image`], [`Pipeline`], [`Sampler`], [`TimestampRing`]) are plain structs
+//! - Leaves (`Buffer`, `Image`, `Pipeline`, `Sampler`, `TimestampRing`) are plain structs
 //!   `{ raw, allocation, desc }` without `Drop`; their `unsafe fn destroy(self, &Context)` consumes them
-//!   ([`Destroy`]). Objects under construction sit in a [`Guard`], which destroys them on an early return.
+//!   (`Destroy`). Objects under construction sit in a `Guard`, which destroys them on an early return.
 //!   Tests assert that no allocation is live when the context goes.
 //! - Vulkan 1.3 only: synchronization2 barriers, dynamic rendering, push descriptors. One graphics+compute
 //!   queue; work is recorded and submitted with [`Context::one_shot`].
@@ -22,6 +22,8 @@ mod instance;
 mod pipeline;
 mod query;
 pub mod swapchain;
+#[cfg(test)]
+mod tests;
 
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -29,18 +31,19 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
-pub use buffer::{Buffer, BufferDesc};
-pub use command::{ImageState, MemoryState};
+pub(crate) use buffer::{Buffer, BufferDesc};
+pub(crate) use command::{ImageState, MemoryState};
 pub use device::{choose as choose_device, DeviceInfo, DeviceSelector};
 pub use gpu_allocator::MemoryLocation;
-pub use guard::{Destroy, Guard};
-pub use image::{Image, ImageDesc, Sampler};
+pub(crate) use guard::{Destroy, Guard};
+pub(crate) use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
-pub use pipeline::{
+pub(crate) use pipeline::{
     Binding, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
     VertexAttribute,
 };
-pub use query::{FrameTimes, Laps, PassProfile, ScopeTiming, Statistics, TimestampRing, MAX_LAPS};
+pub use query::{FrameTimes, PassProfile, ScopeTiming};
+pub(crate) use query::{Laps, Statistics, TimestampRing, MAX_LAPS};
 
 crate::impl_destroy!(Buffer, Image, Sampler, Pipeline, TimestampRing);
 

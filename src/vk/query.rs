@@ -183,7 +183,7 @@ impl TimestampRing {
 /// statistics), each where the device has them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PassProfile {
-    /// The submission's passes, each ended by a [`Laps::lap`] of the recorder.
+    /// The submission's passes, each ended by a `Laps::lap` of the recorder.
     pub times: Option<FrameTimes>,
     pub fragment_invocations: Option<u64>,
 }
@@ -217,7 +217,7 @@ impl Statistics<'_> {
 
 impl Context {
     /// [`Context::one_shot_timed`] that also counts the fragment-shader invocations of the draws the recorder
-    /// brackets with [`Statistics`], where the device has pipeline statistics.
+    /// brackets with `Statistics`, where the device has pipeline statistics.
     pub fn one_shot_profiled(
         &self,
         name: &str,
@@ -275,7 +275,7 @@ impl Context {
         Ok(times.map(|t| t.total_ms()))
     }
 
-    /// [`Context::one_shot`] whose recorder marks the end of each of its passes with [`Laps::lap`]; returns their
+    /// [`Context::one_shot`] whose recorder marks the end of each of its passes with `Laps::lap`; returns their
     /// GPU times where the queue has timestamps.
     pub fn one_shot_laps(
         &self,
