@@ -206,6 +206,23 @@ impl Context {
         // SAFETY: a plain wait on a live device.
         unsafe { self.device.raw.device_wait_idle() }.vk("vkDeviceWaitIdle")
     }
+
+    /// Closes the context and checks its teardown, as the GPU tests require: the device goes idle, no allocation
+    /// is still live, and the validation layer (when on) reported nothing, the destruction included. Err: what
+    /// was wrong, in words.
+    pub fn close_checked(self) -> std::result::Result<(), String> {
+        self.wait_idle().map_err(|e| format!("the device did not go idle: {e}"))?;
+        let live = self.live_allocations();
+        let log = self.validation();
+        drop(self);
+        if !live.is_empty() {
+            return Err(format!("allocations still live at teardown: {live:?}"));
+        }
+        match log.count() {
+            0 => Ok(()),
+            n => Err(format!("{n} validation message(s):\n{}", log.messages().join("\n"))),
+        }
+    }
 }
 
 impl Drop for Context {

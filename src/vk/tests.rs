@@ -20,13 +20,8 @@ fn gpu_test<T>(f: impl FnOnce(&Context) -> T) -> T {
     let ctx = Context::new(&desc).unwrap_or_else(|e| {
         panic!("the backend's tests need the device {device:?} and the validation layer (scripts/setup-debian.sh): {e}")
     });
-    let log = ctx.validation();
     let out = f(&ctx);
-    ctx.wait_idle().expect("device idle");
-    let live = ctx.live_allocations();
-    drop(ctx);
-    assert!(live.is_empty(), "allocations still live at teardown: {live:?}");
-    assert_eq!(log.count(), 0, "validation messages:\n{}", log.messages().join("\n"));
+    ctx.close_checked().unwrap_or_else(|e| panic!("{e}"));
     out
 }
 
