@@ -10,7 +10,7 @@
 //! - `cli`: the `diffract` command line (a thin binary calls `cli::main`), behind the default feature `cli`:
 //!   `clap` and `anyhow` live only there, and a library user can leave both out (`default-features = false`).
 //! - `view`: the interactive viewer (winit window, input, live settings); it draws through
-//!   [`render::window::WindowTarget`].
+//!   `render::window::WindowTarget`.
 //! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
 //!   [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, or the GPU's compute
 //!   shader through [`render`]), with the refusals every command shares.
@@ -24,7 +24,7 @@
 //!   exact CPU reference of the BRDF (no GPU); [`generate`]: nanostructure generators in µm.
 //! - [`vk`]: the Vulkan backend, and the only module that creates or destroys Vulkan objects: a [`vk::Context`]
 //!   (instance, device, allocator, queue) and leaf objects (buffers, images, pipelines, timestamp queries) that
-//!   are destroyed explicitly. Validation is on demand and every message is counted. [`shaders`]: the SPIR-V
+//!   are destroyed explicitly. Validation is on demand and every message is counted. `shaders`: the SPIR-V
 //!   that `build.rs` compiled from `glsl/`.
 //! - Shared services: `input` (bounded reading of user files), [`output`] (PNG and EXR; every write through
 //!   a recognisable temporary file and a rename), `cache` (the on-disk cache of tables and references, each
@@ -72,7 +72,7 @@ pub(crate) mod progress;
 pub mod render;
 pub mod scene;
 pub mod settings;
-pub mod shaders;
+pub(crate) mod shaders;
 pub mod shading;
 pub mod stats;
 #[cfg(feature = "cli")]

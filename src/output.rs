@@ -1,14 +1,15 @@
 //! Writing files: frames as 8-bit sRGB PNG (display-referred) and 32-bit float OpenEXR (linear,
 //! scene-referred), and every file diffract writes through a temporary file and a rename.
 //!
-//! Temporary files are named `.diffract-tmp-<pid>-<n>-<name>` in the target's folder: a run killed while writing
+//! Temporary files (made by `tempfile`) are named `.diffract-tmp-<pid>-<random>-<name>` in the target's folder: a run killed while writing
 //! (SIGKILL, a power cut) leaves one behind, and the next run that writes in that folder removes every one whose
 //! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits (`install_interrupt_cleanup`).
 
 use std::collections::HashSet;
-use std::ffi::OsString;
+use std::ffi::OsStr;
 use std::io::Write as _;
-use std::os::unix::ffi::{OsStrExt, OsStringExt};
+use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
@@ -44,23 +45,23 @@ pub(crate) fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = file.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
     sweep_stale_temporaries(dir);
-    // Unique per process and per call: two threads writing the same file each rename their own whole copy.
-    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let mut name = format!("{TEMP_PREFIX}{}-{n}-", std::process::id()).into_bytes();
+    // tempfile names it uniquely (random letters after our prefix and pid: two threads writing the same file each
+    // rename their own whole copy) and removes it when a write or the rename fails. The mode is what
+    // `File::create` gives (0666 less the umask), not tempfile's private 0600: the file becomes the user's output.
     let target = file.file_name().map(|f| f.as_bytes()).unwrap_or_default();
-    name.extend_from_slice(&target[..target.len().min(TEMP_NAME_BYTES)]);
-    let tmp = dir.join(OsString::from_vec(name));
-    set_writing(&tmp, true);
-    let written = std::fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(bytes)?;
-        f.sync_all()
-    });
-    let result = written.and_then(|()| std::fs::rename(&tmp, file));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    set_writing(&tmp, false);
+    let suffix = [b"-", &target[..target.len().min(TEMP_NAME_BYTES)]].concat();
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&format!("{TEMP_PREFIX}{}-", std::process::id()))
+        .suffix(OsStr::from_bytes(&suffix))
+        .permissions(std::fs::Permissions::from_mode(0o666))
+        .tempfile_in(dir)?;
+    let path = tmp.path().to_path_buf();
+    set_writing(&path, true);
+    let result = tmp
+        .write_all(bytes)
+        .and_then(|()| tmp.as_file().sync_all())
+        .and_then(|()| tmp.persist(file).map(drop).map_err(|e| e.error));
+    set_writing(&path, false);
     result
 }
 
@@ -173,4 +174,32 @@ pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Resu
     let img = image::Rgb32FImage::from_raw(width, height, rgb)
         .ok_or_else(|| Error::output(path, "image data does not match its size"))?;
     write_file(path, &encode(path, img.into(), image::ImageFormat::OpenExr)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file written through the temporary file has the mode `File::create` gives (0666 less the umask, not
+    /// tempfile's private 0600), its whole content, and no temporary file left beside it.
+    #[test]
+    fn atomic_write_keeps_mode_and_leaves_nothing() {
+        let dir = std::env::temp_dir().join(format!("diffract-output-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let plain = dir.join("plain.png");
+        std::fs::File::create(&plain).unwrap();
+        let written = dir.join("frame.png");
+        write_atomic(&written, b"frame bytes").unwrap();
+        write_atomic(&written, b"second").unwrap();
+        assert_eq!(std::fs::read(&written).unwrap(), b"second");
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&written), mode(&plain));
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|n| n.starts_with(TEMP_PREFIX))
+            .collect();
+        assert!(left.is_empty(), "{left:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

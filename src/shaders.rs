@@ -3,6 +3,9 @@
 
 //! [`interface`] holds the numbers the shaders and the Rust side share.
 
+// Crate-private: the self-test's shader and constants are read by the backend's tests only.
+#![cfg_attr(not(test), allow(dead_code))]
+
 pub mod interface;
 
 include!(concat!(env!("OUT_DIR"), "/shaders.rs"));

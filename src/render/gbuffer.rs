@@ -43,8 +43,6 @@ pub struct Seen {
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
 pub struct GBuffer {
-    pub width: u32,
-    pub height: u32,
     pub pixels: Vec<Option<Seen>>,
 }
 
@@ -102,7 +100,7 @@ impl GBuffer {
                 })
             })
             .collect();
-        Ok(Self { width, height, pixels })
+        Ok(Self { pixels })
     }
 
     fn draw_parts(

@@ -1,15 +1,16 @@
 //! Frames: offscreen targets, the passes that draw into them, and readback to CPU images.
 //!
 //! Offscreen capture and the window share everything but the final target: a pass records into a
-//! [`TargetView`], which either an [`OffscreenTarget`] or a [`window::WindowTarget`]'s frame provides.
+//! [`TargetView`], which either an [`OffscreenTarget`] or a `window::WindowTarget`'s frame provides.
 
 pub mod capture;
 pub mod diffraction;
-pub mod gbuffer;
+pub(crate) mod gbuffer;
 pub mod preview;
 pub mod profile;
 pub mod surface;
-pub mod window;
+#[cfg(feature = "cli")] // the viewer's
+pub(crate) mod window;
 
 use ash::vk;
 

@@ -75,7 +75,7 @@ impl WindowTarget {
     ) -> Result<Self> {
         let surface = Guard::new(ctx, ctx.create_surface(display, window)?);
         let sync = Guard::new(ctx, ctx.create_frame_sync()?);
-        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, crate::vk::MAX_LAPS, "window timestamps")?);
+        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, crate::vk::query::MAX_LAPS, "window timestamps")?);
         let swapchain = Guard::new(ctx, ctx.create_swapchain(&surface, size, vsync, samples, None)?);
         let screenshot = screenshot_buffer(ctx, &swapchain)?;
         Ok(Self {

@@ -20,7 +20,7 @@ mod guard;
 mod image;
 mod instance;
 mod pipeline;
-mod query;
+pub(crate) mod query;
 pub mod swapchain;
 #[cfg(test)]
 mod tests;
@@ -43,7 +43,7 @@ pub(crate) use pipeline::{
     VertexAttribute,
 };
 pub use query::{FrameTimes, PassProfile, ScopeTiming};
-pub(crate) use query::{Laps, Statistics, TimestampRing, MAX_LAPS};
+pub(crate) use query::{Laps, Statistics, TimestampRing};
 
 crate::impl_destroy!(Buffer, Image, Sampler, Pipeline, TimestampRing);
 
