@@ -67,6 +67,15 @@ impl AutoExposure {
     }
 }
 
+/// The exposure of `rgba` (linear RGBA) measured, or 0 EV where nothing in it is lit, with the line that tells
+/// the user which (`what` names the frame: "the first frame", "the map").
+pub fn measure(rgba: &[f32], what: &str) -> (f64, String) {
+    match AutoExposure::of(rgba) {
+        Some(auto) => (auto.ev, auto.describe()),
+        None => (0.0, format!("warning: nothing in {what} is lit, so no exposure can be measured: 0 EV")),
+    }
+}
+
 /// Whether a frame shown at `exposure_ev` is almost all black (its pixels, background included) or mostly white
 /// (its lit pixels: a black background does not make a blown-out object well exposed): the warning line, or None.
 pub fn verdict(rgba: &[f32], exposure_ev: f64) -> Option<String> {
@@ -130,6 +139,9 @@ mod tests {
     fn nothing_lit_has_no_exposure_and_extremes_are_named() {
         assert_eq!(AutoExposure::of(&frame(&[0.0; 100])), None);
         assert_eq!(AutoExposure::of(&frame(&[f32::NAN; 4])), None);
+        let (ev, line) = measure(&frame(&[0.0; 100]), "the map");
+        assert!(ev == 0.0 && line.starts_with("warning: nothing in the map is lit"), "{ev} {line}");
+        assert!(measure(&frame(&[0.01; 4]), "the map").1.contains("measured"));
         let dim = frame(&[0.001; 100]);
         assert!(verdict(&dim, 0.0).unwrap().contains("almost all black"));
         assert!(verdict(&dim, 20.0).unwrap().contains("mostly white"));

@@ -64,16 +64,11 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     }
     let exposure = match args.exposure {
         Some(ev) => ev,
-        None => match crate::exposure::AutoExposure::of(&map.rgba) {
-            Some(auto) => {
-                eprintln!("{}", auto.describe());
-                auto.ev
-            }
-            None => {
-                eprintln!("warning: nothing in the map is lit, so no exposure can be measured: 0 EV");
-                0.0
-            }
-        },
+        None => {
+            let (ev, line) = crate::exposure::measure(&map.rgba, "the map");
+            eprintln!("{line}");
+            ev
+        }
     };
     if let Some(line) = crate::exposure::verdict(&map.rgba, exposure) {
         eprintln!("{line}");

@@ -10,7 +10,6 @@ use glam::{Mat4, Quat, Vec3};
 
 use super::args::SceneOverrideArgs;
 use super::GpuArgs;
-use crate::exposure::AutoExposure;
 use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
@@ -215,15 +214,10 @@ fn render_frames(
             .with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
-        let ev = *exposure.get_or_insert_with(|| match AutoExposure::of(linear) {
-            Some(auto) => {
-                bar.line(&auto.describe());
-                auto.ev
-            }
-            None => {
-                bar.line("warning: nothing in the first frame is lit, so no exposure can be measured: 0 EV");
-                0.0
-            }
+        let ev = *exposure.get_or_insert_with(|| {
+            let (ev, line) = crate::exposure::measure(linear, "the first frame");
+            bar.line(&line);
+            ev
         });
         // One verdict per sequence is enough: the rest would repeat it.
         if let Some(line) = crate::exposure::verdict(linear, ev).filter(|_| !warned) {

@@ -444,14 +444,10 @@ impl State {
         // SAFETY: render waited for its frame.
         unsafe { capture.destroy(&self.ctx) };
         let frame = frame?;
-        match frame.linear().and_then(crate::exposure::AutoExposure::of) {
-            Some(auto) => {
-                println!("view: {}", auto.describe());
-                self.live.exposure_ev = auto.ev;
-                self.gpu.renderer.set_exposure(auto.ev)?;
-            }
-            None => println!("view: nothing in the first frame is lit, so no exposure can be measured: 0 EV"),
-        }
+        let (ev, line) = crate::exposure::measure(frame.linear().unwrap_or_default(), "the first frame");
+        println!("view: {line}");
+        self.live.exposure_ev = ev;
+        self.gpu.renderer.set_exposure(ev)?;
         Ok(())
     }
 
