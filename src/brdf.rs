@@ -147,7 +147,7 @@ impl Prepared<'_> {
             .map(|(q, (power, reflectance))| {
                 let uvw = q.uvw();
                 let in_band = Lookup::new(uvw.x, uvw.y, q.lambda_nm * 1e-3, lx, ly).in_band(hf.nx, hf.ny);
-                Sample { query: *q, uvw, power, reflectance, in_band }
+                Sample::new(*q, power, reflectance, in_band, &self.window)
             })
             .collect())
     }
@@ -186,7 +186,7 @@ pub(crate) fn refuse_unless_f32_suffices(plan: &TaylorPlan, accept: bool) -> Res
 
 /// Non-finite values are refused as a whole: nothing is printed from an overflowed sum.
 fn refuse_non_finite(samples: &[Sample]) -> Result<()> {
-    let finite = |s: &&Sample| s.power.is_finite() && s.reflectance.is_finite();
+    let finite = |s: &&Sample| s.power.is_finite() && s.reflectance.is_finite() && s.brdf_sr.is_finite();
     match samples.iter().find(|s| !finite(s)) {
         None => Ok(()),
         Some(s) => Err(Error::Invalid(format!(

@@ -32,7 +32,7 @@ fn csv(o: &Output) -> Vec<std::collections::HashMap<String, f64>> {
     let text = String::from_utf8_lossy(&o.stdout);
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    assert_eq!(header.join(","), "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance");
+    assert_eq!(header.join(","), "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance,brdf_sr");
     lines.map(|l| header.iter().cloned().zip(l.split(',').map(|v| v.parse::<f64>().unwrap())).collect()).collect()
 }
 
@@ -109,6 +109,10 @@ fn flat_png_is_a_mirror() {
     for pair in rows.chunks(2) {
         assert_eq!(pair[0]["power"], 1.0);
         assert!((pair[0]["reflectance"] - 1.0).abs() < 1e-12);
+        // In sr⁻¹: R₀·(k σ_s)²/π at the mirror (n = 1.5: R₀ = 0.04; σ_s = 65 µm / 4).
+        let k_sigma = std::f64::consts::TAU / (pair[0]["lambda_nm"] * 1e-3) * 65.0 / 4.0;
+        let peak = 0.04 * k_sigma * k_sigma / std::f64::consts::PI;
+        assert!((pair[0]["brdf_sr"] / peak - 1.0).abs() < 1e-9, "{} vs {peak}", pair[0]["brdf_sr"]);
         assert!(pair[1]["power"] < 1e-12);
     }
 }

@@ -129,11 +129,22 @@ fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Re
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    writeln!(out, "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance")?;
+    writeln!(out, "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance,brdf_sr")?;
     for s in samples {
         let q = &s.query;
-        let fields =
-            [q.lambda_nm, q.theta_i, q.phi_i, q.theta_r, q.phi_r, s.uvw.x, s.uvw.y, s.uvw.z, s.power, s.reflectance];
+        let fields = [
+            q.lambda_nm,
+            q.theta_i,
+            q.phi_i,
+            q.theta_r,
+            q.phi_r,
+            s.uvw.x,
+            s.uvw.y,
+            s.uvw.z,
+            s.power,
+            s.reflectance,
+            s.brdf_sr,
+        ];
         let line: Vec<String> = fields.iter().map(|&x| crate::error::number(x)).collect();
         writeln!(out, "{}", line.join(","))?;
     }

@@ -130,7 +130,8 @@ Examples:
 const BRDF_HELP: &str = "\
 Conventions: patch x along image columns, y along rows, z the normal. Directions point from the surface to
 the light (θ_i, φ_i) and to the viewer (θ_r, φ_r). (u,v,w) = −ω_i − ω_r. power = |P(u/λ, v/λ)|², 1 for a flat
-mirror at specular; reflectance = C(ω_i, ω_r)·power (model.md §1.5).
+mirror at specular; reflectance = C(ω_i, ω_r)·power, relative to a mirror at normal incidence (model.md §1.5);
+brdf_sr = the BRDF in sr⁻¹, reflectance·R₀(kσ_s)²/(π cos θ_i), energy-conserving in the coherence length.
 
 Examples:
   diffract brdf --heightfield grating.gsf --light-theta 0 --view-theta 0:60:0.5 --lambda 550

@@ -3,7 +3,8 @@
 //!
 //! `power` = |P(u/λ, v/λ)|², where P is the coherence-windowed DTFT of p = exp(i·k·w·h) normalised so that a
 //! flat patch gives 1 at specular ([`super::window`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of
-//! [`super::optics::gain_factor`].
+//! [`super::optics::gain_factor`] (the thesis's peak-normalised relative reflectance); `brdf_sr` = the BRDF in
+//! sr⁻¹ ([`super::optics::brdf_per_sr_scale`]).
 //!
 //! Two methods, which share the lookup and the window:
 //! - [`Method::Exact`] evaluates the DFT coefficients of p itself at the window's bins, by a separable direct
@@ -76,6 +77,9 @@ pub struct Sample {
     pub uvw: DVec3,
     pub power: f64,
     pub reflectance: f64,
+    /// Stam's BRDF in physical units, sr⁻¹: `reflectance` times [`optics::brdf_per_sr_scale`] (energy-conserving
+    /// in the coherence length; what a frame lit by an environment needs).
+    pub brdf_sr: f64,
     /// False where (u/λ, v/λ) lies beyond the frequencies the height field samples: P is 0 there.
     pub in_band: bool,
 }
@@ -216,7 +220,15 @@ impl Reference {
         let k = 2.0 * std::f64::consts::PI / lambda_um;
         let power = if in_band { self.amplitude(at, k * uvw.z).norm_sqr() } else { 0.0 };
         let reflectance = optics::gain_factor(q.omega_i(), q.omega_r()) * power;
-        Sample { query: *q, uvw, power, reflectance, in_band }
+        Sample::new(*q, power, reflectance, in_band, &self.window)
+    }
+}
+
+impl Sample {
+    /// A sample of `query` whose power and relative reflectance are known, with its BRDF in sr⁻¹ under `window`.
+    pub fn new(query: Query, power: f64, reflectance: f64, in_band: bool, window: &Window) -> Self {
+        let scale = optics::brdf_per_sr_scale(query.lambda_nm * 1e-3, window.coherence_um, query.omega_i().z);
+        Self { query, uvw: query.uvw(), power, reflectance, brdf_sr: reflectance * scale, in_band }
     }
 }
 

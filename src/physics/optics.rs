@@ -65,7 +65,7 @@ pub fn uvw(omega_i: DVec3, omega_r: DVec3) -> DVec3 {
 pub fn fresnel_ratio(omega_i: DVec3, omega_r: DVec3, n: f64) -> f64 {
     let h = (omega_i + omega_r).normalize();
     let cos = h.dot(omega_r).clamp(0.0, 1.0);
-    let r0 = ((n - 1.0) / (n + 1.0)).powi(2);
+    let r0 = normal_reflectance(n);
     1.0 + (1.0 - r0) / r0 * (1.0 - cos).powi(5)
 }
 
@@ -78,6 +78,29 @@ pub fn gain_factor(omega_i: DVec3, omega_r: DVec3) -> f64 {
     let w = uvw(omega_i, omega_r).z;
     let cos_sum = 1.0 + omega_i.dot(omega_r);
     fresnel_ratio(omega_i, omega_r, SKIN_INDEX) * cos_sum * cos_sum / (omega_r.z * w * w)
+}
+
+/// Fresnel reflectance at normal incidence of a dielectric of index `n` in air, R₀ = ((n − 1)/(n + 1))².
+pub fn normal_reflectance(n: f64) -> f64 {
+    ((n - 1.0) / (n + 1.0)).powi(2)
+}
+
+/// The factor that turns the relative reflectance ρ_λ (peak-normalised: a flat patch gives C at its mirror
+/// direction) into Stam's BRDF in physical units, sr⁻¹: f = ρ_λ · R₀ · (k σ_s)² / (π cos θ_i), with k = 2π/λ and
+/// σ_s = coherence/4 (both in µm).
+///
+/// Why this factor: the coherence window apodises the patch by exp(−|x|²/2σ_s²), so a flat patch's power is
+/// |P|² = exp(−(k σ_s)²(u² + v²)), whose integral over (u, v) — the projected solid angle cos θ_r dω_r — is
+/// π/(k σ_s)²; at the mirror direction C = (R/R₀)·cos θ_i. With this factor a flat mirror reflects the fraction R
+/// of the incident flux whatever the coherence length (∫ f cos θ_r dω_r = R; tests/physics.rs), and a lobe's
+/// energy no longer falls as the coherence grows: it is Stam's k²F²/(4π²A) with A the window's effective area
+/// 4πσ_s² (the apodisation's (∫g)²/∫g²). 0 where the light is not above the surface.
+pub fn brdf_per_sr_scale(lambda_um: f64, coherence_um: f64, cos_theta_i: f64) -> f64 {
+    if cos_theta_i <= 0.0 {
+        return 0.0;
+    }
+    let k_sigma = std::f64::consts::TAU / lambda_um * coherence_um / 4.0;
+    normal_reflectance(SKIN_INDEX) * k_sigma * k_sigma / (std::f64::consts::PI * cos_theta_i)
 }
 
 /// V-groove shadowing and masking in the patch frame (n = z), after Stam's appendix and Torrance–Sparrow:

@@ -25,6 +25,8 @@ pub const MAX_COHERENCE_UM: f64 = 1e6;
 /// The window for one patch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Window {
+    /// The coherence length it models, µm (σ_s = coherence/4).
+    pub coherence_um: f64,
     /// Window width in bins along x and y.
     pub sigma_x: f64,
     pub sigma_y: f64,
@@ -71,7 +73,7 @@ impl Window {
             Some(r) => (i64::from(r), i64::from(r)),
             None => (full(sigma_x), full(sigma_y)),
         };
-        Ok(Self { sigma_x, sigma_y, radius_x, radius_y })
+        Ok(Self { coherence_um, sigma_x, sigma_y, radius_x, radius_y })
     }
 
     /// Taps along one axis for a patch of `n` bins: (array index in the centred spectrum, weight). Only bins
