@@ -32,7 +32,10 @@ fn csv(o: &Output) -> Vec<std::collections::HashMap<String, f64>> {
     let text = String::from_utf8_lossy(&o.stdout);
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
-    assert_eq!(header.join(","), "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance,brdf_sr");
+    assert_eq!(
+        header.join(","),
+        "lambda_nm,theta_i_deg,phi_i_deg,theta_r_deg,phi_r_deg,u,v,w,power,reflectance,brdf_sr"
+    );
     lines.map(|l| header.iter().cloned().zip(l.split(',').map(|v| v.parse::<f64>().unwrap())).collect()).collect()
 }
 
