@@ -36,7 +36,7 @@ fn main() -> diffract::Result<()> {
         exposure: Some(3.0),
         samples: ctx.sample_count(1, diffract::render::LINEAR_FORMAT)?,
         // One position per pixel, nothing cached: the exact reference of a 64² map takes seconds.
-        reference: Some(ReferenceOptions { samples: 1, cache: None }),
+        reference: Some(ReferenceOptions { samples: 1, pixels: None, cache: None }),
         probe: None,
     };
     let report = run(&ctx, &subject, &configs, &options, &|p| {

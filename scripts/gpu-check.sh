@@ -130,7 +130,7 @@ for size in "${frames[@]}"; do
   sed -n '/^| configuration/,$p' "$out/scene-$size.md"
 done
 "$bin" profile "${device_args[@]}" --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 \
-  --height-um 0.375 --tile 10 --exposure 8 --frames 10 --warmup 2 --no-reference --roofline \
+  --height-um 0.375 --tile 10 --exposure 8 --frames 10 --warmup 2 --reference-pixels 2000 --roofline \
   --sweep approach=gem,baked "size=$map_sizes" --csv "$out/map.csv" >"$out/map.md" 2>"$out/map.err" \
   || { echo "FAIL  timing map"; cat "$out/map.err"; failures=$((failures + 1)); }
 echo "-- Elaphe BRDF map, gem against baked"

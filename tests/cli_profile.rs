@@ -333,3 +333,22 @@ fn mistakes_end_in_one_line() {
     );
     assert_one_line_error(&diffract(&["profile", "--tile", "2", "--width", "8"]), "heightfield");
 }
+
+/// A reference at random pixels estimates the full one's mean ΔE00: the CSV says how many pixels were compared
+/// and the mean's standard error, and the full mean lies within four of them.
+#[test]
+fn a_reference_at_random_pixels_estimates_the_whole_image() {
+    let full = profile_grating_map("pixels-all.csv", &["--sweep", "approach=flss"]);
+    let sampled = profile_grating_map("pixels-40.csv", &["--reference-pixels", "40", "--sweep", "approach=flss"]);
+    let (all, some) = (&full.rows[0], &sampled.rows[0]);
+    assert!(all["mean_de2000_se"].is_empty(), "every pixel compared: no standard error: {all:?}");
+    assert!(number(all, "de_pixels") > 150.0, "{all:?}");
+    assert_eq!(number(some, "de_pixels"), 40.0, "{some:?}");
+    let (mean, se) = (number(some, "mean_de2000"), number(some, "mean_de2000_se"));
+    assert!(se > 0.0 && (mean - number(all, "mean_de2000")).abs() < 4.0 * se, "{some:?} vs {all:?}");
+    assert!(
+        sampled.comments.iter().any(|c| c.contains("40 of the") && c.contains("covered pixels, chosen at random")),
+        "{:?}",
+        sampled.comments
+    );
+}

@@ -5,8 +5,10 @@
 //! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`] (or, for structures so deep that the f64
 //! series would round by more than [`MAX_REFERENCE_ROUNDING`], the exact DFT of exp(i·k·w·h)), the full
 //! Gaussian window (every tap weighing more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature
-//! error of the 1 nm steps is estimated in the same run by comparing with 0.5 nm steps on a grid of pixels
-//! ([`ReferenceImage::quadrature`]).
+//! error of the 1 nm steps is estimated in the same run by comparing with 0.5 nm steps on 64 pixels
+//! ([`ReferenceImage::quadrature`]). A large image's reference may be evaluated at random pixels only
+//! ([`ReferenceJob::keep_random_pixels`]: `profile --reference-pixels N`), its errors then estimates whose mean
+//! carries a standard error.
 //!
 //! Errors are measured on the image as displayed: CIE XYZ (relative to a D65 mirror, Y = 1) scaled by 2^EV,
 //! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
@@ -37,10 +39,13 @@ pub const MAX_REFERENCE_ROUNDING: f64 = 1e-6;
 pub const REFERENCE_STEP_NM: f64 = 1.0;
 /// The finer step its quadrature error is estimated against, nm.
 pub const CHECK_STEP_NM: f64 = 0.5;
-/// Pixels per axis of the grid on which the quadrature error is estimated.
-const CHECK_GRID: u32 = 8;
-/// Bumped whenever the reference's definition changes: cached images of other versions are recomputed.
-const CACHE_VERSION: u32 = 1;
+/// How many pixels, spread over those the surface covers, the quadrature error is estimated on.
+const CHECK_PIXELS: usize = 64;
+/// Bumped whenever the reference's definition or its cache format changes: cached images of other versions are
+/// recomputed. (2: XYZ stored only for the pixels that count.)
+const CACHE_VERSION: u32 = 2;
+/// The seed of the random pixels a sampled reference keeps (fixed: a profile repeats, and its reference caches).
+pub const SAMPLE_SEED: u64 = 0x5eed_d1ff_7ac7;
 
 /// One pixel to evaluate: patch-frame unit directions to the light and to the viewer, the material seen, and
 /// light that does not diffract (a scene's pigment term, XYZ) added as it is.
@@ -71,6 +76,9 @@ pub struct ReferenceImage {
     pub description: String,
     /// The 1 nm vs 0.5 nm check: (pixels compared, largest ΔE₀₀ at exposure 0, largest relative XYZ difference).
     pub quadrature: (usize, f64, f64),
+    /// (pixels kept, pixels covered) where only random pixels were evaluated
+    /// ([`ReferenceJob::keep_random_pixels`]); None where every covered pixel was.
+    pub sampled: Option<(usize, usize)>,
 }
 
 /// What a reference is computed for (also its cache key).
@@ -99,6 +107,38 @@ impl ReferenceJob<'_> {
                 })
             })
             .collect()
+    }
+
+    /// Keeps the queries of `count` pixels of the output image (each `samples`×`samples` positions of this
+    /// finer grid), chosen at random among those the surface covers at every position, and drops the rest: only
+    /// the kept pixels are evaluated, and only they count in an error. The covered pixels are shuffled by a
+    /// generator seeded with [`SAMPLE_SEED`]: the same pixels on every run, and nobody's choice. Returns (kept,
+    /// covered).
+    pub fn keep_random_pixels(&mut self, count: usize, samples: u32) -> (usize, usize) {
+        let s = samples.max(1);
+        let (fine_width, w, h) = (self.width, self.width / s, self.height / s);
+        let positions = move |p: u32| {
+            let (x, y) = (p % w, p / w);
+            (0..s * s).map(move |k| ((y * s + k / s) * fine_width + x * s + k % s) as usize)
+        };
+        let mut covered: Vec<u32> = (0..w * h).filter(|&p| positions(p).all(|i| self.pixels[i].is_some())).collect();
+        let total = covered.len();
+        if count < total {
+            fastrand::Rng::with_seed(SAMPLE_SEED).shuffle(&mut covered);
+            covered.truncate(count);
+        }
+        let mut keep = vec![false; self.pixels.len()];
+        for &p in &covered {
+            for i in positions(p) {
+                keep[i] = true;
+            }
+        }
+        for (q, k) in self.pixels.iter_mut().zip(keep) {
+            if !k {
+                *q = None;
+            }
+        }
+        (covered.len(), total)
     }
 
     /// A hash of everything the image depends on.
@@ -165,7 +205,8 @@ impl ReferenceJob<'_> {
             quadrature.2
         );
         let mask = self.pixels.iter().map(Option::is_some).collect();
-        let image = ReferenceImage { width: self.width, height: self.height, xyz, mask, description, quadrature };
+        let (width, height) = (self.width, self.height);
+        let image = ReferenceImage { width, height, xyz, mask, description, quadrature, sampled: None };
         if let Some(dir) = cache {
             // A cache that cannot be written costs time, not correctness: say so and go on.
             if let Err(e) = write_cached(dir, self, &image) {
@@ -251,7 +292,7 @@ impl ReferenceImage {
             }
         }
         let description = format!("{}; {s}×{s} positions per pixel, averaged", self.description);
-        Self { width: w, height: h, xyz, mask, description, quadrature: self.quadrature }
+        Self { width: w, height: h, xyz, mask, description, quadrature: self.quadrature, sampled: self.sampled }
     }
 }
 
@@ -276,22 +317,16 @@ fn evaluate_rows(job: &ReferenceJob<'_>, f: impl Fn(&PixelQuery) -> DVec3 + Sync
     xyz
 }
 
-/// The reference at 1 nm against 0.5 nm steps on a grid of pixels: (pixels, largest ΔE₀₀, largest relative
-/// XYZ difference).
+/// The reference at 1 nm against 0.5 nm steps on [`CHECK_PIXELS`] pixels spread evenly over those with a query:
+/// (pixels, largest ΔE₀₀, largest relative XYZ difference).
 fn quadrature_check(
     job: &ReferenceJob<'_>,
     fine: impl Fn(&PixelQuery) -> DVec3 + Sync,
     xyz: &[DVec3],
 ) -> (usize, f64, f64) {
-    let (w, h) = (job.width, job.height);
-    let picks: Vec<usize> = (0..CHECK_GRID * CHECK_GRID)
-        .map(|k| {
-            let (gx, gy) = (k % CHECK_GRID, k / CHECK_GRID);
-            let (x, y) = ((2 * gx + 1) * w / (2 * CHECK_GRID), (2 * gy + 1) * h / (2 * CHECK_GRID));
-            (y * w + x) as usize
-        })
-        .filter(|&i| job.pixels[i].is_some())
-        .collect();
+    let covered: Vec<usize> = job.pixels.iter().enumerate().filter(|(_, p)| p.is_some()).map(|(i, _)| i).collect();
+    let picks: Vec<usize> =
+        covered.iter().step_by((covered.len() / CHECK_PIXELS).max(1)).take(CHECK_PIXELS).copied().collect();
     use rayon::prelude::*;
     let results: Vec<(f64, f64)> = picks
         .par_iter()
@@ -322,6 +357,11 @@ pub struct ImageError {
     pub p99_de: f64,
     /// √(Σ|XYZ − XYZ_ref|²) / √(Σ|XYZ_ref|²) over the same pixels.
     pub rel_rmse: f64,
+    /// How many pixels were compared.
+    pub pixels: usize,
+    /// Where the reference holds random pixels only: the standard error of `mean_de` as an estimate of the mean
+    /// over every covered pixel (s/√n).
+    pub mean_de_se: Option<f64>,
 }
 
 /// Compares a linear sRGB RGBA image (rows top first, the GPU's output) with the reference at `exposure_ev`.
@@ -341,9 +381,13 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
     if des.is_empty() {
         return Err(Error::Invalid("no pixel of the image shows the surface".into()));
     }
-    let mean_de = des.iter().sum::<f64>() / des.len() as f64;
+    let n = des.len() as f64;
+    let mean_de = des.iter().sum::<f64>() / n;
+    let variance = des.iter().map(|d| (d - mean_de).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
     Ok(ImageError {
         mean_de,
+        pixels: des.len(),
+        mean_de_se: reference.sampled.map(|_| (variance / n).sqrt()),
         p99_de: crate::stats::percentile(&mut des, 0.99),
         rel_rmse: if ref2 > 0.0 { (err2 / ref2).sqrt() } else { err2.sqrt() },
     })
@@ -362,8 +406,8 @@ fn stamp(job: &ReferenceJob<'_>) -> crate::cache::Stamp {
     crate::cache::Stamp { kind: "reference", what: "reference image", version: u64::from(CACHE_VERSION), plan: plan.0 }
 }
 
-/// Bytes of a cached image: its quadrature check, its description, then XYZ (3 f64) and the mask (1 byte) per
-/// pixel.
+/// Bytes of a cached image: its quadrature check, its description, then per pixel the mask (1 byte) and, where it
+/// is set, XYZ (3 f64): at most 25 bytes a pixel, 1 where the surface is not seen (or not sampled).
 const PIXEL_BYTES: u64 = 25;
 const MAX_DESCRIPTION: usize = 4096;
 
@@ -376,10 +420,12 @@ fn write_cached(dir: &Path, job: &ReferenceJob<'_>, image: &ReferenceImage) -> s
     bytes.extend_from_slice(&(text.len() as u64).to_le_bytes());
     bytes.extend_from_slice(text);
     for (v, &m) in image.xyz.iter().zip(&image.mask) {
-        for c in [v.x, v.y, v.z] {
-            bytes.extend_from_slice(&c.to_le_bytes());
-        }
         bytes.push(u8::from(m));
+        if m {
+            for c in [v.x, v.y, v.z] {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
     }
     crate::cache::store(dir, &stamp(job), &bytes)
 }
@@ -408,15 +454,20 @@ fn parse_cached(bytes: &[u8], job: &ReferenceJob<'_>) -> Option<ReferenceImage> 
     let mut xyz = Vec::with_capacity(n);
     let mut mask = Vec::with_capacity(n);
     for _ in 0..n {
-        let v = DVec3::new(r.f64()?, r.f64()?, r.f64()?);
+        let m = match r.take(1)?[0] {
+            0 => false,
+            1 => true,
+            _ => return None,
+        };
+        let v = if m { DVec3::new(r.f64()?, r.f64()?, r.f64()?) } else { DVec3::ZERO };
         if !(v.is_finite() && v.min_element() >= 0.0) {
             return None;
         }
         xyz.push(v);
-        mask.push(r.take(1)?[0] != 0);
+        mask.push(m);
     }
     let (width, height) = (job.width, job.height);
-    r.finished().then_some(ReferenceImage { width, height, xyz, mask, description, quadrature })
+    r.finished().then_some(ReferenceImage { width, height, xyz, mask, description, quadrature, sampled: None })
 }
 
 #[cfg(test)]
@@ -425,6 +476,57 @@ mod tests {
 
     use crate::physics::colour::D65_WHITE;
     use crate::physics::spectrum::xyz_to_linear_srgb;
+
+    /// Random pixels: as many as asked, whole (all of a pixel's positions), among the covered ones only, the same
+    /// on every run; a count beyond the covered pixels keeps them all.
+    #[test]
+    fn random_pixels_are_whole_covered_and_repeatable() {
+        let job = |size: u32| ReferenceJob {
+            materials: Vec::new(),
+            width: size,
+            height: size,
+            pixels: ReferenceJob::map_pixels(size, DVec3::Z),
+        };
+        let (mut a, mut b) = (job(32), job(32));
+        let covered_positions = a.pixels.iter().flatten().count();
+        let (kept, covered) = a.keep_random_pixels(10, 2);
+        assert_eq!(b.keep_random_pixels(10, 2), (kept, covered));
+        assert_eq!(a.pixels, b.pixels, "the same pixels on every run");
+        assert_eq!(kept, 10);
+        assert!(covered * 4 <= covered_positions && covered > 150, "{covered} of {covered_positions}");
+        assert_eq!(a.pixels.iter().flatten().count(), 40, "each kept pixel keeps its 2×2 positions");
+        for y in (0..32).step_by(2) {
+            for x in (0..32).step_by(2) {
+                let here = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| a.pixels[(y + j) * 32 + x + i].is_some());
+                assert!(here.iter().all(|&h| h == here[0]), "pixel ({x}, {y}) is kept whole or not at all");
+            }
+        }
+        let mut all = job(32);
+        assert_eq!(all.keep_random_pixels(usize::MAX, 2), (covered, covered));
+    }
+
+    /// The cache keeps XYZ for the pixels that count only, and gives back the same image.
+    #[test]
+    fn a_cached_image_reads_back_as_written() {
+        let dir = std::env::temp_dir().join(format!("diffract-reference-cache-test-{}", std::process::id()));
+        let mut job =
+            ReferenceJob { materials: Vec::new(), width: 8, height: 8, pixels: ReferenceJob::map_pixels(8, DVec3::Z) };
+        job.keep_random_pixels(5, 1);
+        let mask: Vec<bool> = job.pixels.iter().map(Option::is_some).collect();
+        let xyz = mask.iter().enumerate().map(|(i, &m)| if m { DVec3::splat(i as f64) } else { DVec3::ZERO }).collect();
+        let image = ReferenceImage {
+            width: 8,
+            height: 8,
+            xyz,
+            mask,
+            description: "test".into(),
+            quadrature: (5, 1e-9, 1e-6),
+            sampled: None,
+        };
+        write_cached(&dir, &job, &image).unwrap();
+        assert_eq!(read_cached(&dir, &job), Some(image));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn srgb_round_trip() {
@@ -442,6 +544,7 @@ mod tests {
             mask: vec![true, true],
             description: String::new(),
             quadrature: (0, 0.0, 0.0),
+            sampled: None,
         };
         let to_rgb = |v: DVec3| xyz_to_linear_srgb(v).to_array().map(|c| c as f32);
         let [a, b, c] = to_rgb(white);

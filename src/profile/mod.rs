@@ -235,7 +235,7 @@ impl TableSummary {
 }
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 30] = [
+pub const MEASURED_COLUMNS: [&str; 32] = [
     "order_used",
     "lambda_count",
     "taps",
@@ -259,6 +259,8 @@ pub const MEASURED_COLUMNS: [&str; 30] = [
     "roofline_fraction",
     "mean_de2000",
     "p99_de2000",
+    "mean_de2000_se",
+    "de_pixels",
     "rel_xyz_rmse",
     "table_terms",
     "table_texels",
@@ -316,6 +318,8 @@ impl Row {
             opt(self.roofline_fraction.map(|v| format!("{v:.4}"))),
             opt(self.error.map(|e| format!("{:.5}", e.mean_de))),
             opt(self.error.map(|e| format!("{:.5}", e.p99_de))),
+            opt(self.error.and_then(|e| e.mean_de_se).map(|v| format!("{v:.5}"))),
+            opt(self.error.map(|e| e.pixels)),
             opt(self.error.map(|e| format!("{:.5e}", e.rel_rmse))),
             opt(self.table.map(|t| t.terms)),
             opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
@@ -385,7 +389,7 @@ pub fn markdown(rows: &[Row]) -> String {
             ms(r.cpu_ms.median),
             si(r.fetches_per_pixel),
             r.roofline_fraction.map_or("–".to_string(), |f| format!("{:.0} %", 100.0 * f)),
-            r.error.map_or("–".into(), |e| format!("{:.3}", e.mean_de)),
+            r.error.map_or("–".into(), |e| mean_de(&e)),
             r.error.map_or("–".into(), |e| format!("{:.3}", e.p99_de)),
             r.error.map_or("–".into(), |e| format!("{:.2e}", e.rel_rmse))
         );
@@ -430,6 +434,14 @@ pub fn markdown_passes(rows: &[Row]) -> String {
 }
 
 /// Milliseconds with three significant digits.
+/// A mean ΔE00 as printed: with its standard error where the reference holds random pixels only.
+pub fn mean_de(e: &exact_image::ImageError) -> String {
+    match e.mean_de_se {
+        Some(se) => format!("{:.3} ± {se:.3}", e.mean_de),
+        None => format!("{:.3}", e.mean_de),
+    }
+}
+
 pub fn ms(v: f64) -> String {
     if v >= 100.0 {
         format!("{v:.0}")

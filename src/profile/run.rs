@@ -135,11 +135,11 @@ impl Subject {
         ctx: &Context,
         size: (u32, u32),
         lights: &[(f64, Illuminant)],
-        samples: u32,
-        cache: Option<&std::path::Path>,
+        options: &ReferenceOptions,
     ) -> Result<ReferenceImage> {
+        let samples = options.samples;
         let fine = (size.0 * samples, size.1 * samples);
-        let job = match self {
+        let mut job = match self {
             Subject::Map { heightfield, light, .. } => ReferenceJob {
                 materials: vec![ReferenceMaterial { heightfield, coherence_um: lights[0].0, illuminant: lights[0].1 }],
                 width: fine.0,
@@ -162,7 +162,16 @@ impl Subject {
                 pixels: scene_pixels(ctx, scene, fine, lights)?,
             },
         };
-        Ok(job.compute(cache)?.downsample(samples))
+        let sampled = options.pixels.map(|n| job.keep_random_pixels(n, samples));
+        let mut image = job.compute(options.cache.as_deref())?.downsample(samples);
+        if let Some((kept, covered)) = sampled {
+            image.sampled = sampled;
+            image.description += &format!(
+                "; {kept} of the {covered} covered pixels, chosen at random (seed {:#x}): ΔE00 figures are estimates",
+                exact_image::SAMPLE_SEED
+            );
+        }
+        Ok(image)
     }
 
     /// The GPU side of one configuration's frames.
@@ -222,6 +231,8 @@ fn scene_pixels(
 pub struct ReferenceOptions {
     /// Positions per pixel axis.
     pub samples: u32,
+    /// Evaluate and compare only this many pixels, chosen at random among those the surface covers (None: all).
+    pub pixels: Option<usize>,
     /// Folder of cached reference images (None: compute and keep nothing).
     pub cache: Option<PathBuf>,
 }
@@ -290,7 +301,7 @@ pub fn run(
         let key = (size, subject.reference_lights(config));
         if let Some(r) = options.reference.as_ref().filter(|_| !references.iter().any(|(k, _)| *k == key)) {
             let start = Instant::now();
-            let image = subject.reference(ctx, size, &key.1, r.samples, r.cache.as_deref())?;
+            let image = subject.reference(ctx, size, &key.1, r)?;
             let seconds = start.elapsed().as_secs_f64();
             progress(Progress::Line(format!(
                 "reference {}×{} ({seconds:.1} s): {}",
@@ -313,7 +324,7 @@ pub fn run(
             "[{index}/{count}] {}: GPU {} ms{}",
             row.label(),
             row.gpu_ms.map_or("n/a".into(), |s| super::ms(s.median)),
-            row.error.map(|e| format!(", ΔE00 mean {:.3}", e.mean_de)).unwrap_or_default()
+            row.error.map(|e| format!(", ΔE00 mean {}", super::mean_de(&e))).unwrap_or_default()
         )));
         rows.push(row);
     }
