@@ -58,11 +58,9 @@ impl AutoExposure {
     /// One line for the user: the exposure and where it came from.
     pub fn describe(&self) -> String {
         format!(
-            "exposure {:+.2} EV, measured (the 99.5th percentile of the lit pixels' luminance, {}, shown at {}; \
+            "exposure {:+.2} EV, measured (the 99.5th percentile of the lit pixels' luminance, {:.4e}, shown at {}; \
              --exposure EV or [render] exposure_ev sets one)",
-            self.ev,
-            crate::error::number(self.luminance),
-            AUTO_TARGET
+            self.ev, self.luminance, AUTO_TARGET
         )
     }
 }

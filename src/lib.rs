@@ -58,6 +58,7 @@ pub(crate) mod cache;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod environment;
 pub mod error;
 pub mod exposure;
 #[doc(hidden)] // the fuzz targets' entry points (fuzz/), not an API

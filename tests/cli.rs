@@ -130,3 +130,42 @@ fn a_test_binary_copied_elsewhere_finds_the_binary_and_assets_carried_with_it() 
     assert!(o.status.success() && out.contains("2 passed"), "{out}{}", stderr(&o));
     assert!(dir.join("target/release/used").is_file(), "the copy ran the diffract carried beside it");
 }
+
+/// `gen sky` writes the clear sky as a 2:1 OpenEXR of finite, non-negative radiance with the sun's disc the
+/// brightest texel, near the asked-for direction; its mistakes are one line each.
+#[test]
+fn gen_sky_writes_an_equirectangular_sky_and_refuses_what_the_model_cannot_do() {
+    let out = scratch("sky.exr");
+    let args = ["gen", "sky", "--out", out.to_str().unwrap(), "--width", "256", "--sun-elevation-deg", "30"];
+    let o = diffract(&[&args[..], &["--sun-azimuth-deg", "91"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("klx from the sky"));
+    let image = image::open(&out).unwrap().into_rgb32f();
+    assert_eq!(image.dimensions(), (256, 128));
+    assert!(image.pixels().all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0)));
+    let (at, _) =
+        image.enumerate_pixels().map(|(x, y, p)| ((x, y), p.0[1])).fold(
+            ((0, 0), 0.0),
+            |a, b| {
+                if b.1 > a.1 {
+                    b
+                } else {
+                    a
+                }
+            },
+        );
+    // Azimuth 91° is just past three quarters across (x = 192.7); 30° high is a third of the way down to the
+    // horizon (y = 42.7).
+    assert_eq!(at, (192, 42), "the sun's texel");
+    for (flags, needle) in [
+        (vec!["--turbidity", "1"], "turbidity"),
+        (vec!["--sun-elevation-deg", "-5"], "elevation"),
+        (vec!["--width", "7"], "width"),
+        (vec!["--ground-albedo", "2"], "albedo"),
+        (vec!["--exposure", "3"], "--exposure"),
+    ] {
+        let o = diffract(&[&["gen", "sky", "--out", out.to_str().unwrap()][..], &flags].concat());
+        assert_one_line_error(&o, needle);
+    }
+    assert_one_line_error(&diffract(&["gen", "sky", "--out", scratch("sky.jpg").to_str().unwrap()]), ".exr");
+}

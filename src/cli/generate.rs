@@ -24,6 +24,42 @@ pub enum GenCommand {
   diffract gen snake --pattern plain --out plain.obj     one colour (vertex colours untinted)
   diffract gen snake --smooth --out smooth-snake.obj     a smooth body")]
     Snake(SnakeArgs),
+    /// A clear sky and its sun (Preetham et al. 1999) as an equirectangular environment map: OpenEXR of linear
+    /// sRGB radiance whose luminance is in cd/m², or a PNG preview at a measured exposure
+    #[command(after_help = "Layout: x is the azimuth from -180° (left) to +180° (right), 0 along +z and 90° along +x;
+y the elevation from +90° (top) to -90° (bottom); +y is up, as in scenes. Below the horizon: a Lambertian ground
+of --ground-albedo lit by the sun and sky. The sun's disc (0.53°) keeps its energy whatever the map's size.
+
+Examples:
+  diffract gen sky --out sky.exr                                   sun 50° high, turbidity 3, 1024×512
+  diffract gen sky --sun-elevation-deg 15 --turbidity 2 --out low-sun.exr --width 2048
+  diffract gen sky --sun-elevation-deg 35 --sun-azimuth-deg 120 --out sky.png        a preview")]
+    Sky(SkyArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct SkyArgs {
+    /// Output: .exr (linear radiance, luminance in cd/m²) or .png (a preview at a measured exposure)
+    #[arg(long, value_name = "FILE.exr|FILE.png")]
+    pub out: PathBuf,
+    /// The sun's elevation above the horizon, degrees (0–90)
+    #[arg(long, value_parser = parse::finite, default_value_t = 50.0, allow_negative_numbers = true)]
+    pub sun_elevation_deg: f64,
+    /// The sun's azimuth, degrees (0 along +z, 90 along +x)
+    #[arg(long, value_parser = parse::finite, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub sun_azimuth_deg: f64,
+    /// Atmospheric turbidity: 2 (exceptionally clear) to 10 (light haze)
+    #[arg(long, value_parser = parse::finite, default_value_t = 3.0)]
+    pub turbidity: f64,
+    /// Width of the map in texels (its height is half of it)
+    #[arg(long, default_value_t = 1024)]
+    pub width: u32,
+    /// The ground's albedo below the horizon (0: black)
+    #[arg(long, value_parser = parse::finite, default_value_t = 0.2)]
+    pub ground_albedo: f64,
+    /// The PNG preview's exposure, stops (default: measured from the map)
+    #[arg(long, value_parser = parse::finite, value_name = "EV", allow_negative_numbers = true)]
+    pub exposure: Option<f64>,
 }
 
 #[derive(Args, Debug)]
@@ -86,7 +122,52 @@ pub fn run(command: &GenCommand) -> anyhow::Result<()> {
     match command {
         GenCommand::Patch(args) => patch(args),
         GenCommand::Snake(args) => snake(args),
+        GenCommand::Sky(args) => sky(args),
     }
+}
+
+fn png_path(path: &std::path::Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"))
+}
+
+fn sky(args: &SkyArgs) -> anyhow::Result<()> {
+    if args.exposure.is_some() && !png_path(&args.out) {
+        bail!("--exposure sets the PNG preview's exposure; an EXR holds the radiance itself");
+    }
+    let png = png_path(&args.out);
+    crate::output::check_path(&args.out, if png { "png" } else { "exr" })?;
+    let sky = crate::physics::sky::Sky::at(args.turbidity, args.sun_elevation_deg, args.sun_azimuth_deg)?;
+    let map = crate::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?;
+    let (sun, sky_lux) = sky.horizontal_illuminance(180);
+    println!(
+        "sky: turbidity {}, sun {}° high at azimuth {}°: zenith {:.0} cd/m², sun {:.3e} cd/m²; a horizontal surface \
+         gets {:.1} klx from the sun and {:.1} klx from the sky",
+        crate::error::number(args.turbidity),
+        crate::error::number(args.sun_elevation_deg),
+        crate::error::number(args.sun_azimuth_deg),
+        sky.zenith.0,
+        sky.sun_xyz().y,
+        sun * 1e-3,
+        sky_lux * 1e-3
+    );
+    let rgba = map.to_rgba();
+    if png {
+        let ev = args.exposure.unwrap_or_else(|| {
+            let (ev, line) = crate::exposure::measure(&rgba, "the map");
+            println!("{line}");
+            ev
+        });
+        crate::output::write_png_rgba8(
+            &args.out,
+            map.width,
+            map.height,
+            &crate::physics::spectrum::linear_to_rgba8(&rgba, ev),
+        )?;
+    } else {
+        crate::output::write_exr_rgb(&args.out, map.width, map.height, &rgba)?;
+    }
+    println!("wrote {} ({}×{} texels)", args.out.display(), map.width, map.height);
+    Ok(())
 }
 
 /// The most scales a generated snake may have (each is 25 vertices: 2·10⁵ scales are ~300 MB in memory).
