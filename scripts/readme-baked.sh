@@ -10,11 +10,8 @@
 #   table-cold.txt    the default scene's table built cold (empty cache), then loaded from the cache
 # Usage: scripts/readme-baked.sh [TAG] [extra diffract options, e.g. --device 0]   (default tag: lavapipe)
 source "$(dirname "$0")/lib/readme.sh"
-d=target/release/diffract
 out=docs/profile/baked-$tag
 mkdir -p "$out"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
 afm=assets/afm
 
 $d gen patch blazed --out "$scratch/blazed.gsf" >/dev/null

@@ -7,15 +7,8 @@
 # Needs ImageMagick (montage) and the DejaVu fonts to compose it.
 # Usage: scripts/readme-illuminants.sh [TAG] [extra diffract options]   (default tag: lavapipe)
 source "$(dirname "$0")/lib/readme.sh"
-d=$PWD/target/release/diffract
 log=docs/profile/illuminants-$tag.txt
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
 : >"$log"
-run() {
-  echo "\$ diffract $*" | sed -e "s|$scratch/||g" | tee -a "$log"
-  "$d" "$@" 2>&1 | sed -e "s|$scratch/||g" | tee -a "$log"
-}
 for light in D65 A F11; do
   run render --illuminant $light --width 256 --height 256 --out "$scratch/$light.png" "$@"
 done

@@ -9,7 +9,6 @@ size=${2:-256}
 afm=assets/afm
 mkdir -p "$out"
 cargo build --release -q
-d=target/release/diffract
 $d gen patch blazed --out "$out/blazed.gsf" >/dev/null
 # The snakes' orders are about 1 % of the specular peak: they need more exposure than the blazed grating.
 declare -A exposure=([blazed]=3 [elaphe]=8 [xenopeltis]=8)

@@ -10,18 +10,10 @@
 # Needs ImageMagick (montage, convert) and the DejaVu fonts to compose them, Xvfb for the viewer.
 # Usage: scripts/readme-scenes.sh [TAG] [extra diffract options]   (default tag: lavapipe)
 source "$(dirname "$0")/lib/readme.sh"
-d=$PWD/target/release/diffract
 img=docs/images
 log=docs/profile/scenes-$tag.txt
-scratch=$(mktemp -d)
-xvfb=
-trap 'rm -rf "$scratch"; [ -n "$xvfb" ] && kill "$xvfb" 2>/dev/null || true' EXIT
 font=DejaVu-Sans
 : >"$log"
-run() {
-  echo "\$ diffract $*" | sed -e "s|$PWD/||g" -e "s|$scratch/||g" | tee -a "$log"
-  "$d" "$@" 2>&1 | sed -e "s|$scratch/||g" | tee -a "$log"
-}
 
 run render --out $img/snake.png --width 800 --height 800 "$@"
 run map --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \

@@ -6,15 +6,8 @@
 # Needs ImageMagick (montage) and the DejaVu fonts to compose it. (The sky is computed on the CPU: no device.)
 # Usage: scripts/readme-sky.sh
 source "$(dirname "$0")/lib/readme.sh"
-d=$PWD/target/release/diffract
 log=docs/profile/sky.txt
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
 : >"$log"
-run() {
-  echo "\$ diffract $*" | sed -e "s|$scratch/||g" | tee -a "$log"
-  "$d" "$@" 2>&1 | sed -e "s|$scratch/||g" | tee -a "$log"
-}
 for case in "10 2.5" "35 2.5" "70 2.5" "35 8"; do
   set -- $case
   run gen sky --sun-elevation-deg "$1" --turbidity "$2" --width 512 --exposure -14 --out "$scratch/sky-$1-$2.png"
