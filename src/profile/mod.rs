@@ -203,7 +203,8 @@ pub struct Row {
     pub fetches_per_pixel: f64,
     /// Counted fetches / median GPU time.
     pub fetches_per_s: Option<f64>,
-    /// `fetches_per_s` over the probe's peak (with `--roofline`).
+    /// `fetches_per_s` over the probe's peak (with `--roofline`; not for baked, whose filtered reads the probe does
+    /// not measure).
     pub roofline_fraction: Option<f64>,
     /// Against the exact reference (None with `--no-reference`).
     pub error: Option<exact_image::ImageError>,
