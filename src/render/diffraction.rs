@@ -258,21 +258,9 @@ impl MapPass {
         Ok(Self { pipeline, counting: count_stride.is_some() })
     }
 
-    /// Records the map as the largest centred square of `target` (clearing `area`, or all of it, to black).
-    /// A counting pass needs its counter buffer in `counts`.
+    /// Records the map as the largest centred square of `target` (clearing `area`, or all of it, to black). A
+    /// counting pass needs its counter buffer in `counts`.
     pub fn record(
-        &self,
-        ctx: &Context,
-        cmd: vk::CommandBuffer,
-        patch: &PatchResources,
-        target: &TargetView,
-        area: Option<vk::Rect2D>,
-    ) {
-        self.record_counted(ctx, cmd, patch, target, area, None);
-    }
-
-    /// [`Self::record`] with the fetch counters of a counting pass.
-    pub fn record_counted(
         &self,
         ctx: &Context,
         cmd: vk::CommandBuffer,
@@ -330,7 +318,7 @@ fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u
             } else {
                 target.continue_rendering(ctx, cmd);
             }
-            pass.record(ctx, cmd, patch, &target.view(), Some(area));
+            pass.record(ctx, cmd, patch, &target.view(), Some(area), None);
         })?;
         gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
         bar.step();

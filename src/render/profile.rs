@@ -140,7 +140,7 @@ impl Workload for MapWorkload {
         FrameSample::measure(ctx, MapPass::NAME, (&self.target.color, &self.readback), |cmd, statistics, laps| {
             self.target.begin(ctx, cmd);
             statistics.begin(cmd);
-            self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None);
+            self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None, None);
             statistics.end(cmd);
             laps.lap(cmd, pass::SHADING);
         })
@@ -158,7 +158,7 @@ impl Workload for MapWorkload {
         let (target, pass, patch) = (&self.target, &self.counting, &self.patch);
         counted_frame(ctx, self.size, self.size, "brdf map (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
-            pass.record_counted(ctx, cmd, patch, &target.view(), None, Some(counts));
+            pass.record(ctx, cmd, patch, &target.view(), None, Some(counts));
         })
     }
 

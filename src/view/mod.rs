@@ -646,7 +646,7 @@ impl State {
             let mut params = light_params(&gpu.materials[scene.objects[0].material], map_light.as_dvec3());
             params.display[0] = exposure as f32;
             gpu.map_patch.update(&params)?;
-            gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None);
+            gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None, None);
             laps.lap(frame.cmd, crate::render::pass::SHADING);
         } else {
             // Cleared to the code values the shaders give the background colour (the images are UNORM).
