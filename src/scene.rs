@@ -274,6 +274,13 @@ impl Scene {
             .try_normalize()
             .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
         let illuminant = match &file.light.illuminant {
+            // The sun at the light's own elevation.
+            Some(ill) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => {
+                // To 0.01° (the direction is f32): the name reads cleanly and the spectrum does not notice.
+                let elevation = (f64::from(light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
+                let turbidity = crate::physics::illuminant::SUN_TURBIDITY;
+                Illuminant::sun(elevation, turbidity).map_err(|e| loc.at(ill.span(), e))?
+            }
             Some(ill) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
             None => Illuminant::d65(),
         };
@@ -557,6 +564,10 @@ tile = [2, 3]
         assert!(error_of(&GOOD.replace("shape = \"sphere\"", "shape = \"torus\""))
             .starts_with("s.toml:12: unknown variant `torus`"));
         assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"D300\"")).starts_with("s.toml:9: "));
+        // "sun" alone: the sky model's sun at the light's elevation.
+        let sun = Scene::parse(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"sun\""), "s.toml", Path::new("."));
+        let elevation = (f64::from(sun.as_ref().unwrap().light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
+        assert_eq!(sun.unwrap().illuminant, Illuminant::sun(elevation, 3.0).unwrap());
         assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"G\"")).contains("D65, D50"));
         assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "illuminant = \"nope.csv\"")).contains("nope.csv"));
         // The light's spectrum is the light's: a material does not take it.

@@ -7,6 +7,9 @@
 //!   basis (CIE 15:2018 §4.1) as the `colorimetry` crate computes it.
 //! - `A` (a Planckian radiator at 2856 K), `E` (equal energy), `F1` … `F12` (fluorescent lamps): the CIE 15:2018
 //!   tables of the `colorimetry` crate (MIT or Apache-2.0).
+//! - `sun:E` or `sun:E:T`: the direct sun at E degrees above the horizon through an atmosphere of turbidity T
+//!   (default [`SUN_TURBIDITY`]): a 5778 K black body dimmed by Rayleigh and aerosol extinction, the clear-sky
+//!   model's sun ([`super::sky`]); a low sun is redder. In a scene, `sun` alone takes E from the light's direction.
 //! - a CSV file of `nm,relative power` rows: measured, interpolated linearly to 1 nm and zero outside its range.
 //!
 //! An [`Illuminant`] is `Copy` (it refers to its table, interned for the life of the process), so the spectral
@@ -74,8 +77,10 @@ fn normalised(mut table: Table) -> Result<Table> {
 }
 
 /// The names [`Illuminant::named`] takes, for messages.
-pub const NAMES: &str = "D65, D50, D55, D75 (or D<N>: N·100 K daylight, N from 40 to 250), A, E, F1 … F12, or a \
-                         CSV file of nm,relative power";
+pub const NAMES: &str = "D65, D50, D55, D75 (or D<N>: N·100 K daylight, N from 40 to 250), A, E, F1 … F12, sun:E \
+                         or sun:E:T (the sun E° high through turbidity T), or a CSV file of nm,relative power";
+/// The turbidity of `sun:E` (a clear day).
+pub const SUN_TURBIDITY: f64 = 3.0;
 
 impl Illuminant {
     /// CIE D65, the renderer's default: the CIE table itself.
@@ -95,6 +100,9 @@ impl Illuminant {
             let spectrum: &colorimetry::spectrum::Spectrum = which.illuminant().as_ref();
             Ok(*spectrum.as_array())
         };
+        if let Some(rest) = upper.strip_prefix("SUN") {
+            return Self::sun_named(name, rest);
+        }
         match upper.as_str() {
             "A" => intern(upper.clone(), "A", || cie(CieIlluminant::A)),
             "E" => intern(upper.clone(), "E", || cie(CieIlluminant::E)),
@@ -130,6 +138,30 @@ impl Illuminant {
         }
     }
 
+    /// `sun:E[:T]` (`rest` is what follows "SUN").
+    fn sun_named(name: &str, rest: &str) -> Result<Self> {
+        let numbers: Option<Vec<f64>> =
+            rest.strip_prefix(':').and_then(|r| r.split(':').map(|v| v.trim().parse::<f64>().ok()).collect());
+        match numbers.as_deref() {
+            Some(&[elevation]) => Self::sun(elevation, SUN_TURBIDITY),
+            Some(&[elevation, turbidity]) => Self::sun(elevation, turbidity),
+            _ => Err(Error::Invalid(format!(
+                "illuminant {name:?}: the sun is sun:E or sun:E:T, its elevation E in degrees (0–90) and the \
+                 turbidity T (2–10, default {SUN_TURBIDITY}), e.g. sun:35"
+            ))),
+        }
+    }
+
+    /// The direct sun `elevation_deg` above the horizon through an atmosphere of `turbidity` ([`super::sky`]).
+    pub fn sun(elevation_deg: f64, turbidity: f64) -> Result<Self> {
+        let sky = super::sky::Sky::at(turbidity, elevation_deg, 0.0)?;
+        let name =
+            format!("sun {}° high, turbidity {}", crate::error::number(elevation_deg), crate::error::number(turbidity));
+        intern(format!("sun@{elevation_deg}@{turbidity}"), &name, || {
+            Ok(std::array::from_fn(|i| sky.sun_spectral_radiance(TABLE_LAMBDA_MIN_NM + i as f64)))
+        })
+    }
+
     /// The CIE daylight illuminant at a correlated colour temperature of `cct_k` kelvin (4000 to 25000).
     pub fn daylight(cct_k: f64) -> Result<Self> {
         intern(format!("D@{cct_k}"), &format!("D {cct_k:.0} K"), || daylight_table(cct_k))
@@ -137,6 +169,13 @@ impl Illuminant {
 
     /// A scene's `illuminant`: a name, or a CSV file (`….csv`, relative to `base`).
     pub fn parse(text: &str, base: &Path) -> Result<Self> {
+        if text.trim().eq_ignore_ascii_case("sun") {
+            return Err(Error::Invalid(
+                "illuminant \"sun\": name its elevation, sun:E (degrees; a scene's [light] takes \"sun\" alone from \
+                 its direction)"
+                    .into(),
+            ));
+        }
         if text.trim().to_ascii_lowercase().ends_with(".csv") {
             Self::from_csv(&base.join(text.trim()))
         } else {
@@ -272,6 +311,29 @@ mod tests {
         ("F7", 0.31292, 0.32933),
         ("F11", 0.38052, 0.37713),
     ];
+
+    /// The sky model's sun: redder the lower it stands (x and y grow towards the horizon), as the same model's
+    /// spectrum says; a bad name is one message.
+    #[test]
+    fn the_sun_reddens_towards_the_horizon() {
+        let xy = |name: &str| Illuminant::named(name).unwrap().xy(1);
+        let sky = crate::physics::sky::Sky::at(SUN_TURBIDITY, 35.0, 0.0).unwrap();
+        let sun = Illuminant::named("sun:35").unwrap();
+        let ratio = sky.sun_spectral_radiance(450.0) / sky.sun_spectral_radiance(650.0);
+        assert!((sun.power(450.0) / sun.power(650.0) / ratio - 1.0).abs() < 1e-12, "the model's spectrum");
+        let (high, mid, low) = (xy("sun:80"), xy("sun:35"), xy("sun:5"));
+        assert!(high.0 < mid.0 && mid.0 < low.0 && high.1 < mid.1 && mid.1 < low.1, "{high:?} {mid:?} {low:?}");
+        // A high sun is near D50 (x 0.3457, the graphic arts' direct sunlight; measured 0.3470); one 5° high is a
+        // sunset's, near 2000 K (measured x 0.500: warmer than tungsten, A's 0.4476, as ozone, left out, would
+        // temper a little).
+        assert!((high.0 - 0.3457).abs() < 0.01 && (high.1 - 0.3585).abs() < 0.01, "{high:?}");
+        assert!((0.45..0.55).contains(&low.0), "{low:?}");
+        assert!(xy("sun:35:2").0 < xy("sun:35:8").0, "haze reddens the sun");
+        for bad in ["sun", "sun:", "sun:x", "sun:35:3:1", "sun:95", "sun:35:1"] {
+            let e = Illuminant::parse(bad, Path::new(".")).unwrap_err().to_string();
+            assert!(e.contains("sun") || e.contains("elevation") || e.contains("turbidity"), "{bad}: {e}");
+        }
+    }
 
     #[test]
     fn cie_illuminants_reproduce_their_published_chromaticities() {
