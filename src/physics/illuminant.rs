@@ -100,7 +100,8 @@ impl Illuminant {
             let spectrum: &colorimetry::spectrum::Spectrum = which.illuminant().as_ref();
             Ok(*spectrum.as_array())
         };
-        if let Some(rest) = upper.strip_prefix("SUN") {
+        // "sun" or "sun:…" ("sunlight" is an unknown name, not a sun with a typo in its elevation).
+        if let Some(rest) = upper.strip_prefix("SUN").filter(|r| r.is_empty() || r.starts_with(':')) {
             return Self::sun_named(name, rest);
         }
         match upper.as_str() {
@@ -329,6 +330,7 @@ mod tests {
         assert!((high.0 - 0.3457).abs() < 0.01 && (high.1 - 0.3585).abs() < 0.01, "{high:?}");
         assert!((0.45..0.55).contains(&low.0), "{low:?}");
         assert!(xy("sun:35:2").0 < xy("sun:35:8").0, "haze reddens the sun");
+        assert!(Illuminant::named("sunlight").unwrap_err().to_string().contains("F1 … F12"), "an unknown name");
         for bad in ["sun", "sun:", "sun:x", "sun:35:3:1", "sun:95", "sun:35:1"] {
             let e = Illuminant::parse(bad, Path::new(".")).unwrap_err().to_string();
             assert!(e.contains("sun") || e.contains("elevation") || e.contains("turbidity"), "{bad}: {e}");
