@@ -25,7 +25,8 @@ const VARIANTS: &[(&str, &str, &str)] = &[
 
 /// The uniform blocks whose GLSL is generated from their Rust structs (std140): (source file, struct, descriptor
 /// binding's name in interface.rs, GLSL instance name, generated include). Their fields must be 16-byte types
-/// (`[f32; 4]`, `[i32; 4]`, `[u32; 4]`, `[[f32; 4]; 4]`), whose std140 offsets are their `repr(C)` offsets.
+/// (`[f32; 4]`, `[i32; 4]`, `[u32; 4]`, `[[f32; 4]; 4]` as a mat4, `[[f32; 4]; N]` as a vec4 array), whose
+/// std140 offsets are their `repr(C)` offsets.
 const UNIFORM_BLOCKS: &[(&str, &str, &str, &str, &str)] = &[
     ("src/shading.rs", "DiffractionParams", "BINDING_PARAMS", "params", "diffraction_params.glsl"),
     ("src/render/surface.rs", "SurfaceUniforms", "BINDING_FRAME", "frame", "surface_uniforms.glsl"),
@@ -226,17 +227,20 @@ fn uniform_block(rust: &Path, name: &str, binding: &str, instance: &str) -> Stri
         }
         let field = line.strip_prefix("pub ").unwrap_or_else(|| panic!("{name}: a field that is not pub: {line}"));
         let (field, ty) = field.trim_end_matches(',').split_once(": ").expect("field: type");
-        let glsl = match ty {
-            "[[f32; 4]; 4]" => "mat4",
-            "[f32; 4]" => "vec4",
-            "[i32; 4]" => "ivec4",
-            "[u32; 4]" => "uvec4",
+        // An array of vec4 (`[[f32; 4]; N]`, N ≠ 4) has std140's 16-byte stride, as in Rust.
+        let array = ty.strip_prefix("[[f32; 4]; ").and_then(|n| n.strip_suffix(']')).filter(|n| *n != "4");
+        let (glsl, suffix) = match (ty, array) {
+            (_, Some(n)) => ("vec4", format!("[{n}]")),
+            ("[[f32; 4]; 4]", _) => ("mat4", String::new()),
+            ("[f32; 4]", _) => ("vec4", String::new()),
+            ("[i32; 4]", _) => ("ivec4", String::new()),
+            ("[u32; 4]", _) => ("uvec4", String::new()),
             _ => panic!("{name}.{field}: {ty} has no std140 twin here (use a 16-byte type: [f32; 4], mat4, …)"),
         };
         for c in comment.drain(..) {
             writeln!(out, "    // {c}").unwrap();
         }
-        writeln!(out, "    {glsl} {field};").unwrap();
+        writeln!(out, "    {glsl} {field}{suffix};").unwrap();
     }
     writeln!(out, "}} {instance};").unwrap();
     out

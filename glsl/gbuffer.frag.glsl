@@ -5,7 +5,7 @@
 #include "surface_frame.glsl"
 #include "footprint.glsl"
 
-// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up).
+// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, 0).
 layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
@@ -22,7 +22,9 @@ void main() {
         out_color = vec4(omega_i, frame.orientation.z + 1.0);
     } else if (PART == 1u) {
         out_color = vec4(omega_r, footprint);
-    } else {
+    } else if (PART == 2u) {
         out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
+    } else {
+        out_color = vec4(normalize(world_normal), 0.0);
     }
 }

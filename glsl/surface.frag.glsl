@@ -50,6 +50,24 @@ vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float
     return albedo * (transmittance(omega_r.z) * (sun + sky));
 }
 
+// The environment's irradiance over π at the world normal `n`: the sum of its nine SH coefficients
+// (`physics::sh::Irradiance::over_pi`), never negative; zero where the scene has no environment.
+vec3 sky_over_pi(vec3 n) {
+    vec3 e = frame.sky_sh[0].rgb * 0.282095 + frame.sky_sh[1].rgb * (0.488603 * n.y)
+        + frame.sky_sh[2].rgb * (0.488603 * n.z) + frame.sky_sh[3].rgb * (0.488603 * n.x)
+        + frame.sky_sh[4].rgb * (1.092548 * n.x * n.y) + frame.sky_sh[5].rgb * (1.092548 * n.y * n.z)
+        + frame.sky_sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0)) + frame.sky_sh[7].rgb * (1.092548 * n.x * n.z)
+        + frame.sky_sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3(0.0));
+}
+
+// The pigment lit by the environment (`optics::pigment_sky_rgb`): through the skin both ways, in the environment's
+// own colours (not the illuminant's white).
+vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky) {
+    if (omega_r.z <= 0.0) return vec3(0.0);
+    return albedo * (transmittance(omega_r.z) * sky_transmittance()) * sky;
+}
+
 void main() {
     vec3 omega_i = normalize(patch_light);
     vec3 omega_r = normalize(patch_view);
@@ -59,8 +77,13 @@ void main() {
 #else
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif
-    float normal_up = normalize(world_normal).y;
+    // 1 in relative units; under a physical light, the BRDF in sr⁻¹ times the sun's irradiance per unit of its
+    // radiance (`spectrum::diffraction_gain`).
+    rgb *= params.light_white.w;
+    vec3 normal = normalize(world_normal);
+    float normal_up = normal.y;
     rgb += pigment_rgb(omega_i, omega_r, normal_up, frame.pigment.rgb * tint, frame.pigment.w) * params.light_white.rgb;
+    rgb += pigment_sky_rgb(omega_r, frame.pigment.rgb * tint, sky_over_pi(normal));
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

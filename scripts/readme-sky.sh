@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# The picture of the built-in clear sky (docs/usage.md): `diffract gen sky` previews at 512×256 for a sun 10°,
-# 35° and 70° high under a clear sky (turbidity 2.5) and the 35° sun through haze (turbidity 8), all at one
-# exposure (-14 EV) so that their brightness compares; the commands' output lands in docs/profile/sky.txt:
-#   docs/images/sky.png
-# Needs ImageMagick (montage) and the DejaVu fonts to compose it. (The sky is computed on the CPU: no device.)
-# Usage: scripts/readme-sky.sh
+# The pictures of the built-in clear sky (docs/usage.md); the commands' output lands in docs/profile/sky.txt:
+#   docs/images/sky.png        `diffract gen sky` previews at 512×256 for a sun 10°, 35° and 70° high under a clear
+#                              sky (turbidity 2.5) and the 35° sun through haze (turbidity 8), all at one exposure
+#                              (-14 EV) so that their brightness compares
+#   docs/images/snake-sky.png  the default scene (relative units) beside elaphe-snake-sky.toml (the clear sky,
+#                              physical units) at 256², on the device (lavapipe unless extra options say otherwise)
+# Needs ImageMagick (montage) and the DejaVu fonts to compose them.
+# Usage: scripts/readme-sky.sh [TAG] [extra diffract options]
 source "$(dirname "$0")/lib/readme.sh"
 log=docs/profile/sky.txt
 : >"$log"
 for case in "10 2.5" "35 2.5" "70 2.5" "35 8"; do
-  set -- $case
-  run gen sky --sun-elevation-deg "$1" --turbidity "$2" --width 512 --exposure -14 --out "$scratch/sky-$1-$2.png"
+  read -r elevation turbidity <<<"$case"
+  run gen sky --sun-elevation-deg "$elevation" --turbidity "$turbidity" --width 512 --exposure -14 \
+    --out "$scratch/sky-$elevation-$turbidity.png"
 done
 montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'sun 10° high, turbidity 2.5' "$scratch/sky-10-2.5.png" \
@@ -18,3 +21,9 @@ montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'sun 70° high, turbidity 2.5' "$scratch/sky-70-2.5.png" \
   -label 'sun 35° high, turbidity 8 (haze)' "$scratch/sky-35-8.png" \
   -tile 2x2 -geometry +3+3 docs/images/sky.png
+run render --width 256 --height 256 --out "$scratch/default.png" "$@"
+run render assets/scenes/elaphe-snake-sky.toml --width 256 --height 256 --out "$scratch/sky.png" "$@"
+montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
+  -label 'default scene (relative units)' "$scratch/default.png" \
+  -label 'under the sky (physical units)' "$scratch/sky.png" \
+  -tile 2x1 -geometry +3+3 docs/images/snake-sky.png

@@ -24,7 +24,10 @@ pub const MAX_WIDTH: u32 = 16384;
 /// Sub-samples per axis a texel beside the sun is split into to find how much of the disc it covers.
 const SUN_SUBSAMPLES: u32 = 16;
 /// Rings of the quadrature that gives the ground its illuminance.
-const GROUND_RINGS: usize = 180;
+const GROUND_RINGS: usize = 90;
+/// Rings of the quadrature that projects the sky on the SH basis (the sky is smooth on this scale; a viewer
+/// dragging the sun recomputes it every frame).
+const SH_RINGS: usize = 64;
 
 /// An equirectangular map of linear sRGB radiance (luminance in cd/m²), rows top (zenith) first.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,19 +68,10 @@ impl EnvironmentMap {
             )));
         }
         let height = width / 2;
-        let (sun_light, sky_light) = sky.horizontal_illuminance_xyz(GROUND_RINGS);
-        // A Lambertian ground: radiance = albedo · illuminance / π.
-        let ground = (sun_light + sky_light) * (ground_albedo / std::f64::consts::PI);
+        let light = sky_light(sky, ground_albedo);
         let mut xyz: Vec<DVec3> = (0..height)
             .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                let dir = direction_at(f64::from(x) + 0.5, f64::from(y) + 0.5, width);
-                if dir.y > 0.0 {
-                    sky.xyz(dir)
-                } else {
-                    ground
-                }
-            })
+            .map(|(x, y)| light(direction_at(f64::from(x) + 0.5, f64::from(y) + 0.5, width)))
             .collect();
         for (i, weight) in sun_weights(sky.sun, width) {
             xyz[i] += sky.sun_xyz() * weight;
@@ -106,6 +100,23 @@ impl EnvironmentMap {
     pub fn to_rgba(&self) -> Vec<f32> {
         self.rgb.iter().flat_map(|&[r, g, b]| [r, g, b, 1.0]).collect()
     }
+}
+
+/// The light of `sky` without its sun, CIE XYZ (Y in cd/m²) towards each unit direction: the sky above the
+/// horizon, below it a uniform Lambertian ground of `ground_albedo` lit by the sun and the sky (radiance
+/// albedo·illuminance/π).
+pub fn sky_light(sky: &Sky, ground_albedo: f64) -> impl Fn(DVec3) -> DVec3 + '_ {
+    let (sun_light, sky_light) = sky.horizontal_illuminance_xyz(GROUND_RINGS);
+    let ground = (sun_light + sky_light) * (ground_albedo / std::f64::consts::PI);
+    move |dir: DVec3| if dir.y > 0.0 { sky.xyz(dir) } else { ground }
+}
+
+/// The irradiance (E/π as nine SH coefficients, linear sRGB) of `sky` and its ground, without the sun, in units
+/// of the sun's luminance: what the pigment of a scene whose sun has radiance 1 gets from the sky.
+pub fn sky_irradiance(sky: &Sky, ground_albedo: f64) -> crate::physics::sh::Irradiance {
+    let light = sky_light(sky, ground_albedo);
+    let sun = sky.sun_xyz().y;
+    crate::physics::sh::Irradiance::of(|dir| xyz_to_linear_srgb(light(dir)) / sun, SH_RINGS)
 }
 
 /// The sun's disc over the texels of a `width`-wide map: (texel index, the share of the sun's radiance it
@@ -197,6 +208,38 @@ mod tests {
         let [r, g, b] = map.rgb[map.rgb.len() - 1].map(f64::from);
         let ground = 0.2126 * r + 0.7152 * g + 0.0722 * b;
         assert!((ground / (0.2 * (sun + sky_lux) / std::f64::consts::PI) - 1.0).abs() < 1e-5, "{ground}");
+    }
+
+    /// The sky's nine SH coefficients against the irradiance summed over the sphere, at normals up, down, towards
+    /// the sun, away from it and sideways: measured within 2.4 % facing up or sideways, 6.6 % facing down under a
+    /// sun 20° high (the horizon's edge is detail beyond l = 2), 1.2 % under a sun 50° or 80° high.
+    #[test]
+    fn the_sky_irradiance_in_nine_numbers_is_close_to_the_sum() {
+        for (t, elevation) in [(2.0, 20.0), (3.0, 50.0), (6.0, 80.0)] {
+            let sky = Sky::at(t, elevation, 30.0).unwrap();
+            let sh = sky_irradiance(&sky, 0.2);
+            let light = sky_light(&sky, 0.2);
+            let sun = sky.sun_xyz().y;
+            let normals = [DVec3::Y, -DVec3::Y, sky.sun, -sky.sun, crate::physics::sky::direction(0.0, 120.0)];
+            for n in normals {
+                let rings = 360;
+                let (dt, dp) = (std::f64::consts::PI / rings as f64, std::f64::consts::PI / rings as f64);
+                let mut sum = DVec3::ZERO;
+                for i in 0..rings {
+                    let theta = (i as f64 + 0.5) * dt;
+                    for j in 0..2 * rings {
+                        let phi = (j as f64 + 0.5) * dp;
+                        let w = DVec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+                        let cos = n.dot(w).max(0.0);
+                        sum += xyz_to_linear_srgb(light(w)) / sun * (cos * theta.sin() * dt * dp);
+                    }
+                }
+                let exact = sum / std::f64::consts::PI;
+                let rel = (sh.over_pi(n) - exact).length() / exact.length();
+                let tolerance = if elevation < 45.0 { 0.07 } else { 0.015 };
+                assert!(rel < tolerance, "T {t}, sun {elevation}°, normal {n:.2}: {rel:.3e}");
+            }
+        }
     }
 
     #[test]

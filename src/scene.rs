@@ -114,7 +114,11 @@ struct LightDef {
     illuminant: Option<Spanned<String>>,
     /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
     #[serde(default)]
-    ambient: f32,
+    ambient: Option<Spanned<f32>>,
+    /// "sky": the clear-sky model around the light's sun lights the pigment; "none" (the default): no environment.
+    environment: Option<Spanned<String>>,
+    /// The sky's turbidity (environment = "sky").
+    turbidity: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -218,11 +222,78 @@ pub struct Scene {
     pub light_dir: Vec3,
     /// The sky's radiance relative to the sun seen in a mirror.
     pub ambient: f32,
-    /// The light's spectrum (`[light] illuminant`, D65 unless named); every material is prepared under it.
+    /// The light's spectrum (`[light] illuminant`, D65 unless named; the sky model's sun under `environment =
+    /// "sky"`); every material is prepared under it.
     pub illuminant: Illuminant,
+    /// The clear sky around the sun (`[light] environment = "sky"`), which lights the pigment instead of
+    /// `ambient`.
+    pub sky: Option<SkyLight>,
     pub objects: Vec<SceneObject>,
     pub materials: Vec<SceneMaterial>,
     pub render: RenderSettings,
+}
+
+/// The clear sky around a scene's sun ([`crate::physics::sky`]), over a ground of [`SKY_GROUND_ALBEDO`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SkyLight {
+    pub turbidity: f64,
+}
+
+/// The albedo of the ground below a scene's sky (grass and soil, about 0.2).
+pub const SKY_GROUND_ALBEDO: f64 = 0.2;
+
+impl SkyLight {
+    /// The sky's irradiance on the pigment for the sun towards `light_dir` (nine SH coefficients of E/π in units
+    /// of the sun's radiance: `environment::sky_irradiance`); zero while the sun is below the horizon (night: the
+    /// model is for daylight). The last result is kept: a viewer asks every frame, for the same light.
+    pub fn irradiance(&self, light_dir: Vec3) -> [[f32; 4]; 9] {
+        type Memo = Option<((u64, [u32; 3]), [[f32; 4]; 9])>;
+        static LAST: std::sync::Mutex<Memo> = std::sync::Mutex::new(None);
+        let key = (self.turbidity.to_bits(), light_dir.to_array().map(f32::to_bits));
+        let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((k, sh)) = *last {
+            if k == key {
+                return sh;
+            }
+        }
+        let sh = match crate::physics::sky::Sky::new(self.turbidity, light_dir.as_dvec3()) {
+            Ok(sky) => crate::environment::sky_irradiance(&sky, SKY_GROUND_ALBEDO).to_vec4s(),
+            Err(_) => [[0.0; 4]; 9],
+        };
+        *last = Some((key, sh));
+        sh
+    }
+}
+
+/// `[light] environment` and `turbidity`: the sky, or none; refused where the light is below the horizon, where a
+/// uniform `ambient` sky would light the pigment twice, or for a turbidity outside the model's range.
+fn sky_light(loc: &Locator<'_>, light: &LightDef, light_dir: Vec3) -> Result<Option<SkyLight>> {
+    let kind = light.environment.as_ref().map(|e| (e.get_ref().trim().to_ascii_lowercase(), e.span()));
+    match kind {
+        None => {}
+        Some((k, _)) if k == "none" => {}
+        Some((k, span)) if k == "sky" => {
+            if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
+                return Err(
+                    loc.at(a.span(), "ambient and environment = \"sky\" would both light the pigment: keep one")
+                );
+            }
+            let turbidity =
+                light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
+            crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
+                let at = light.turbidity.as_ref().map_or(span.clone(), |t| t.span());
+                loc.at(at, format!("environment = \"sky\": {e}"))
+            })?;
+            return Ok(Some(SkyLight { turbidity }));
+        }
+        Some((k, span)) => {
+            return Err(loc.at(span, format!("environment {k:?}: expected \"sky\" (the clear-sky model) or \"none\"")))
+        }
+    }
+    if let Some(t) = &light.turbidity {
+        return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
+    }
+    Ok(None)
 }
 
 /// Errors located in a scene file: `file:line: message`.
@@ -254,6 +325,16 @@ impl Scene {
         Self::parse(&text, &path.display().to_string(), base)
     }
 
+    /// Material `m`'s settings under `overrides` (the command line's, a profile configuration's): under the sky a
+    /// light the overrides name is in physical units too.
+    pub fn material_settings(&self, m: &SceneMaterial, overrides: &crate::settings::SettingsPatch) -> Settings {
+        let mut s = overrides.apply(m.settings);
+        if self.sky.is_some() {
+            s.illuminant = s.illuminant.physical();
+        }
+        s
+    }
+
     /// The built-in default scene.
     pub fn default_scene() -> Result<Self> {
         Self::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME, Path::new(BUILT_IN_BASE))
@@ -273,17 +354,23 @@ impl Scene {
         let light_dir = Vec3::from(*file.light.direction.get_ref())
             .try_normalize()
             .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
+        let sky = sky_light(&loc, &file.light, light_dir)?;
+        let sun = |span| {
+            // The sun at the light's own elevation, to 0.01° (the direction is f32: the name reads cleanly and the
+            // spectrum does not notice).
+            let elevation = (f64::from(light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
+            let turbidity = sky.map_or(crate::physics::illuminant::SUN_TURBIDITY, |s| s.turbidity);
+            Illuminant::sun(elevation, turbidity).map_err(|e| loc.at(span, e))
+        };
         let illuminant = match &file.light.illuminant {
-            // The sun at the light's own elevation.
-            Some(ill) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => {
-                // To 0.01° (the direction is f32): the name reads cleanly and the spectrum does not notice.
-                let elevation = (f64::from(light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
-                let turbidity = crate::physics::illuminant::SUN_TURBIDITY;
-                Illuminant::sun(elevation, turbidity).map_err(|e| loc.at(ill.span(), e))?
-            }
+            Some(ill) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => sun(ill.span())?,
             Some(ill) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
+            // Under the sky the sun is the sky model's.
+            None if sky.is_some() => sun(file.light.direction.span())?,
             None => Illuminant::d65(),
         };
+        // Under the sky the frame is in physical units: the diffraction in its true ratio to the sky-lit pigment.
+        let illuminant = if sky.is_some() { illuminant.physical() } else { illuminant };
         let mut materials = Vec::new();
         let mut index = BTreeMap::new();
         for (mat_name, def) in &file.material {
@@ -298,11 +385,11 @@ impl Scene {
             objects.push(object(&loc, base, def, &index)?);
         }
         let render = render_settings(&loc, &file.render)?;
-        let ambient = file.light.ambient;
+        let ambient = file.light.ambient.as_ref().map_or(0.0, |a| *a.get_ref());
         if !(ambient.is_finite() && ambient >= 0.0) {
             return Err(loc.whole("[light] ambient must be a non-negative number"));
         }
-        Ok(Self { name: name.to_string(), camera, light_dir, ambient, illuminant, objects, materials, render })
+        Ok(Self { name: name.to_string(), camera, light_dir, ambient, illuminant, sky, objects, materials, render })
     }
 }
 
@@ -528,6 +615,34 @@ tile = [2, 3]
 
     fn error_of(text: &str) -> String {
         Scene::parse(text, "s.toml", Path::new(".")).expect_err("refused").to_string()
+    }
+
+    /// `environment = "sky"`: the sky model's sun (at the light's elevation) in physical units, and the sky's
+    /// irradiance for the pigment; refused with a second sky (`ambient`), a turbidity out of range or without the
+    /// sky, a sun below the horizon, an unknown environment.
+    #[test]
+    fn a_sky_lights_the_scene_in_physical_units() {
+        let sky = GOOD.replace("illuminant = \"D65\"", "environment = \"sky\"\nturbidity = 2.5");
+        let s = Scene::parse(&sky, "s.toml", Path::new(".")).unwrap();
+        assert_eq!(s.sky, Some(SkyLight { turbidity: 2.5 }));
+        let elevation = (f64::from(s.light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
+        assert_eq!(s.illuminant, Illuminant::sun(elevation, 2.5).unwrap().physical());
+        assert!(s.illuminant.physical && s.materials[0].settings.illuminant.physical);
+        let sh = s.sky.unwrap().irradiance(s.light_dir);
+        assert!(sh[0][2] > sh[0][0] && sh[0][0] > 0.0, "a blue sky: {:?}", sh[0]);
+        // A named light under the sky, from the file or the command line, is in physical units too.
+        let lamp = sky.replace("turbidity = 2.5", "illuminant = \"A\"");
+        let s = Scene::parse(&lamp, "s.toml", Path::new(".")).unwrap();
+        assert_eq!(s.illuminant, Illuminant::named("A").unwrap().physical());
+        let mut patch = crate::settings::SettingsPatch::default();
+        patch.set("illuminant", "F11").unwrap();
+        assert!(s.material_settings(&s.materials[0], &patch).illuminant.physical);
+        assert!(error_of(&sky.replace("turbidity = 2.5", "ambient = 0.001")).contains("both light the pigment"));
+        assert!(error_of(&sky.replace("turbidity = 2.5", "turbidity = 1.0")).contains("turbidity"));
+        assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "turbidity = 3.0")).contains("environment = \"sky\""));
+        assert!(error_of(&sky.replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]")).contains("below the horizon"));
+        let moon = error_of(&sky.replace("\"sky\"", "\"moon\""));
+        assert!(moon.starts_with("s.toml:9: ") && moon.contains("\"moon\""), "{moon}");
     }
 
     #[test]

@@ -154,8 +154,8 @@ pub struct DiffractionParams {
     pub table_uv: [f32; 4],
     /// Baked table: middle of its w-interval, 1/half-width, the texel width in (u, v), the coarsest mip level.
     pub table_w: [f32; 4],
-    /// The light's white (a mirror's colour under its illuminant), linear sRGB with Y = 1, 0: what lights the
-    /// pigment.
+    /// The light's white (a mirror's colour under its illuminant), linear sRGB with Y = 1: what lights the
+    /// pigment; and the diffraction's gain (`spectrum::diffraction_gain`: 1 in relative units).
     pub light_white: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 176);
@@ -219,7 +219,12 @@ impl Material {
             display: [1.0, 0.0, 0.0, 0.0],
             table_uv: baked.as_ref().map_or([0.0; 4], |b| b.uv),
             table_w: baked.as_ref().map_or([0.0; 4], |b| b.w),
-            light_white: spectrum::white_rgb(s.illuminant).as_vec3().extend(0.0).to_array(),
+            // The pigment's white, and (w) the diffraction's gain: 1 in relative units, the physical factor under a
+            // physical light (`spectrum::diffraction_gain`).
+            light_white: spectrum::white_rgb(s.illuminant)
+                .as_vec3()
+                .extend(spectrum::diffraction_gain(&sampling, s.coherence_um) as f32)
+                .to_array(),
         };
         let (table, table_plan, table_ms, table_cached) = match baked {
             Some(b) => (Some(b.table), Some(b.plan), b.ms, b.cached),

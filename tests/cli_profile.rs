@@ -357,3 +357,36 @@ fn a_reference_at_random_pixels_estimates_the_whole_image() {
         sampled.comments
     );
 }
+
+/// Under the clear sky (physical units, the pigment lit by the sky's nine SH coefficients, the model's sun) FLSS
+/// matches the exact reference pixel by pixel: the reference applies the same BRDF scale, weighting and sky term.
+#[test]
+fn a_sky_lit_scene_matches_its_reference_in_physical_units() {
+    let csv = scratch("sky.csv");
+    let scene = common::place::scene("elaphe-snake-sky.toml");
+    let o = diffract(&[
+        "profile",
+        s(&scene),
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+        "--sweep",
+        "approach=flss",
+        "--samples",
+        "1",
+        "--validation",
+        "--no-reference-cache",
+        "--csv",
+        s(&csv),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = read_csv(&csv);
+    assert_eq!(table.rows.len(), 1);
+    assert!(table.rows[0]["illuminant"].contains("physical units"), "{:?}", table.rows[0]);
+    assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
+}

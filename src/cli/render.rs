@@ -209,9 +209,8 @@ fn render_frames(
     let mut warned = false;
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
-        let frame = capture
-            .render(ctx, &SceneView { camera, light_dir: light, ..SceneView::of(scene) })
-            .with_context(|| format!("frame {}", f + 1))?;
+        let frame =
+            capture.render(ctx, &SceneView::lit(scene, camera, light)).with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
         let ev = *exposure.get_or_insert_with(|| {

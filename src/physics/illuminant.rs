@@ -33,11 +33,19 @@ pub const SPD_RANGE_NM: (f64, f64) = (360.0, 830.0);
 pub const MAX_SPD_BYTES: u64 = 1 << 20;
 
 /// A light's relative spectral power, 380–780 nm at 1 nm, 100 at 560 nm, with its name.
+///
+/// In physical units ([`Illuminant::physical`]) `spd` is the light's spectrum weighted by (550 nm/λ)², the
+/// wavelength dependence of the BRDF in sr⁻¹ (its (k σ_s)² factor), so that every spectral sum the diffraction
+/// makes carries it; `white` keeps the light's own spectrum, which lights the pigment and normalises the sums.
 #[derive(Clone, Copy, Debug)]
 pub struct Illuminant {
     /// As the user wrote it (`"D65"`, `"A"`, `"lamp.csv"`), for reports.
     pub name: &'static str,
     pub spd: &'static Table,
+    /// The light's own spectrum (`spd` itself in relative units).
+    pub white: &'static Table,
+    /// Whether the diffraction it lights is in physical units (`spd` = `white` · (550/λ)²).
+    pub physical: bool,
 }
 
 impl PartialEq for Illuminant {
@@ -60,8 +68,8 @@ fn intern(key: String, name: &str, make: impl FnOnce() -> Result<Table>) -> Resu
     if let Some(found) = map.get(&key) {
         return Ok(*found);
     }
-    let spd = normalised(make()?)?;
-    let made = Illuminant { name: Box::leak(name.to_string().into_boxed_str()), spd: Box::leak(Box::new(spd)) };
+    let spd: &'static Table = Box::leak(Box::new(normalised(make()?)?));
+    let made = Illuminant { name: Box::leak(name.to_string().into_boxed_str()), spd, white: spd, physical: false };
     map.insert(key, made);
     Ok(made)
 }
@@ -85,7 +93,7 @@ pub const SUN_TURBIDITY: f64 = 3.0;
 impl Illuminant {
     /// CIE D65, the renderer's default: the CIE table itself.
     pub fn d65() -> Self {
-        static D65_ILLUMINANT: Illuminant = Illuminant { name: "D65", spd: &D65 };
+        static D65_ILLUMINANT: Illuminant = Illuminant { name: "D65", spd: &D65, white: &D65, physical: false };
         D65_ILLUMINANT
     }
 
@@ -139,6 +147,53 @@ impl Illuminant {
         }
     }
 
+    /// The wavelength the physical weighting (550 nm/λ)² is 1 at, nm.
+    pub const PHYSICAL_REFERENCE_NM: f64 = 550.0;
+
+    /// This light for diffraction in physical units: `spd` weighted by (550 nm/λ)² (see the type's note), `white`
+    /// unchanged. Idempotent.
+    pub fn physical(self) -> Self {
+        if self.physical {
+            return self;
+        }
+        let mut map = INTERNED.lock().unwrap_or_else(|e| e.into_inner());
+        let key = format!("physical:{:016x}", {
+            let mut h = crate::cache::KeyHash::default();
+            self.hash_into(&mut h);
+            h.finish()
+        });
+        if let Some(found) = map.get(&key) {
+            return *found;
+        }
+        let tilted: Table = std::array::from_fn(|i| {
+            let lambda = TABLE_LAMBDA_MIN_NM + i as f64;
+            self.spd[i] * (Self::PHYSICAL_REFERENCE_NM / lambda).powi(2)
+        });
+        let made = Illuminant {
+            name: Box::leak(format!("{} in physical units", self.name).into_boxed_str()),
+            spd: Box::leak(Box::new(tilted)),
+            white: self.white,
+            physical: true,
+        };
+        map.insert(key, made);
+        made
+    }
+
+    /// The light itself, in relative units (its `white`).
+    pub fn light(self) -> Self {
+        if !self.physical {
+            return self;
+        }
+        let name = self.name.strip_suffix(" in physical units").unwrap_or(self.name);
+        let mut map = INTERNED.lock().unwrap_or_else(|e| e.into_inner());
+        *map.entry(format!("light:{name}:{:p}", self.white)).or_insert_with(|| Illuminant {
+            name: Box::leak(name.to_string().into_boxed_str()),
+            spd: self.white,
+            white: self.white,
+            physical: false,
+        })
+    }
+
     /// `sun:E[:T]` (`rest` is what follows "SUN").
     fn sun_named(name: &str, rest: &str) -> Result<Self> {
         let numbers: Option<Vec<f64>> =
@@ -156,8 +211,11 @@ impl Illuminant {
     /// The direct sun `elevation_deg` above the horizon through an atmosphere of `turbidity` ([`super::sky`]).
     pub fn sun(elevation_deg: f64, turbidity: f64) -> Result<Self> {
         let sky = super::sky::Sky::at(turbidity, elevation_deg, 0.0)?;
-        let name =
-            format!("sun {}° high, turbidity {}", crate::error::number(elevation_deg), crate::error::number(turbidity));
+        let name = format!(
+            "sun {}° high at turbidity {}",
+            crate::error::number(elevation_deg),
+            crate::error::number(turbidity)
+        );
         intern(format!("sun@{elevation_deg}@{turbidity}"), &name, || {
             Ok(std::array::from_fn(|i| sky.sun_spectral_radiance(TABLE_LAMBDA_MIN_NM + i as f64)))
         })
@@ -312,6 +370,25 @@ mod tests {
         ("F7", 0.31292, 0.32933),
         ("F11", 0.38052, 0.37713),
     ];
+
+    /// In physical units the spectrum carries (550/λ)², the light's own white does not, and the diffraction's gain
+    /// is the BRDF's R₀·Ω_sun·(k₅₅₀σ_s)²/π with the normaliser's ratio (`spectrum::diffraction_gain`).
+    #[test]
+    fn physical_units_weight_the_spectrum_and_keep_the_white() {
+        let a = Illuminant::named("A").unwrap();
+        let p = a.physical();
+        assert!(p.physical && !a.physical && p.physical() == p && p.light() == a && p.light().name == "A");
+        assert!((p.power(400.0) / a.power(400.0) - (550.0f64 / 400.0).powi(2)).abs() < 1e-12);
+        assert_eq!(crate::physics::spectrum::white_rgb(p), crate::physics::spectrum::white_rgb(a));
+        use crate::physics::spectrum::{diffraction_gain, Sampling};
+        assert_eq!(diffraction_gain(&Sampling::visible_under(5.0, a), 20.0), 1.0);
+        let (sp, sa) = (Sampling::visible_under(5.0, p), Sampling::visible_under(5.0, a));
+        let k_sigma = std::f64::consts::TAU / 0.55 * 20.0 / 4.0;
+        let expected = 0.04 * crate::physics::optics::SUN_SOLID_ANGLE * k_sigma * k_sigma / std::f64::consts::PI
+            * sp.y_norm()
+            / sa.y_norm();
+        assert!((diffraction_gain(&sp, 20.0) / expected - 1.0).abs() < 1e-12);
+    }
 
     /// The sky model's sun: redder the lower it stands (x and y grow towards the horizon), as the same model's
     /// spectrum says; a bad name is one message.

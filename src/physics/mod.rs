@@ -18,6 +18,7 @@ pub mod formats;
 pub mod heightfield;
 pub mod illuminant;
 pub mod optics;
+pub mod sh;
 pub mod sky;
 pub mod spectrum;
 pub mod taylor;

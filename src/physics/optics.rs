@@ -40,6 +40,16 @@ pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, normal_up: f64, albedo: DVec3
     albedo * (transmittance(omega_r.z) * (sun + sky))
 }
 
+/// The pigment lit by an environment whose irradiance over π at the shading normal is `sky_over_pi` (linear RGB,
+/// `physics::sh::Irradiance::over_pi`): through the skin on the way in (averaged over the sky) and out, in the
+/// environment's own colours (`pigment_sky_rgb` in glsl/surface.frag.glsl).
+pub fn pigment_sky_rgb(omega_r: DVec3, albedo: DVec3, sky_over_pi: DVec3) -> DVec3 {
+    if omega_r.z <= 0.0 {
+        return DVec3::ZERO;
+    }
+    albedo * (transmittance(omega_r.z) * sky_transmittance()) * sky_over_pi
+}
+
 /// A unit vector from the surface towards the light or the viewer: (sin θ cos φ, sin θ sin φ, cos θ).
 pub fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
     let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());

@@ -102,6 +102,21 @@ impl Sampling {
     }
 }
 
+/// The factor a frame's diffraction is multiplied by: 1 in relative units; in physical units (an
+/// [`Illuminant::physical`] light) R₀·Ω_sun·(k₅₅₀ σ_s)²/π — the BRDF in sr⁻¹ (`optics::brdf_per_sr_scale`) times
+/// the sun's irradiance Ω_sun·cos θ_i, per unit of the sun's radiance, at 550 nm, the rest of its (550/λ)² being in
+/// the light's `spd` — times Σ ȳ·S′/Σ ȳ·S of `sampling`, which turns the sums' normaliser (of the weighted S′)
+/// back into the light's own. The result: radiance relative to the sun's luminance, as the pigment has it.
+pub fn diffraction_gain(sampling: &Sampling, coherence_um: f64) -> f64 {
+    if !sampling.illuminant.physical {
+        return 1.0;
+    }
+    let lambda_um = Illuminant::PHYSICAL_REFERENCE_NM * 1e-3;
+    let scale = crate::physics::optics::brdf_per_sr_scale(lambda_um, coherence_um, 1.0);
+    let own = Sampling { illuminant: sampling.illuminant.light(), ..*sampling };
+    scale * crate::physics::optics::SUN_SOLID_ANGLE * sampling.y_norm() / own.y_norm()
+}
+
 /// The normaliser ∫ ȳ·S dλ over the 1 nm tables under `illuminant`: the constant for non-uniform samplings (NMM).
 pub fn y_norm_continuous(illuminant: Illuminant) -> f64 {
     Sampling::visible_under(1.0, illuminant).y_norm()
@@ -120,7 +135,7 @@ pub fn reflectance_to_xyz(sampling: &Sampling, rho: impl Fn(f64) -> f64) -> DVec
 /// A white mirror's colour under `illuminant`, linear sRGB with Y = 1: what the light adds to a diffuse surface
 /// (≈ (1, 1, 1) under D65, orange under A).
 pub fn white_rgb(illuminant: Illuminant) -> DVec3 {
-    xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible_under(1.0, illuminant), |_| 1.0))
+    xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible_under(1.0, illuminant.light()), |_| 1.0))
 }
 
 pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {

@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::physics::colour::{ciede2000, xyz_to_lab};
 use crate::physics::exact::{window_gain, Method, Reference};
 use crate::physics::illuminant::Illuminant;
-use crate::physics::spectrum::{linear_srgb_to_xyz, Sampling};
+use crate::physics::spectrum::{diffraction_gain, linear_srgb_to_xyz, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 use crate::physics::window::Window;
 use crate::physics::HeightField;
@@ -190,11 +190,18 @@ impl ReferenceJob<'_> {
             self.materials.iter().map(|m| Sampling::visible_under(step, m.illuminant)).collect()
         };
         let (fine, check) = (samplings(REFERENCE_STEP_NM), samplings(CHECK_STEP_NM));
-        let pixel = |q: &PixelQuery, samplings: &[Sampling]| {
-            references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) + q.extra_xyz
+        // In physical units the diffraction carries the BRDF's scale (`spectrum::diffraction_gain`), as the
+        // shaders' does.
+        let gains = |samplings: &[Sampling]| -> Vec<f64> {
+            samplings.iter().zip(&self.materials).map(|(s, m)| diffraction_gain(s, m.coherence_um)).collect()
         };
-        let xyz = evaluate_rows(self, |q| pixel(q, &fine));
-        let quadrature = quadrature_check(self, |q| pixel(q, &check), &xyz);
+        let (fine_gains, check_gains) = (gains(&fine), gains(&check));
+        let pixel = |q: &PixelQuery, samplings: &[Sampling], gains: &[f64]| {
+            references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) * gains[q.material]
+                + q.extra_xyz
+        };
+        let xyz = evaluate_rows(self, |q| pixel(q, &fine, &fine_gains));
+        let quadrature = quadrature_check(self, |q| pixel(q, &check, &check_gains), &xyz);
         let description = format!(
             "{}; {} nm steps (vs {} nm on {} pixels: ΔE00 ≤ {:.2e} at EV 0, relative XYZ ≤ {:.1e})",
             descriptions.join("; "),

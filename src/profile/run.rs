@@ -123,7 +123,7 @@ impl Subject {
         match self {
             Subject::Map { settings, .. } => vec![of(config.overrides.apply(*settings))],
             Subject::Scene { scene, .. } => {
-                scene.materials.iter().map(|m| of(config.overrides.apply(m.settings))).collect()
+                scene.materials.iter().map(|m| of(scene.material_settings(m, &config.overrides))).collect()
             }
         }
     }
@@ -215,12 +215,20 @@ fn scene_pixels(
     let whites: Vec<DVec3> = lights.iter().map(|&(_, illuminant)| spectrum::white_rgb(illuminant)).collect();
     let gbuffer = GBuffer::draw(ctx, scene, &scene.camera, scene.light_dir, size.0, size.1)?;
     let ambient = f64::from(scene.ambient);
+    // The environment's irradiance, as the shaders have it (the same nine coefficients, in f32).
+    let sky = crate::physics::sh::Irradiance {
+        coefficients: scene
+            .sky
+            .map_or([[0.0; 4]; 9], |s| s.irradiance(scene.light_dir))
+            .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
+    };
     Ok(gbuffer
         .pixels
         .iter()
         .map(|seen| {
-            let Seen { omega_i, omega_r, material, albedo, normal_up, .. } = (*seen)?;
-            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient) * whites[material];
+            let Seen { omega_i, omega_r, material, albedo, normal_up, normal, .. } = (*seen)?;
+            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient) * whites[material]
+                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal));
             Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
         })
         .collect())

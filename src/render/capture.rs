@@ -24,7 +24,7 @@ pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Re
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            Material::prepare(&m.heightfield, overrides.apply(m.settings), &reaches[i.min(reaches.len() - 1)])
+            Material::prepare(&m.heightfield, scene.material_settings(m, overrides), &reaches[i.min(reaches.len() - 1)])
                 .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
         })
         .collect()

@@ -20,8 +20,9 @@ use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
 };
 
-/// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up).
-const PARTS: u32 = 3;
+/// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
+/// (world normal).
+const PARTS: u32 = 4;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
 /// seen at a glance, which would size a table for nothing else).
 const FOOTPRINT_PERCENTILE: f64 = 0.05;
@@ -39,6 +40,8 @@ pub struct Seen {
     pub albedo: DVec3,
     /// cos of the angle between the shading normal and the world's up (how much of the sky it sees).
     pub normal_up: f64,
+    /// The shading normal in the world (unit; what an environment's irradiance is read at).
+    pub normal: DVec3,
 }
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
@@ -82,13 +85,14 @@ impl GBuffer {
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
-        let [light, view, skin] = drawn?;
+        let [light, view, skin, normals] = drawn?;
         let vec = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
         let pixels = light
             .chunks(4)
             .zip(view.chunks(4))
             .zip(skin.chunks(4))
-            .map(|((l, v), p)| {
+            .zip(normals.chunks(4))
+            .map(|(((l, v), p), n)| {
                 let material = (l[3].round() as usize).checked_sub(1)?;
                 Some(Seen {
                     omega_i: vec(l).normalize_or_zero(),
@@ -97,6 +101,7 @@ impl GBuffer {
                     footprint: f64::from(v[3]),
                     albedo: vec(p),
                     normal_up: f64::from(p[3]),
+                    normal: vec(n).normalize_or_zero(),
                 })
             })
             .collect();
@@ -111,7 +116,9 @@ impl GBuffer {
         (width, height): (u32, u32),
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
-        let view = ObjectView { camera, aspect: width as f32 / height as f32, light_dir, ambient: scene.ambient };
+        let sky_sh = scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir));
+        let view =
+            ObjectView { camera, aspect: width as f32 / height as f32, light_dir, ambient: scene.ambient, sky_sh };
         for (i, object) in scene.objects.iter().enumerate() {
             parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;

@@ -77,6 +77,8 @@ pub struct SceneView {
     pub light_dir: glam::Vec3,
     /// The sky's radiance relative to the sun seen in a mirror.
     pub ambient: f32,
+    /// The environment's irradiance for this light (`surface::SurfaceUniforms::sky_sh`; zero without one).
+    pub sky_sh: [[f32; 4]; 9],
     /// One model matrix per object, in the order the renderer was built with.
     pub models: Vec<glam::Mat4>,
     pub background: [f32; 4],
@@ -85,11 +87,17 @@ pub struct SceneView {
 impl SceneView {
     /// The scene file's own camera, light, sky, placements and background.
     pub fn of(scene: &crate::scene::Scene) -> Self {
+        Self::lit(scene, scene.camera, scene.light_dir)
+    }
+
+    /// The scene seen from `camera` with its light towards `light_dir` (the sky follows its sun).
+    pub fn lit(scene: &crate::scene::Scene, camera: crate::camera::Camera, light_dir: glam::Vec3) -> Self {
         let [r, g, b] = scene.render.background;
         Self {
-            camera: scene.camera,
-            light_dir: scene.light_dir,
+            camera,
+            light_dir,
             ambient: scene.ambient,
+            sky_sh: scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir)),
             models: scene.objects.iter().map(|o| o.model).collect(),
             background: [r, g, b, 1.0],
         }

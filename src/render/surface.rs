@@ -55,8 +55,11 @@ pub struct SurfaceUniforms {
     pub orientation: [f32; 4],
     /// Linear RGB albedo of the pigment under the grating, and the ambient (sky) radiance.
     pub pigment: [f32; 4],
+    /// The environment's irradiance over π, nine SH coefficients (RGB; `physics::sh`), in units of the sun's
+    /// radiance: zero where the scene has no environment.
+    pub sky_sh: [[f32; 4]; 9],
 }
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 256);
+const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 400);
 
 /// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
 #[derive(Clone, Copy, Debug)]
@@ -66,6 +69,8 @@ pub struct ObjectView<'a> {
     /// World-space unit vector towards the light.
     pub light_dir: Vec3,
     pub ambient: f32,
+    /// The environment's irradiance (`SurfaceUniforms::sky_sh`).
+    pub sky_sh: [[f32; 4]; 9],
 }
 
 impl SurfaceUniforms {
@@ -83,6 +88,7 @@ impl SurfaceUniforms {
             light_dir: view.light_dir.normalize().extend(0.0).to_array(),
             orientation: [cos, sin, material as f32, 0.0],
             pigment: [r, g, b, view.ambient],
+            sky_sh: view.sky_sh,
         }
     }
 }
@@ -267,7 +273,13 @@ impl SceneRenderer {
     /// work may still read them.
     pub fn update(&mut self, view: &SceneView, aspect: f32) -> Result<()> {
         let models = &view.models;
-        let view = ObjectView { camera: &view.camera, aspect, light_dir: view.light_dir, ambient: view.ambient };
+        let view = ObjectView {
+            camera: &view.camera,
+            aspect,
+            light_dir: view.light_dir,
+            ambient: view.ambient,
+            sky_sh: view.sky_sh,
+        };
         for (object, model) in self.objects.iter_mut().zip(models) {
             let material = &self.materials[object.material];
             let u = SurfaceUniforms::new(&view, *model, material.orientation, material.pigment, object.material);

@@ -438,8 +438,7 @@ impl State {
         let (w, h) = (128, (128 * options.height / options.width.max(1)).clamp(16, 512));
         let one = ash::vk::SampleCountFlags::TYPE_1;
         let mut capture = crate::render::capture::SceneCapture::new(&self.ctx, scene, &self.gpu.materials, w, h, one)?;
-        let view =
-            SceneView { camera: self.live.camera(&scene.camera), light_dir: self.live.light(), ..SceneView::of(scene) };
+        let view = SceneView::lit(scene, self.live.camera(&scene.camera), self.live.light());
         let frame = capture.render(&self.ctx, &view);
         // SAFETY: render waited for its frame.
         unsafe { capture.destroy(&self.ctx) };
@@ -635,7 +634,7 @@ impl State {
         let (ctx, gpu, scene) = (&self.ctx, &mut self.gpu, &options.scene);
         let laps = self.target.laps(ctx);
         let light = self.live.light();
-        let view = SceneView { camera: self.live.camera(&scene.camera), light_dir: light, ..SceneView::of(scene) };
+        let view = SceneView::lit(scene, self.live.camera(&scene.camera), light);
         let extent = frame.extent();
         gpu.renderer.update(&view, extent.width as f32 / extent.height as f32)?;
         let exposure = self.live.exposure_scale();

@@ -33,6 +33,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
         },
         light_dir: Vec3::new(-0.3, 0.45, 0.84).normalize(),
         ambient: 0.0,
+        sky_sh: [[0.0; 4]; 9],
         models: vec![glam::Mat4::IDENTITY],
         background: [0.0, 0.0, 0.0, 1.0],
     };

@@ -1,0 +1,98 @@
+//! Irradiance from light over the whole sphere in nine numbers per colour: the radiance projected on the real
+//! spherical harmonics up to l = 2 and convolved with the clamped cosine (Ramamoorthi & Hanrahan, *An Efficient
+//! Representation for Irradiance Environment Maps*, SIGGRAPH 2001): E(n) = Σ Â_l·L_lm·Y_lm(n) with Â_0 = π,
+//! Â_1 = 2π/3, Â_2 = π/4. A Lambertian surface of albedo ρ then returns ρ·E(n)/π.
+//!
+//! [`Irradiance::coefficients`] hold L_lm·Â_l/π, so that [`Irradiance::over_pi`] is the plain sum Σ c·Y(n):
+//! the surface shader (`sky_over_pi` in glsl/surface.frag.glsl) evaluates the same sum of the same nine numbers.
+//! Where the light has detail beyond l = 2 (the horizon's edge, a bright circumsolar region) the sum is an
+//! approximation of the irradiance: its error for the built-in sky is measured in the tests below.
+
+use glam::DVec3;
+
+/// The nine real spherical harmonics at the unit vector `n`, in the order of [`Irradiance::coefficients`].
+pub fn basis(n: DVec3) -> [f64; 9] {
+    let (x, y, z) = (n.x, n.y, n.z);
+    [
+        0.282_095,
+        0.488_603 * y,
+        0.488_603 * z,
+        0.488_603 * x,
+        1.092_548 * x * y,
+        1.092_548 * y * z,
+        0.315_392 * (3.0 * z * z - 1.0),
+        1.092_548 * x * z,
+        0.546_274 * (x * x - y * y),
+    ]
+}
+
+/// The band l of each coefficient.
+const BAND: [usize; 9] = [0, 1, 1, 1, 2, 2, 2, 2, 2];
+/// Â_l/π: the clamped cosine's convolution weights over π.
+const WEIGHT_OVER_PI: [f64; 3] = [1.0, 2.0 / 3.0, 0.25];
+
+/// The irradiance of a light over the sphere, as nine RGB coefficients.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Irradiance {
+    pub coefficients: [DVec3; 9],
+}
+
+impl Irradiance {
+    /// Projects `radiance` (RGB, any unit) by the midpoint rule on `rings` rings of θ × 2·`rings` steps of φ
+    /// over the whole sphere.
+    pub fn of(radiance: impl Fn(DVec3) -> DVec3, rings: usize) -> Self {
+        let (dt, dp) = (std::f64::consts::PI / rings as f64, std::f64::consts::PI / rings as f64);
+        let mut coefficients = [DVec3::ZERO; 9];
+        for i in 0..rings {
+            let theta = (i as f64 + 0.5) * dt;
+            let weight = theta.sin() * dt * dp;
+            for j in 0..2 * rings {
+                let phi = (j as f64 + 0.5) * dp;
+                let dir = DVec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+                let l = radiance(dir) * weight;
+                for (c, y) in coefficients.iter_mut().zip(basis(dir)) {
+                    *c += l * y;
+                }
+            }
+        }
+        for (k, c) in coefficients.iter_mut().enumerate() {
+            *c *= WEIGHT_OVER_PI[BAND[k]];
+        }
+        Self { coefficients }
+    }
+
+    /// E(n)/π at the unit normal `n` (what a white Lambertian surface returns), never negative.
+    pub fn over_pi(&self, n: DVec3) -> DVec3 {
+        self.coefficients.iter().zip(basis(n)).map(|(c, y)| *c * y).sum::<DVec3>().max(DVec3::ZERO)
+    }
+
+    /// The coefficients as the shaders' `vec4`s (RGB, w = 0).
+    pub fn to_vec4s(&self) -> [[f32; 4]; 9] {
+        self.coefficients.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Closed forms: a uniform radiance L gives E/π = L at every normal; L = a + b·(ω·d), all in l ≤ 1, gives
+    /// E/π = a + (2/3)·b·(n·d) exactly; L = (ω·d)², all in l ≤ 2, gives E/π = 1/2 at n = d (∫ cos³θ dω over
+    /// the hemisphere is π/2).
+    #[test]
+    fn irradiance_of_low_order_light_is_exact() {
+        let d = DVec3::new(0.3, 0.8, -0.52).normalize();
+        let normals = [DVec3::Y, DVec3::X, -DVec3::Z, d, DVec3::new(-0.6, 0.0, 0.8)];
+        let uniform = Irradiance::of(|_| DVec3::new(1.0, 0.5, 0.25), 200);
+        for n in normals {
+            assert!((uniform.over_pi(n) - DVec3::new(1.0, 0.5, 0.25)).length() < 1e-4, "{n}");
+        }
+        let linear = Irradiance::of(|w| DVec3::splat(2.0 + w.dot(d)), 200);
+        for n in normals {
+            let expected = 2.0 + 2.0 / 3.0 * n.dot(d);
+            assert!((linear.over_pi(n).x - expected).abs() < 1e-4, "{n}: {} vs {expected}", linear.over_pi(n).x);
+        }
+        let quadratic = Irradiance::of(|w| DVec3::splat(w.dot(d).powi(2)), 200);
+        assert!((quadratic.over_pi(d).x - 0.5).abs() < 1e-4, "{}", quadratic.over_pi(d).x);
+    }
+}
