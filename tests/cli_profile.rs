@@ -183,24 +183,26 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
     }
 }
 
-#[test]
-fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
-    let csv = scratch("scene.csv");
+/// A shipped scene at `width`×`height`, one sample per pixel and one reference position (FLSS must then match the
+/// reference pixel by pixel: with 4× multisampling the frame and the 2×2-averaged reference sample each pixel at
+/// different positions), `frames` timed frames of each approach of `approaches`, into the CSV `name`, parsed.
+fn profile_scene(scene: &str, (width, height): (u32, u32), frames: u32, approaches: &str, name: &str) -> Csv {
+    let csv = scratch(name);
+    let (w, h, f, sweep) =
+        (width.to_string(), height.to_string(), frames.to_string(), format!("approach={approaches}"));
     let o = diffract(&[
         "profile",
-        s(&common::place::scene("blazed-disk.toml")),
+        s(&common::place::scene(scene)),
         "--width",
-        "36",
+        &w,
         "--height",
-        "24",
+        &h,
         "--frames",
-        "3",
+        &f,
         "--warmup",
         "0",
         "--sweep",
-        "approach=flss,nmm,baked",
-        // One sample per pixel, one reference position: FLSS must then match the reference pixel by pixel (with
-        // 4× multisampling the frame and the 2×2-averaged reference sample each pixel at different positions).
+        &sweep,
         "--samples",
         "1",
         "--validation",
@@ -209,7 +211,12 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
         s(&csv),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table = read_csv(&csv);
+    read_csv(&csv)
+}
+
+#[test]
+fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
+    let table = profile_scene("blazed-disk.toml", (36, 24), 3, "flss,nmm,baked", "scene.csv");
     assert!(table.comments.iter().any(|c| c.starts_with("resolution: 36x24")), "{:?}", table.comments);
     assert!(
         table.comments.iter().any(|c| c.contains("exposure +3.00 EV against")),
@@ -362,30 +369,7 @@ fn a_reference_at_random_pixels_estimates_the_whole_image() {
 /// matches the exact reference pixel by pixel: the reference applies the same BRDF scale, weighting and sky term.
 #[test]
 fn a_sky_lit_scene_matches_its_reference_in_physical_units() {
-    let csv = scratch("sky.csv");
-    let scene = common::place::scene("elaphe-snake-sky.toml");
-    let o = diffract(&[
-        "profile",
-        s(&scene),
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-        "--sweep",
-        "approach=flss",
-        "--samples",
-        "1",
-        "--validation",
-        "--no-reference-cache",
-        "--csv",
-        s(&csv),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table = read_csv(&csv);
+    let table = profile_scene("elaphe-snake-sky.toml", (24, 24), 1, "flss", "sky.csv");
     assert_eq!(table.rows.len(), 1);
     assert!(table.rows[0]["illuminant"].contains("physical units"), "{:?}", table.rows[0]);
     assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
