@@ -213,7 +213,7 @@ fn scene_pixels(
 ) -> Result<Vec<Option<PixelQuery>>> {
     // The pigment is lit by the light's white (the shaders' `params.light_white`).
     let whites: Vec<DVec3> = lights.iter().map(|&(_, illuminant)| spectrum::white_rgb(illuminant)).collect();
-    let gbuffer = GBuffer::draw(ctx, scene, &scene.camera, scene.light_dir, size.0, size.1)?;
+    let gbuffer = GBuffer::draw(ctx, scene, (&scene.camera, scene.light_dir), size, true)?;
     let ambient = f64::from(scene.ambient);
     // The environment's irradiance, as the shaders have it (the same nine coefficients, in f32).
     let sky = crate::physics::sh::Irradiance {

@@ -42,7 +42,7 @@ pub fn scene_reaches(
     let frames = views
         .iter()
         .map(|(camera, light)| {
-            Ok(GBuffer::draw(ctx, scene, camera, *light, width, height)?.reaches(scene.materials.len()))
+            Ok(GBuffer::draw(ctx, scene, (camera, *light), (width, height), false)?.reaches(scene.materials.len()))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(merge_reaches(&frames, scene.materials.len()))

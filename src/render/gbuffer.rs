@@ -40,7 +40,8 @@ pub struct Seen {
     pub albedo: DVec3,
     /// cos of the angle between the shading normal and the world's up (how much of the sky it sees).
     pub normal_up: f64,
-    /// The shading normal in the world (unit; what an environment's irradiance is read at).
+    /// The shading normal in the world (unit; what an environment's irradiance is read at); zero unless the
+    /// G-buffer was drawn `with_normals`.
     pub normal: DVec3,
 }
 
@@ -72,17 +73,18 @@ impl Parts {
 }
 
 impl GBuffer {
-    /// Draws `scene` from `camera` under `light_dir` (world, towards the light) at `width`×`height`.
+    /// Draws `scene` from `camera` under `light_dir` (world, towards the light) at `width`×`height`; the world
+    /// normals too (a fourth pass, for the exact reference's sky term) `with_normals`.
     pub fn draw(
         ctx: &Context,
         scene: &Scene,
-        camera: &Camera,
-        light_dir: Vec3,
-        width: u32,
-        height: u32,
+        (camera, light_dir): (&Camera, Vec3),
+        (width, height): (u32, u32),
+        with_normals: bool,
     ) -> Result<Self> {
         let mut parts = Parts::default();
-        let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), &mut parts);
+        let count = if with_normals { PARTS } else { PARTS - 1 };
+        let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), count, &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
         let [light, view, skin, normals] = drawn?;
@@ -91,8 +93,8 @@ impl GBuffer {
             .chunks(4)
             .zip(view.chunks(4))
             .zip(skin.chunks(4))
-            .zip(normals.chunks(4))
-            .map(|(((l, v), p), n)| {
+            .enumerate()
+            .map(|(i, ((l, v), p))| {
                 let material = (l[3].round() as usize).checked_sub(1)?;
                 Some(Seen {
                     omega_i: vec(l).normalize_or_zero(),
@@ -101,7 +103,7 @@ impl GBuffer {
                     footprint: f64::from(v[3]),
                     albedo: vec(p),
                     normal_up: f64::from(p[3]),
-                    normal: vec(n).normalize_or_zero(),
+                    normal: normals.get(4 * i..4 * i + 3).map_or(DVec3::ZERO, |n| vec(n).normalize_or_zero()),
                 })
             })
             .collect();
@@ -114,6 +116,7 @@ impl GBuffer {
         camera: &Camera,
         light_dir: Vec3,
         (width, height): (u32, u32),
+        count: u32,
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
         let sky_sh = scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir));
@@ -138,7 +141,7 @@ impl GBuffer {
         }
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let bindings = [Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
-        for part in 0..PARTS {
+        for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
                 vertex: shaders::SURFACE_VERT,
