@@ -28,7 +28,7 @@ void main() {
 #ifdef BAKED
     // A map pixel spans 2/size in ω_r.xy, and so in (u, v).
     float lod = FOOTPRINT == 1u ? table_lod(2.0 / map.size.x) : 0.0;
-    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(params.light.xyz, omega_r, lod));
+    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(params.light.xyz, omega_r, lod)) * params.light_white.w;
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
 #else
     out_color = vec4(shade(params.light.xyz, omega_r), 1.0);

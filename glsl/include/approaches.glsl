@@ -104,8 +104,9 @@ vec3 diffraction_xyz(vec3 omega_i, vec3 omega_r) {
     return xyz * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);
 }
 
-// The shader's output colour: linear scene-referred sRGB, or display sRGB after exposure.
+// The shader's output colour: linear scene-referred sRGB, or display sRGB after exposure. (light_white.w: the
+// diffraction's gain, 1 in relative units, `spectrum::diffraction_gain`.)
 vec3 shade(vec3 omega_i, vec3 omega_r) {
-    vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
+    vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r)) * params.light_white.w;
     return DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb;
 }
