@@ -26,6 +26,20 @@ pub fn basis(n: DVec3) -> [f64; 9] {
     ]
 }
 
+/// The midpoint rule over the whole sphere: `rings` rings of θ (from the zenith, +y) by 2·`rings` steps of φ, each
+/// cell as (its centre's unit direction, its solid angle sin θ·Δθ·Δφ). The first `rings`/2 rings (for an even
+/// `rings`) cover the upper hemisphere.
+pub fn sphere_cells(rings: usize) -> impl Iterator<Item = (DVec3, f64)> {
+    let step = std::f64::consts::PI / rings as f64;
+    (0..rings).flat_map(move |i| {
+        let theta = (i as f64 + 0.5) * step;
+        (0..2 * rings).map(move |j| {
+            let phi = (j as f64 + 0.5) * step;
+            (DVec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()), theta.sin() * step * step)
+        })
+    })
+}
+
 /// The band l of each coefficient.
 const BAND: [usize; 9] = [0, 1, 1, 1, 2, 2, 2, 2, 2];
 /// Â_l/π: the clamped cosine's convolution weights over π.
@@ -38,21 +52,13 @@ pub struct Irradiance {
 }
 
 impl Irradiance {
-    /// Projects `radiance` (RGB, any unit) by the midpoint rule on `rings` rings of θ × 2·`rings` steps of φ
-    /// over the whole sphere.
+    /// Projects `radiance` (RGB, any unit) by the midpoint rule of [`sphere_cells`] with `rings` rings.
     pub fn of(radiance: impl Fn(DVec3) -> DVec3, rings: usize) -> Self {
-        let (dt, dp) = (std::f64::consts::PI / rings as f64, std::f64::consts::PI / rings as f64);
         let mut coefficients = [DVec3::ZERO; 9];
-        for i in 0..rings {
-            let theta = (i as f64 + 0.5) * dt;
-            let weight = theta.sin() * dt * dp;
-            for j in 0..2 * rings {
-                let phi = (j as f64 + 0.5) * dp;
-                let dir = DVec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
-                let l = radiance(dir) * weight;
-                for (c, y) in coefficients.iter_mut().zip(basis(dir)) {
-                    *c += l * y;
-                }
+        for (dir, solid_angle) in sphere_cells(rings) {
+            let l = radiance(dir) * solid_angle;
+            for (c, y) in coefficients.iter_mut().zip(basis(dir)) {
+                *c += l * y;
             }
         }
         for (k, c) in coefficients.iter_mut().enumerate() {

@@ -166,8 +166,8 @@ impl Sky {
         spectrum_xyz(|l| self.sun_spectral_radiance(l))
     }
 
-    /// The illuminance on a horizontal surface, lux: (from the sun's disc, from the sky), the sky's by a
-    /// midpoint quadrature over `rings` × 4·`rings` cells of the upper hemisphere.
+    /// The illuminance on a horizontal surface, lux: (from the sun's disc, from the sky), the sky's by the
+    /// midpoint rule on `rings` rings × 4·`rings` cells of the upper hemisphere ([`super::sh::sphere_cells`]).
     pub fn horizontal_illuminance(&self, rings: usize) -> (f64, f64) {
         let (sun, sky) = self.horizontal_illuminance_xyz(rings);
         (sun.y, sky.y)
@@ -176,17 +176,11 @@ impl Sky {
     /// [`Self::horizontal_illuminance`] as CIE XYZ (Y in lux): the colour of the light a horizontal surface gets.
     pub fn horizontal_illuminance_xyz(&self, rings: usize) -> (DVec3, DVec3) {
         let sun = self.sun_xyz() * SUN_SOLID_ANGLE * self.sun.y;
-        let (dt, dp) = (std::f64::consts::FRAC_PI_2 / rings as f64, std::f64::consts::TAU / (4 * rings) as f64);
-        let mut sky = DVec3::ZERO;
-        for i in 0..rings {
-            let theta = (i as f64 + 0.5) * dt;
-            for j in 0..4 * rings {
-                let phi = (j as f64 + 0.5) * dp;
-                let dir = DVec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos());
-                sky += self.xyz(dir) * (theta.cos() * theta.sin() * dt * dp);
-            }
-        }
-        (sun, sky)
+        // The sphere's first `rings` rings of 2·`rings` are the upper hemisphere.
+        let sky = super::sh::sphere_cells(2 * rings)
+            .take(rings * 4 * rings)
+            .map(|(dir, omega)| self.xyz(dir) * (dir.y * omega));
+        (sun, sky.sum())
     }
 }
 
