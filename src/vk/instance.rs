@@ -82,11 +82,33 @@ fn messenger_info(log: &Arc<ValidationLog>) -> vk::DebugUtilsMessengerCreateInfo
         .user_data(Arc::as_ptr(log) as *mut c_void)
 }
 
+/// The Vulkan loader, loaded once per process, with the drivers pinned for the process's life.
+///
+/// The loader opens the drivers (ICDs) when an instance is created and closes them when the last instance is
+/// destroyed. NVIDIA's driver does not survive being closed and opened again in one process: on an H200 (driver
+/// 580.159.04) the GPU test binary, whose tests each open and close their own contexts, found no device from its
+/// ninth test on when the tests ran one at a time, and crashed (SIGSEGV) on an H100 and an H200 when two ran at
+/// once; every test passed in a process of its own. So the first use creates one bare instance (no layer, no
+/// extension) that is never destroyed: the drivers it opened stay open, and later instances only share them.
+fn loader() -> Result<ash::Entry> {
+    static LOADER: std::sync::OnceLock<std::result::Result<ash::Entry, String>> = std::sync::OnceLock::new();
+    let loaded = LOADER.get_or_init(|| {
+        // SAFETY: loading the system's libvulkan; failure is reported, not assumed away.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| e.to_string())?;
+        let app = vk::ApplicationInfo::default().application_name(c"diffract (drivers kept open)");
+        let info = vk::InstanceCreateInfo::default().application_info(&app);
+        // SAFETY: every pointer in `info` outlives the call. The instance is deliberately never destroyed; a
+        // machine with no driver fails here, and the real instance reports it.
+        let _pinned = unsafe { entry.create_instance(&info, None) };
+        Ok(entry)
+    });
+    loaded.clone().map_err(Error::NoLoader)
+}
+
 impl Instance {
     /// Loads the Vulkan loader and creates an instance for Vulkan 1.3, with the validation layer if asked.
     pub fn new(validation: bool, extra_extensions: &[*const std::ffi::c_char]) -> Result<Self> {
-        // SAFETY: loading the system's libvulkan; failure is reported, not assumed away.
-        let entry = unsafe { ash::Entry::load() }.map_err(|e| Error::NoLoader(e.to_string()))?;
+        let entry = loader()?;
         if validation {
             // SAFETY: a plain query on a loaded entry.
             let layers =
