@@ -18,6 +18,7 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("map.frag", "map_count.frag", "COUNT_FETCHES"),
     ("map.frag", "map_baked.frag", "BAKED"),
     ("map.frag", "map_baked_count.frag", "BAKED COUNT_FETCHES"),
+    ("map.comp", "map_baked.comp", "BAKED"),
     ("surface.frag", "surface_count.frag", "COUNT_FETCHES"),
     ("surface.frag", "surface_baked.frag", "BAKED"),
     ("surface.frag", "surface_baked_count.frag", "BAKED COUNT_FETCHES"),

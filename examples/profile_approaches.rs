@@ -27,6 +27,7 @@ fn main() -> diffract::Result<()> {
             overrides: SettingsPatch { approach: Some(approach), ..SettingsPatch::default() },
             size: 64,
             samples: None,
+            shader: None,
         })
         .to_vec();
     let ctx = Context::new(&ContextDesc::new(DeviceSelector::Auto, false))?;

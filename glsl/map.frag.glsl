@@ -1,7 +1,6 @@
 #version 460
-// The BRDF map (model.md §1.1, the thesis's figures): the inscribed disk is the hemisphere of view directions.
-// The pixel at (x, y) from the centre (x right, y up, radius 1) looks along sin θ_r = √(x²+y²), φ_r = atan2(y, x),
-// i.e. ω_r = (x, y, √(1 − x² − y²)); the light is params.light. Outside the disk: black.
+// The BRDF map drawn by a full-screen triangle (the viewer's inset, and the profiler's fragment variant); its
+// pixels are map_pixel.glsl's, as map.comp's are.
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
@@ -14,24 +13,10 @@
 
 // The map's square (side `size`) starts at pixel `offset` of the target.
 #include "map_push.glsl"
+#include "map_pixel.glsl"
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec2 xy = (gl_FragCoord.xy - map.offset - 0.5 * map.size) / (0.5 * map.size);
-    xy.y = -xy.y;
-    float r2 = dot(xy, xy);
-    if (r2 >= 1.0) {
-        out_color = vec4(0.0, 0.0, 0.0, 1.0);
-        return;
-    }
-    vec3 omega_r = vec3(xy, sqrt(1.0 - r2));
-#ifdef BAKED
-    // A map pixel spans 2/size in ω_r.xy, and so in (u, v).
-    float lod = FOOTPRINT == 1u ? table_lod(2.0 / map.size.x) : 0.0;
-    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(params.light.xyz, omega_r, lod)) * params.light_white.w;
-    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
-#else
-    out_color = vec4(shade(params.light.xyz, omega_r), 1.0);
-#endif
+    out_color = map_pixel(gl_FragCoord.xy);
     record_fetches();
 }

@@ -6,8 +6,10 @@
 // averages over a patch of directions about 7° across.
 const float MAX_FOOTPRINT = 0.25;
 
+#ifndef NO_DERIVATIVES
 // The larger of the screen derivatives of (u, v), at most MAX_FOOTPRINT. Call it in uniform control flow
-// (derivatives come from the 2×2 quad).
+// (derivatives come from the 2×2 quad; a compute shader, which has none, defines NO_DERIVATIVES).
 float pixel_footprint(vec2 uv) {
     return min(max(length(dFdx(uv)), length(dFdy(uv))), MAX_FOOTPRINT);
 }
+#endif

@@ -55,8 +55,8 @@ pub struct ProfileArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub warmup: u32,
     /// Vary settings: KEY=V1,V2,... items (keys: every material setting by its scene key, e.g. approach, order,
-    /// lambda_step_nm, window_radius, coherence_um; and size, samples); one --sweep runs the cross product of its
-    /// items, several --sweep flags run one list after the other
+    /// lambda_step_nm, window_radius, coherence_um; and size, samples, and a map's shader=compute,fragment); one
+    /// --sweep runs the cross product of its items, several --sweep flags run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
     /// The `--sweep` flags' items, one list per flag (filled from clap's occurrences by `cli::main`).
@@ -112,7 +112,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
-    let base = Config { overrides: args.settings.patch, size: args.width, samples: None };
+    let base = Config { overrides: args.settings.patch, size: args.width, samples: None, shader: None };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;

@@ -18,7 +18,7 @@ pub mod run;
 use std::fmt::Write as _;
 
 use crate::error::{Error, Result};
-use crate::render::diffraction::Upload;
+use crate::render::diffraction::{MapShader, Upload};
 use crate::render::pass;
 use crate::shading::{Approach, Settings, SettingsPatch};
 use crate::stats::Spread;
@@ -32,10 +32,12 @@ pub struct Config {
     pub size: u32,
     /// Samples per pixel of a scene's frames (None: the profile's `--samples`, else the scene's).
     pub samples: Option<u32>,
+    /// The pipeline that draws a BRDF map (None: the default, compute).
+    pub shader: Option<MapShader>,
 }
 
 /// The keys a sweep may vary besides the material settings ([`Settings::KEYS`]).
-pub const FRAME_KEYS: [&str; 2] = ["size", "samples"];
+pub const FRAME_KEYS: [&str; 3] = ["size", "samples", "shader"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
 
@@ -62,6 +64,10 @@ impl Config {
                     return Err(bad("samples per pixel are 1, 2, 4, 8, 16, 32 or 64"));
                 }
                 self.samples = Some(v);
+            }
+            "shader" => {
+                let names = MapShader::NAMES.join(" or ");
+                self.shader = Some(MapShader::parse(value).ok_or_else(|| bad(&format!("a map's shader is {names}")))?);
             }
             _ if Settings::canonical(key).is_some() => {
                 self.overrides.set(key, value).map_err(|e| Error::Invalid(format!("--sweep {e}")))?
@@ -93,8 +99,13 @@ impl Config {
                 }
             })
             .collect();
-        with_samples(format!("{} {}px", parts.join(" "), self.size), self.samples)
+        with_shader(with_samples(format!("{} {}px", parts.join(" "), self.size), self.samples), self.shader)
     }
+}
+
+/// A label with the map shader a sweep set (`… 256px fragment`).
+fn with_shader(label: String, shader: Option<MapShader>) -> String {
+    shader.map_or(label.clone(), |s| format!("{label} {}", s.name()))
 }
 
 /// A label with the samples per pixel a sweep set (`… 800px 4spp`).
@@ -180,6 +191,8 @@ pub struct Row {
     pub height: u32,
     /// Samples per pixel of the frames.
     pub samples: u32,
+    /// The pipeline that drew a BRDF map's frames (None for a scene).
+    pub map_shader: Option<MapShader>,
     /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
     pub order: Option<usize>,
     pub lambda_count: usize,
@@ -236,13 +249,14 @@ impl TableSummary {
 }
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 32] = [
+pub const MEASURED_COLUMNS: [&str; 33] = [
     "order_used",
     "lambda_count",
     "taps",
     "width",
     "height",
     "samples",
+    "map_shader",
     "frames",
     "precompute_ms",
     "gpu_ms_median",
@@ -284,7 +298,7 @@ impl Row {
     /// The label of what ran, e.g. `flss N=12 Δλ=5 r=2 256px` (`auto`: the order or radius was not forced).
     pub fn label(&self) -> String {
         let label = format!("{} {}px", self.settings.label(&self.config.overrides), self.config.size);
-        with_samples(label, self.config.samples)
+        with_shader(with_samples(label, self.config.samples), self.config.shader)
     }
 
     /// The median GPU time of the pass `name` over the frames (None where the frames had no such pass).
@@ -302,6 +316,7 @@ impl Row {
             self.width.to_string(),
             self.height.to_string(),
             self.samples.to_string(),
+            self.map_shader.map_or(String::new(), |s| s.name().to_string()),
             self.frames.to_string(),
             format!("{:.3}", self.precompute_ms),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
@@ -385,7 +400,11 @@ pub fn markdown(rows: &[Row]) -> String {
             taps,
             r.width,
             r.height,
-            if r.samples > 1 { format!(" ×{}", r.samples) } else { String::new() },
+            match (r.samples, r.config.shader) {
+                (n, _) if n > 1 => format!(" ×{n}"),
+                (_, Some(shader)) => format!(" {}", shader.name()),
+                _ => String::new(),
+            },
             gpu,
             ms(r.cpu_ms.median),
             si(r.fetches_per_pixel),
@@ -472,7 +491,7 @@ mod tests {
     fn base() -> Config {
         let overrides =
             SettingsPatch { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..SettingsPatch::default() };
-        Config { overrides, size: 64, samples: None }
+        Config { overrides, size: 64, samples: None, shader: None }
     }
 
     #[test]

@@ -15,7 +15,7 @@ use crate::exposure::AutoExposure;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
-use crate::render::diffraction::Upload;
+use crate::render::diffraction::{MapShader, Upload};
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
 use crate::render::SceneView;
@@ -73,6 +73,17 @@ impl Subject {
             Subject::Scene { aspect, .. } => {
                 (config.size, ((f64::from(config.size) * aspect).round() as u32).clamp(1, MAX_SIZE))
             }
+        }
+    }
+
+    /// The pipeline of a map's frames: as asked, else compute; a scene has none to choose (None).
+    pub fn map_shader(&self, asked: Option<MapShader>) -> Result<Option<MapShader>> {
+        match self {
+            Subject::Map { .. } => Ok(Some(asked.unwrap_or_default())),
+            Subject::Scene { .. } if asked.is_some() => {
+                Err(Error::Invalid("--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
+            }
+            Subject::Scene { .. } => Ok(None),
         }
     }
 
@@ -180,12 +191,13 @@ impl Subject {
         ctx: &Context,
         materials: &'a [Material],
         size: (u32, u32),
-        samples: vk::SampleCountFlags,
+        (samples, shader): (vk::SampleCountFlags, Option<MapShader>),
         options: &Options,
     ) -> Result<Box<dyn Workload + 'a>> {
         Ok(match self {
             Subject::Map { light, .. } => {
-                Box::new(MapWorkload::new(ctx, &materials[0], size.0, *light, map_filtered(options))?)
+                let (material, filtered) = (&materials[0], map_filtered(options));
+                Box::new(MapWorkload::new(ctx, material, size.0, *light, filtered, shader.unwrap_or_default())?)
             }
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
@@ -363,7 +375,8 @@ fn measure_config(
         Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
         None => options.samples,
     };
-    let mut workload = subject.workload(ctx, materials, size, samples, options)?;
+    let shader = subject.map_shader(config.shader)?;
+    let mut workload = subject.workload(ctx, materials, size, (samples, shader), options)?;
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();
     let result = measured.and_then(|(samples, image, fetches)| {
@@ -392,6 +405,7 @@ fn measure_config(
         width: size.0,
         height: size.1,
         samples: samples_per_pixel,
+        map_shader: shader,
         order: m.plan.map(|p| p.order),
         lambda_count: m.sampling.count,
         taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,

@@ -12,8 +12,8 @@ use crate::physics::Query;
 use crate::progress::Progress;
 use crate::shaders;
 use crate::shaders::interface::{
-    EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS, BINDING_SPECTRUM,
-    BINDING_TABLE, LOCAL_SIZE_X, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT,
+    EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_MAP_IMAGE, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS,
+    BINDING_SPECTRUM, BINDING_TABLE, LOCAL_SIZE_X, MAP_LOCAL_SIZE, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT,
 };
 use crate::shading::Material;
 use crate::vk::{
@@ -271,7 +271,7 @@ impl MapPass {
     ) {
         let (w, h) = (target.extent.width as f32, target.extent.height as f32);
         let side = w.min(h);
-        let push = MapPush { size: [side, side], offset: [0.5 * (w - side), 0.5 * (h - side)] };
+        let push = MapPush { size: [side, side], offset: [0.5 * (w - side), 0.5 * (h - side)], origin: [0.0; 2] };
         debug_assert_eq!(self.counting, counts.is_some(), "a counting pass takes counters, and only it");
         let mut writes: Vec<DescriptorWrite<'_>> = patch.writes().into();
         if let Some(counts) = counts.filter(|_| self.counting) {
@@ -291,17 +291,152 @@ impl MapPass {
     }
 }
 
-/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels;
-/// `footprint`: a baked material averages over each pixel (else each pixel is the point value at its centre).
-pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
-    let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
-    patch.update(&light_params(material, light))?;
-    let pass = Guard::new(ctx, MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?);
-    draw_map_bands(ctx, &pass, &patch, size)
+/// Which pipeline draws a BRDF map. Both give the same pixels (glsl/include/map_pixel.glsl).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MapShader {
+    /// A compute shader writing a storage image: offscreen maps (`diffract map`, the profiler's default). It needs
+    /// no raster unit, which on a compute part like an NVIDIA H100 is the scarce one.
+    #[default]
+    Compute,
+    /// A full-screen triangle's fragment shader: what the viewer draws into its window (and `--sweep
+    /// shader=fragment` times).
+    Fragment,
 }
 
-fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u32) -> Result<MapImage> {
-    let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?);
+impl MapShader {
+    pub const NAMES: [&'static str; 2] = ["compute", "fragment"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Compute => "compute",
+            Self::Fragment => "fragment",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "compute" => Some(Self::Compute),
+            "fragment" => Some(Self::Fragment),
+            _ => None,
+        }
+    }
+}
+
+/// The BRDF-map compute pipeline for one material (glsl/map.comp.glsl): linear RGB into an RGBA32F storage image
+/// ([`ImageState::STORAGE`]) the size of the target, the map being its largest centred square.
+pub(crate) struct MapCompute {
+    pipeline: Pipeline,
+}
+
+impl MapCompute {
+    pub const NAME: &'static str = "brdf map (compute)";
+
+    /// `footprint`: a baked material averages over each pixel's footprint instead of reading its point value.
+    pub fn new(ctx: &Context, material: &Material, footprint: bool) -> Result<Self> {
+        let stages = vk::ShaderStageFlags::COMPUTE;
+        let mut bindings = patch_bindings(stages).to_vec();
+        bindings.push(Binding { binding: BINDING_MAP_IMAGE, kind: vk::DescriptorType::STORAGE_IMAGE, stages });
+        let baked = material.table.is_some();
+        let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
+            name: Self::NAME,
+            shader: if baked { shaders::MAP_BAKED_COMP } else { shaders::MAP_COMP },
+            specialization: material.spec_constants(false).u32(SPEC_FOOTPRINT, u32::from(footprint)),
+            bindings: &bindings,
+            push_constant_size: std::mem::size_of::<MapPush>() as u32,
+        })?;
+        Ok(Self { pipeline })
+    }
+
+    /// Records the rows `rows` of the map into `image` (in [`ImageState::STORAGE`]).
+    pub fn record(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        patch: &PatchResources,
+        image: &Image,
+        rows: std::ops::Range<u32>,
+    ) {
+        let vk::Extent2D { width, height } = image.extent();
+        let (w, h) = (width as f32, height as f32);
+        let side = w.min(h);
+        let push = MapPush {
+            size: [side, side],
+            offset: [0.5 * (w - side), 0.5 * (h - side)],
+            origin: [0.0, rows.start as f32],
+        };
+        let mut writes: Vec<DescriptorWrite<'_>> = patch.writes().into();
+        writes.push(DescriptorWrite::StorageImage(BINDING_MAP_IMAGE, image));
+        ctx.bind(cmd, &self.pipeline, &writes, bytemuck::bytes_of(&push));
+        let groups =
+            (width.div_ceil(MAP_LOCAL_SIZE), rows.end.min(height).saturating_sub(rows.start).div_ceil(MAP_LOCAL_SIZE));
+        // SAFETY: recording outside a render pass with the pipeline bound.
+        unsafe { ctx.device().cmd_dispatch(cmd, groups.0, groups.1, 1) };
+    }
+
+    /// # Safety
+    /// No pending work may use the pass.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.pipeline.destroy(ctx);
+    }
+}
+
+/// A BRDF map's pipeline, of either kind.
+pub(crate) enum MapPipeline {
+    Fragment(MapPass),
+    Compute(MapCompute),
+}
+
+impl MapPipeline {
+    /// Linear output; `footprint` as in [`MapPass::new`].
+    pub fn new(ctx: &Context, material: &Material, footprint: bool, shader: MapShader) -> Result<Self> {
+        Ok(match shader {
+            MapShader::Fragment => Self::Fragment(MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?),
+            MapShader::Compute => Self::Compute(MapCompute::new(ctx, material, footprint)?),
+        })
+    }
+
+    /// # Safety
+    /// No pending work may use the pipeline.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        match self {
+            Self::Fragment(p) => p.destroy(ctx),
+            Self::Compute(p) => p.destroy(ctx),
+        }
+    }
+}
+
+/// A map's colour target that both pipelines can draw into (an attachment and a storage image), and read back.
+pub(crate) fn map_target(ctx: &Context, width: u32, height: u32) -> Result<OffscreenTarget> {
+    let mut desc = ImageDesc::render_target(width, height, LINEAR_FORMAT);
+    desc.usage |= vk::ImageUsageFlags::STORAGE;
+    OffscreenTarget::with_color(ctx, desc)
+}
+
+/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels, with a
+/// compute shader; `footprint`: a baked material averages over each pixel (else each pixel is the point value at
+/// its centre).
+pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
+    render_map_with(ctx, material, size, light, footprint, MapShader::Compute)
+}
+
+/// [`render_map`] drawn by the pipeline `shader`.
+pub fn render_map_with(
+    ctx: &Context,
+    material: &Material,
+    size: u32,
+    light: DVec3,
+    footprint: bool,
+    shader: MapShader,
+) -> Result<MapImage> {
+    let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
+    patch.update(&light_params(material, light))?;
+    let pipeline = Guard::new(ctx, MapPipeline::new(ctx, material, footprint, shader)?);
+    draw_map_bands(ctx, &pipeline, &patch, size)
+}
+
+/// Draws the map band by band.
+fn draw_map_bands(ctx: &Context, pipeline: &MapPipeline, patch: &PatchResources, size: u32) -> Result<MapImage> {
+    let target = Guard::new(ctx, map_target(ctx, size, size)?);
     let mut gpu_ms = Some(0.0);
     let bands = size.div_ceil(MAP_BAND_ROWS);
     let bar = Progress::new_if(size >= 128, format!("rendering map {size}²"), bands as usize);
@@ -312,19 +447,29 @@ fn draw_map_bands(ctx: &Context, pass: &MapPass, patch: &PatchResources, size: u
             offset: vk::Offset2D { x: 0, y: y0 as i32 },
             extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
         };
-        let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| {
-            if band == 0 {
-                target.begin(ctx, cmd);
-            } else {
-                target.continue_rendering(ctx, cmd);
+        let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| match pipeline {
+            MapPipeline::Fragment(pass) => {
+                if band == 0 {
+                    target.begin(ctx, cmd);
+                } else {
+                    target.continue_rendering(ctx, cmd);
+                }
+                pass.record(ctx, cmd, patch, &target.view(), Some(area), None);
             }
-            pass.record(ctx, cmd, patch, &target.view(), Some(area), None);
+            MapPipeline::Compute(compute) => {
+                let from = if band == 0 { ImageState::UNDEFINED } else { ImageState::STORAGE };
+                ctx.barrier_image(cmd, &target.color, from, ImageState::STORAGE);
+                compute.record(ctx, cmd, patch, &target.color, y0..y0 + area.extent.height);
+            }
         })?;
         gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
         bar.step();
     }
     bar.finish();
-    let bytes = target.read(ctx)?;
+    let bytes = match pipeline {
+        MapPipeline::Fragment(_) => target.read(ctx)?,
+        MapPipeline::Compute(_) => ctx.read_image(&target.color, ImageState::STORAGE)?,
+    };
     Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
 }
 
@@ -396,4 +541,4 @@ pub fn evaluate_brdf(ctx: &Context, material: &Material, queries: &[Query]) -> R
     Ok(values.chunks(2).map(|v| (f64::from(v[0]), f64::from(v[1]))).collect())
 }
 
-crate::impl_destroy!(PatchResources, MapPass);
+crate::impl_destroy!(PatchResources, MapPass, MapCompute, MapPipeline);

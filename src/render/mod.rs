@@ -167,6 +167,12 @@ impl OffscreenTarget {
         Self::multisampled(ctx, width, height, format, depth, vk::SampleCountFlags::TYPE_1)
     }
 
+    /// A single-sampled colour image of `desc` (which may add usages, e.g. storage) and no depth.
+    pub fn with_color(ctx: &Context, desc: ImageDesc) -> Result<Self> {
+        let color = ctx.create_image(desc, "offscreen colour")?;
+        Ok(Self { color, msaa: None, depth: None })
+    }
+
     /// `samples` per pixel (then resolved into the single-sampled [`Self::color`] by each pass).
     pub fn multisampled(
         ctx: &Context,

@@ -7,7 +7,9 @@ use std::time::Instant;
 use ash::vk;
 use glam::DVec3;
 
-use super::diffraction::{light_params, MapPass, PatchResources, Upload};
+use super::diffraction::{
+    light_params, map_target, MapCompute, MapPass, MapPipeline, MapShader, PatchResources, Upload,
+};
 use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
@@ -36,17 +38,17 @@ impl FrameSample {
     }
 
     /// Times one frame, recorded by `record` and copied into `readback` after it (as `render` copies its frames
-    /// back).
+    /// back) from `image`, left by `record` in `state`.
     fn measure(
         ctx: &Context,
         name: &str,
-        (image, readback): (&Image, &Buffer),
+        (image, state, readback): (&Image, ImageState, &Buffer),
         record: impl FnOnce(vk::CommandBuffer, &Statistics<'_>, Laps<'_>),
     ) -> Result<Self> {
         let start = Instant::now();
         let PassProfile { times, fragment_invocations } = ctx.one_shot_profiled(name, |cmd, statistics, laps| {
             record(cmd, statistics, laps);
-            ctx.record_readback(cmd, image, ImageState::COLOR_ATTACHMENT, readback);
+            ctx.record_readback(cmd, image, state, readback);
             laps.lap(cmd, pass::COPY);
         })?;
         Ok(Self { times, cpu_ms: start.elapsed().as_secs_f64() * 1e3, fragment_invocations })
@@ -105,10 +107,11 @@ pub(crate) fn counted_frame(
     result
 }
 
-/// A BRDF map of one material for one light, `size`×`size`, drawn in one submission per frame.
+/// A BRDF map of one material for one light, `size`×`size`, drawn in one submission per frame by either
+/// pipeline; its fetches are counted by the fragment pass's counting variant (the same code per pixel).
 pub struct MapWorkload {
     patch: PatchResources,
-    pass: MapPass,
+    pass: MapPipeline,
     counting: MapPass,
     target: OffscreenTarget,
     readback: Buffer,
@@ -117,12 +120,19 @@ pub struct MapWorkload {
 
 impl MapWorkload {
     /// `footprint`: a baked material averages over each pixel (else reads its point value).
-    pub fn new(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<Self> {
+    pub fn new(
+        ctx: &Context,
+        material: &Material,
+        size: u32,
+        light: DVec3,
+        footprint: bool,
+        shader: MapShader,
+    ) -> Result<Self> {
         let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
         patch.update(&light_params(material, light))?;
-        let pass = Guard::new(ctx, MapPass::new(ctx, material, LINEAR_FORMAT, false, footprint)?);
+        let pass = Guard::new(ctx, MapPipeline::new(ctx, material, footprint, shader)?);
         let counting = Guard::new(ctx, MapPass::counting(ctx, material, size, footprint)?);
-        let target = Guard::new(ctx, OffscreenTarget::with_format(ctx, size, size, LINEAR_FORMAT, false)?);
+        let target = Guard::new(ctx, map_target(ctx, size, size)?);
         let readback = ctx.create_readback(&target.color)?;
         Ok(Self {
             patch: patch.keep(),
@@ -137,13 +147,30 @@ impl MapWorkload {
 
 impl Workload for MapWorkload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        FrameSample::measure(ctx, MapPass::NAME, (&self.target.color, &self.readback), |cmd, statistics, laps| {
-            self.target.begin(ctx, cmd);
-            statistics.begin(cmd);
-            self.pass.record(ctx, cmd, &self.patch, &self.target.view(), None, None);
-            statistics.end(cmd);
-            laps.lap(cmd, pass::SHADING);
-        })
+        let (target, patch) = (&self.target, &self.patch);
+        match &self.pass {
+            MapPipeline::Fragment(fragment) => {
+                let copy = (&target.color, ImageState::COLOR_ATTACHMENT, &self.readback);
+                FrameSample::measure(ctx, MapPass::NAME, copy, |cmd, statistics, laps| {
+                    target.begin(ctx, cmd);
+                    statistics.begin(cmd);
+                    fragment.record(ctx, cmd, patch, &target.view(), None, None);
+                    statistics.end(cmd);
+                    laps.lap(cmd, pass::SHADING);
+                })
+            }
+            MapPipeline::Compute(compute) => {
+                let copy = (&target.color, ImageState::STORAGE, &self.readback);
+                FrameSample::measure(ctx, MapCompute::NAME, copy, |cmd, statistics, laps| {
+                    ctx.barrier_image(cmd, &target.color, ImageState::UNDEFINED, ImageState::STORAGE);
+                    // Bracketed as every timed frame is; a dispatch invokes no fragment shader.
+                    statistics.begin(cmd);
+                    compute.record(ctx, cmd, patch, &target.color, 0..self.size);
+                    statistics.end(cmd);
+                    laps.lap(cmd, pass::SHADING);
+                })
+            }
+        }
     }
 
     fn image(&self, _ctx: &Context) -> Result<Vec<f32>> {
@@ -322,7 +349,7 @@ impl<'a> SceneWorkload<'a> {
 
 impl Workload for SceneWorkload<'_> {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        let copy = (&self.target.color, &self.readback);
+        let copy = (&self.target.color, ImageState::COLOR_ATTACHMENT, &self.readback);
         FrameSample::measure(ctx, SceneRenderer::NAME, copy, |cmd, statistics, laps| {
             self.target.begin(ctx, cmd);
             let instruments = Instruments { statistics: Some(statistics), laps, ..Instruments::default() };

@@ -43,6 +43,10 @@ pub const BINDING_FETCH_COUNTS: u32 = 4;
 /// The BRDF evaluation's queries and results (`brdf_eval.comp`).
 pub const BINDING_QUERIES: u32 = 5;
 pub const BINDING_RESULTS: u32 = 6;
+/// `map.comp`'s storage image (the map written by a compute shader).
+pub const BINDING_MAP_IMAGE: u32 = 7;
+/// `map.comp`'s workgroup: MAP_LOCAL_SIZE² invocations, one per pixel.
+pub const MAP_LOCAL_SIZE: u32 = 8;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;
@@ -67,12 +71,14 @@ pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
 /// `physics::baked::sample::FOOTPRINT_LOD_BIAS`).
 pub const FOOTPRINT_LOD_BIAS: f64 = 0.792_481_250_360_578_1;
 
-/// `map.frag`'s push constants (`MapPush`): the map's square in pixels and its offset in the target.
+/// `map.frag`'s and `map.comp`'s push constants (`MapPush`): the map's square in pixels and its offset in the
+/// target; `origin`, the first pixel a compute dispatch covers (a band's first row; the fragment shader ignores it).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct MapPush {
     pub size: [f32; 2],
     pub offset: [f32; 2],
+    pub origin: [f32; 2],
 }
 
 /// `brdf_eval.comp`'s push constants (`EvalPush`): the number of queries.
@@ -92,6 +98,6 @@ pub struct SelftestPush {
 
 // The push-constant blocks are generated from these structs by build.rs (PUSH_BLOCKS), which refuses a field GLSL
 // would place elsewhere; their sizes, for the pipelines' push-constant ranges:
-const _: () = assert!(std::mem::size_of::<MapPush>() == 16);
+const _: () = assert!(std::mem::size_of::<MapPush>() == 24);
 const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
 const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);

@@ -3,7 +3,7 @@
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
-use diffract::render::diffraction::{evaluate_brdf, render_map, MapImage};
+use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader};
 use diffract::shading::{Approach, Material, Reach, Settings};
 use glam::DVec3;
 
@@ -240,6 +240,30 @@ fn map_pixels_match_the_cpu_colour_reference() {
         }
     }
     assert!(compared > 30, "{compared}");
+}
+
+#[test]
+fn compute_and_fragment_maps_are_the_same_pixels() {
+    // `diffract map` and the profiler draw maps with a compute shader, the viewer with a full-screen triangle: the
+    // two run the same per-pixel code (glsl/include/map_pixel.glsl), so every approach's pixels agree to f32
+    // rounding, point-sampled and over each pixel's footprint, on a map that is not a multiple of the
+    // workgroup's 8 pixels and spans two bands of rows.
+    let hf = elaphe(2);
+    let light = direction(25.0, 10.0);
+    let size = 45;
+    for approach in Approach::ALL {
+        for footprint in [false, true] {
+            let settings = Settings { approach, lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
+            let reach = Reach::Map { light, size, filtered: footprint };
+            let material = Material::prepare(&hf, settings, &reach).unwrap();
+            let [compute, fragment] = [MapShader::Compute, MapShader::Fragment]
+                .map(|shader| gpu_test(|ctx| render_map_with(ctx, &material, size, light, footprint, shader).unwrap()));
+            let peak = fragment.rgba.iter().fold(0.0f32, |m, &v| m.max(v.abs()));
+            assert!(peak > 0.0, "{approach:?}: a black map");
+            let worst = compute.rgba.iter().zip(&fragment.rgba).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+            assert!(worst <= 1e-5 * peak, "{approach:?}, footprint {footprint}: differ by {worst} (peak {peak})");
+        }
+    }
 }
 
 #[test]
