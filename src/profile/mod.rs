@@ -32,7 +32,7 @@ pub struct Config {
     pub size: u32,
     /// Samples per pixel of a scene's frames (None: the profile's `--samples`, else the scene's).
     pub samples: Option<u32>,
-    /// The pipeline that draws a BRDF map (None: the default, compute).
+    /// The pipeline that draws a BRDF map (None: the device's, `MapShader::for_device`).
     pub shader: Option<MapShader>,
 }
 
@@ -510,6 +510,12 @@ mod tests {
         let samples = configurations(base(), &[Sweep::parse(&["samples=1,4".into()]).unwrap()]).unwrap();
         assert_eq!(samples.iter().map(|c| c.samples).collect::<Vec<_>>(), [Some(1), Some(4)]);
         assert!(samples[1].label().ends_with("64px 4spp"), "{}", samples[1].label());
+        let shaders = configurations(base(), &[Sweep::parse(&["shader=fragment,compute".into()]).unwrap()]).unwrap();
+        assert_eq!(
+            shaders.iter().map(|c| c.shader).collect::<Vec<_>>(),
+            [Some(MapShader::Fragment), Some(MapShader::Compute)]
+        );
+        assert!(shaders[1].label().ends_with("64px compute"), "{}", shaders[1].label());
     }
 
     #[test]
@@ -526,6 +532,7 @@ mod tests {
             ("size=0", "1..="),
             ("samples=3", "1, 2, 4"),
             ("samples=128", "1, 2, 4"),
+            ("shader=vertex", "compute or fragment"),
         ] {
             let e = Sweep::parse(&[item.to_string()]).unwrap_err().to_string();
             assert!(e.contains(needle), "{item}: {e}");

@@ -76,10 +76,11 @@ impl Subject {
         }
     }
 
-    /// The pipeline of a map's frames: as asked, else compute; a scene has none to choose (None).
-    pub fn map_shader(&self, asked: Option<MapShader>) -> Result<Option<MapShader>> {
+    /// The pipeline of a map's frames: as asked, else the device's ([`MapShader::for_device`]); a scene has none
+    /// to choose (None).
+    pub fn map_shader(&self, ctx: &Context, asked: Option<MapShader>) -> Result<Option<MapShader>> {
         match self {
-            Subject::Map { .. } => Ok(Some(asked.unwrap_or_default())),
+            Subject::Map { .. } => Ok(Some(asked.unwrap_or_else(|| MapShader::for_device(ctx)))),
             Subject::Scene { .. } if asked.is_some() => {
                 Err(Error::Invalid("--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
             }
@@ -197,7 +198,8 @@ impl Subject {
         Ok(match self {
             Subject::Map { light, .. } => {
                 let (material, filtered) = (&materials[0], map_filtered(options));
-                Box::new(MapWorkload::new(ctx, material, size.0, *light, filtered, shader.unwrap_or_default())?)
+                let shader = shader.unwrap_or_else(|| MapShader::for_device(ctx));
+                Box::new(MapWorkload::new(ctx, material, size.0, *light, filtered, shader)?)
             }
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
@@ -375,7 +377,7 @@ fn measure_config(
         Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
         None => options.samples,
     };
-    let shader = subject.map_shader(config.shader)?;
+    let shader = subject.map_shader(ctx, config.shader)?;
     let mut workload = subject.workload(ctx, materials, size, (samples, shader), options)?;
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();

@@ -13,7 +13,7 @@ use crate::progress::Progress;
 use crate::shaders;
 use crate::shaders::interface::{
     EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_MAP_IMAGE, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS,
-    BINDING_SPECTRUM, BINDING_TABLE, LOCAL_SIZE_X, MAP_LOCAL_SIZE, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT,
+    BINDING_SPECTRUM, BINDING_TABLE, LOCAL_SIZE_X, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT, SPEC_MAP_LOCAL_SIZE,
 };
 use crate::shading::Material;
 use crate::vk::{
@@ -292,19 +292,28 @@ impl MapPass {
 }
 
 /// Which pipeline draws a BRDF map. Both give the same pixels (glsl/include/map_pixel.glsl).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MapShader {
-    /// A compute shader writing a storage image: offscreen maps (`diffract map`, the profiler's default). It needs
-    /// no raster unit, which on a compute part like an NVIDIA H100 is the scarce one.
-    #[default]
+    /// A compute shader writing a storage image. It needs no raster unit, which on a compute part like an NVIDIA
+    /// H200 is the scarce one: there the Elaphe map's shading ran 9–41× faster than as fragments.
     Compute,
-    /// A full-screen triangle's fragment shader: what the viewer draws into its window (and `--sweep
-    /// shader=fragment` times).
+    /// A full-screen triangle's fragment shader: what the viewer draws into its window, and offscreen maps on a
+    /// CPU device, where lavapipe's tiled rasteriser read the baked table 1.06–1.3× faster than compute groups.
     Fragment,
 }
 
 impl MapShader {
     pub const NAMES: [&'static str; 2] = ["compute", "fragment"];
+
+    /// The pipeline offscreen maps use on `ctx`'s device (`diffract map`, the profiler unless a sweep asks):
+    /// compute on a GPU, fragment on a CPU device (measured as above).
+    pub fn for_device(ctx: &Context) -> Self {
+        if ctx.info.kind == vk::PhysicalDeviceType::CPU {
+            Self::Fragment
+        } else {
+            Self::Compute
+        }
+    }
 
     pub fn name(self) -> &'static str {
         match self {
@@ -322,10 +331,23 @@ impl MapShader {
     }
 }
 
+/// The side of `map.comp`'s square workgroups on `ctx`'s device: 8 on a GPU (as measured on an H200), 16 on a CPU
+/// device, where lavapipe ran the Elaphe map's baked 1024² shading in 50.6 ms with 8×8 groups, 30.6–34.3 with
+/// 16×16 and 26–32 as fragments (its rasteriser walks tiles whose texels stay in cache).
+pub(crate) fn map_workgroup(ctx: &Context) -> u32 {
+    if ctx.info.kind == vk::PhysicalDeviceType::CPU {
+        16
+    } else {
+        8
+    }
+}
+
 /// The BRDF-map compute pipeline for one material (glsl/map.comp.glsl): linear RGB into an RGBA32F storage image
 /// ([`ImageState::STORAGE`]) the size of the target, the map being its largest centred square.
 pub(crate) struct MapCompute {
     pipeline: Pipeline,
+    /// The workgroups' side ([`map_workgroup`]).
+    group: u32,
 }
 
 impl MapCompute {
@@ -337,14 +359,17 @@ impl MapCompute {
         let mut bindings = patch_bindings(stages).to_vec();
         bindings.push(Binding { binding: BINDING_MAP_IMAGE, kind: vk::DescriptorType::STORAGE_IMAGE, stages });
         let baked = material.table.is_some();
+        let group = map_workgroup(ctx);
+        let specialization =
+            material.spec_constants(false).u32(SPEC_FOOTPRINT, u32::from(footprint)).u32(SPEC_MAP_LOCAL_SIZE, group);
         let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: Self::NAME,
             shader: if baked { shaders::MAP_BAKED_COMP } else { shaders::MAP_COMP },
-            specialization: material.spec_constants(false).u32(SPEC_FOOTPRINT, u32::from(footprint)),
+            specialization,
             bindings: &bindings,
             push_constant_size: std::mem::size_of::<MapPush>() as u32,
         })?;
-        Ok(Self { pipeline })
+        Ok(Self { pipeline, group })
     }
 
     /// Records the rows `rows` of the map into `image` (in [`ImageState::STORAGE`]).
@@ -367,8 +392,8 @@ impl MapCompute {
         let mut writes: Vec<DescriptorWrite<'_>> = patch.writes().into();
         writes.push(DescriptorWrite::StorageImage(BINDING_MAP_IMAGE, image));
         ctx.bind(cmd, &self.pipeline, &writes, bytemuck::bytes_of(&push));
-        let groups =
-            (width.div_ceil(MAP_LOCAL_SIZE), rows.end.min(height).saturating_sub(rows.start).div_ceil(MAP_LOCAL_SIZE));
+        let rows = rows.end.min(height).saturating_sub(rows.start);
+        let groups = (width.div_ceil(self.group), rows.div_ceil(self.group));
         // SAFETY: recording outside a render pass with the pipeline bound.
         unsafe { ctx.device().cmd_dispatch(cmd, groups.0, groups.1, 1) };
     }
@@ -412,11 +437,11 @@ pub(crate) fn map_target(ctx: &Context, width: u32, height: u32) -> Result<Offsc
     OffscreenTarget::with_color(ctx, desc)
 }
 
-/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels, with a
-/// compute shader; `footprint`: a baked material averages over each pixel (else each pixel is the point value at
-/// its centre).
+/// Renders the BRDF map of `material` for a light from `light` (unit, patch frame), `size`×`size` pixels, with the
+/// device's pipeline ([`MapShader::for_device`]); `footprint`: a baked material averages over each pixel (else each
+/// pixel is the point value at its centre).
 pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
-    render_map_with(ctx, material, size, light, footprint, MapShader::Compute)
+    render_map_with(ctx, material, size, light, footprint, MapShader::for_device(ctx))
 }
 
 /// [`render_map`] drawn by the pipeline `shader`.

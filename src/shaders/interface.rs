@@ -19,6 +19,8 @@ pub const SPEC_DISPLAY_OUTPUT: u32 = 4;
 pub const SPEC_COUNT_STRIDE: u32 = 5;
 /// 1: the baked shaders filter over the pixel's footprint; 0: they read the table's finest level.
 pub const SPEC_FOOTPRINT: u32 = 8;
+/// `map.comp`'s workgroup side (`render::diffraction::map_workgroup`): side² invocations, one per pixel.
+pub const SPEC_MAP_LOCAL_SIZE: u32 = 9;
 
 // Specialization constants of single shaders.
 /// Which part of the G-buffer `gbuffer.frag` writes.
@@ -45,8 +47,6 @@ pub const BINDING_QUERIES: u32 = 5;
 pub const BINDING_RESULTS: u32 = 6;
 /// `map.comp`'s storage image (the map written by a compute shader).
 pub const BINDING_MAP_IMAGE: u32 = 7;
-/// `map.comp`'s workgroup: MAP_LOCAL_SIZE² invocations, one per pixel.
-pub const MAP_LOCAL_SIZE: u32 = 8;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;
