@@ -140,6 +140,14 @@ done
   || { echo "FAIL  timing map"; cat "$out/map.err"; failures=$((failures + 1)); }
 echo "-- Elaphe BRDF map, gem against baked"
 sed -n '/^| approach/,/^$/p' "$out/map.md"
+# The two pipelines a map can take (the device's default is in the table above), pass by pass.
+"$bin" profile "${device_args[@]}" --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 \
+  --height-um 0.375 --tile 10 --exposure 8 --frames "$map_frames" --warmup "$map_warmup" --no-reference \
+  --sweep approach=gem,baked "size=$map_sizes" shader=fragment,compute --csv "$out/map-shader.csv" \
+  >"$out/map-shader.md" 2>"$out/map-shader.err" \
+  || { echo "FAIL  timing map shaders"; cat "$out/map-shader.err"; failures=$((failures + 1)); }
+echo "-- Elaphe BRDF map's shading by either pipeline"
+sed -n '/^| configuration/,/^$/p' "$out/map-shader.md"
 
 echo "gpu-check: logs, CSV files and tables in $out"
 if [ "$failures" -gt 0 ]; then

@@ -81,7 +81,8 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
         eprintln!("{line}");
     }
     let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
-    let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
+    let shader = diffraction::MapShader::for_device(&ctx).name();
+    let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms ({shader} shader)")).unwrap_or_default();
     let taps = 2 * material.window.radius_x + 1;
     let sampling = match material.settings.approach {
         Approach::Nmm => format!("one λ per DFT bin crossed ({} λ near specular)", material.sampling.count),
