@@ -15,7 +15,7 @@ use crate::exposure::AutoExposure;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::{optics, spectrum, HeightField};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
-use crate::render::diffraction::{MapShader, Upload};
+use crate::render::diffraction::{MapShader, MapSpec, Upload};
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
 use crate::render::SceneView;
@@ -197,9 +197,15 @@ impl Subject {
     ) -> Result<Box<dyn Workload + 'a>> {
         Ok(match self {
             Subject::Map { light, .. } => {
-                let (material, filtered) = (&materials[0], map_filtered(options));
                 let shader = shader.unwrap_or_else(|| MapShader::for_device(ctx));
-                Box::new(MapWorkload::new(ctx, material, size.0, *light, filtered, shader)?)
+                let spec = MapSpec {
+                    material: &materials[0],
+                    size: size.0,
+                    light: *light,
+                    footprint: map_filtered(options),
+                    shader,
+                };
+                Box::new(MapWorkload::new(ctx, &spec)?)
             }
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);

@@ -441,22 +441,37 @@ pub(crate) fn map_target(ctx: &Context, width: u32, height: u32) -> Result<Offsc
 /// device's pipeline ([`MapShader::for_device`]); `footprint`: a baked material averages over each pixel (else each
 /// pixel is the point value at its centre).
 pub fn render_map(ctx: &Context, material: &Material, size: u32, light: DVec3, footprint: bool) -> Result<MapImage> {
-    render_map_with(ctx, material, size, light, footprint, MapShader::for_device(ctx))
+    let shader = MapShader::for_device(ctx);
+    render_map_with(ctx, &MapSpec { material, size, light, footprint, shader })
 }
 
-/// [`render_map`] drawn by the pipeline `shader`.
-pub fn render_map_with(
-    ctx: &Context,
-    material: &Material,
-    size: u32,
-    light: DVec3,
-    footprint: bool,
-    shader: MapShader,
-) -> Result<MapImage> {
-    let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
-    patch.update(&light_params(material, light))?;
-    let pipeline = Guard::new(ctx, MapPipeline::new(ctx, material, footprint, shader)?);
-    draw_map_bands(ctx, &pipeline, &patch, size)
+/// What a BRDF map shows and how it is drawn.
+#[derive(Clone, Copy)]
+pub struct MapSpec<'a> {
+    pub material: &'a Material,
+    /// Pixels on a side.
+    pub size: u32,
+    /// Towards the light (unit, patch frame).
+    pub light: DVec3,
+    /// A baked material averages over each pixel (else each pixel is the point value at its centre).
+    pub footprint: bool,
+    pub shader: MapShader,
+}
+
+impl MapSpec<'_> {
+    /// The map's patch resources, lit from its light, and its pipeline, each held by a guard until kept.
+    pub(crate) fn parts<'a>(&self, ctx: &'a Context) -> Result<(Guard<'a, PatchResources>, Guard<'a, MapPipeline>)> {
+        let mut patch = Guard::new(ctx, PatchResources::new(ctx, self.material)?);
+        patch.update(&light_params(self.material, self.light))?;
+        let pipeline = Guard::new(ctx, MapPipeline::new(ctx, self.material, self.footprint, self.shader)?);
+        Ok((patch, pipeline))
+    }
+}
+
+/// The map `spec` asks for.
+pub fn render_map_with(ctx: &Context, spec: &MapSpec<'_>) -> Result<MapImage> {
+    let (patch, pipeline) = spec.parts(ctx)?;
+    draw_map_bands(ctx, &pipeline, &patch, spec.size)
 }
 
 /// Draws the map band by band.

@@ -5,18 +5,14 @@
 use std::time::Instant;
 
 use ash::vk;
-use glam::DVec3;
 
-use super::diffraction::{
-    light_params, map_target, MapCompute, MapPass, MapPipeline, MapShader, PatchResources, Upload,
-};
+use super::diffraction::{map_target, MapCompute, MapPass, MapPipeline, MapSpec, PatchResources, Upload};
 use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::shaders;
 use crate::shaders::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
-use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image, ImageDesc,
     ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
@@ -119,18 +115,10 @@ pub struct MapWorkload {
 }
 
 impl MapWorkload {
-    /// `footprint`: a baked material averages over each pixel (else reads its point value).
-    pub fn new(
-        ctx: &Context,
-        material: &Material,
-        size: u32,
-        light: DVec3,
-        footprint: bool,
-        shader: MapShader,
-    ) -> Result<Self> {
-        let mut patch = Guard::new(ctx, PatchResources::new(ctx, material)?);
-        patch.update(&light_params(material, light))?;
-        let pass = Guard::new(ctx, MapPipeline::new(ctx, material, footprint, shader)?);
+    /// The map `spec` asks for.
+    pub fn new(ctx: &Context, spec: &MapSpec<'_>) -> Result<Self> {
+        let MapSpec { material, size, footprint, .. } = *spec;
+        let (patch, pass) = spec.parts(ctx)?;
         let counting = Guard::new(ctx, MapPass::counting(ctx, material, size, footprint)?);
         let target = Guard::new(ctx, map_target(ctx, size, size)?);
         let readback = ctx.create_readback(&target.color)?;

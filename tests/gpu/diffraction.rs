@@ -3,7 +3,7 @@
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
-use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader};
+use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader, MapSpec};
 use diffract::shading::{Approach, Material, Reach, Settings};
 use glam::DVec3;
 
@@ -256,8 +256,10 @@ fn compute_and_fragment_maps_are_the_same_pixels() {
             let settings = Settings { approach, lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
             let reach = Reach::Map { light, size, filtered: footprint };
             let material = Material::prepare(&hf, settings, &reach).unwrap();
-            let [compute, fragment] = [MapShader::Compute, MapShader::Fragment]
-                .map(|shader| gpu_test(|ctx| render_map_with(ctx, &material, size, light, footprint, shader).unwrap()));
+            let [compute, fragment] = [MapShader::Compute, MapShader::Fragment].map(|shader| {
+                let spec = MapSpec { material: &material, size, light, footprint, shader };
+                gpu_test(|ctx| render_map_with(ctx, &spec).unwrap())
+            });
             let peak = fragment.rgba.iter().fold(0.0f32, |m, &v| m.max(v.abs()));
             assert!(peak > 0.0, "{approach:?}: a black map");
             let worst = compute.rgba.iter().zip(&fragment.rgba).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
