@@ -81,6 +81,12 @@ fn unwritable_output_is_one_line() {
 }
 
 #[test]
+fn a_map_shader_asked_of_a_scene_is_refused_before_any_work() {
+    let o = diffract(&["profile", "--width", "32", "--frames", "1", "--no-reference", "--sweep", "shader=compute"]);
+    assert_one_line_error(&o, "for BRDF maps");
+}
+
+#[test]
 fn bad_sizes_are_refused_by_the_parser() {
     let o = diffract(&["render", "--out", scratch("x.png").to_str().unwrap(), "--width", "0"]);
     assert!(!o.status.success());

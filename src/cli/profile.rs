@@ -116,6 +116,9 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;
+    for config in &configs {
+        subject.check_map_shader(config.shader)?;
+    }
     // The reference covers each pixel as the frames' multisampling does (its sample count's square root per axis).
     let reference = (!args.no_reference).then(|| ReferenceOptions {
         samples: args.reference_samples.unwrap_or_else(|| (f64::from(frame_samples).sqrt().ceil() as u32).max(1)),

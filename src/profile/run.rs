@@ -79,12 +79,20 @@ impl Subject {
     /// The pipeline of a map's frames: as asked, else the device's ([`MapShader::for_device`]); a scene has none
     /// to choose (None).
     pub fn map_shader(&self, ctx: &Context, asked: Option<MapShader>) -> Result<Option<MapShader>> {
+        self.check_map_shader(asked)?;
+        Ok(match self {
+            Subject::Map { .. } => Some(asked.unwrap_or_else(|| MapShader::for_device(ctx))),
+            Subject::Scene { .. } => None,
+        })
+    }
+
+    /// Refuses a map shader asked of a scene (before any work is done).
+    pub fn check_map_shader(&self, asked: Option<MapShader>) -> Result<()> {
         match self {
-            Subject::Map { .. } => Ok(Some(asked.unwrap_or_else(|| MapShader::for_device(ctx)))),
             Subject::Scene { .. } if asked.is_some() => {
                 Err(Error::Invalid("--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
             }
-            Subject::Scene { .. } => Ok(None),
+            _ => Ok(()),
         }
     }
 
