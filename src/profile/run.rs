@@ -76,17 +76,8 @@ impl Subject {
         }
     }
 
-    /// The pipeline of a map's frames: as asked, else the device's ([`MapShader::for_device`]); a scene has none
-    /// to choose (None).
-    pub fn map_shader(&self, ctx: &Context, asked: Option<MapShader>) -> Result<Option<MapShader>> {
-        self.check_map_shader(asked)?;
-        Ok(match self {
-            Subject::Map { .. } => Some(asked.unwrap_or_else(|| MapShader::for_device(ctx))),
-            Subject::Scene { .. } => None,
-        })
-    }
-
-    /// Refuses a map shader asked of a scene (before any work is done).
+    /// Refuses a map shader asked of a scene (a BRDF map's pipeline is as asked, else the device's:
+    /// [`MapShader::for_device`]).
     pub fn check_map_shader(&self, asked: Option<MapShader>) -> Result<()> {
         match self {
             Subject::Scene { .. } if asked.is_some() => {
@@ -194,7 +185,7 @@ impl Subject {
         Ok(image)
     }
 
-    /// The GPU side of one configuration's frames.
+    /// The GPU side of one configuration's frames (`shader`: a map's pipeline as asked).
     fn workload<'a>(
         &'a self,
         ctx: &Context,
@@ -203,6 +194,7 @@ impl Subject {
         (samples, shader): (vk::SampleCountFlags, Option<MapShader>),
         options: &Options,
     ) -> Result<Box<dyn Workload + 'a>> {
+        self.check_map_shader(shader)?;
         Ok(match self {
             Subject::Map { light, .. } => {
                 let shader = shader.unwrap_or_else(|| MapShader::for_device(ctx));
@@ -391,8 +383,8 @@ fn measure_config(
         Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
         None => options.samples,
     };
-    let shader = subject.map_shader(ctx, config.shader)?;
-    let mut workload = subject.workload(ctx, materials, size, (samples, shader), options)?;
+    let mut workload = subject.workload(ctx, materials, size, (samples, config.shader), options)?;
+    let map_shader = workload.map_shader();
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();
     let result = measured.and_then(|(samples, image, fetches)| {
@@ -421,7 +413,7 @@ fn measure_config(
         width: size.0,
         height: size.1,
         samples: samples_per_pixel,
-        map_shader: shader,
+        map_shader,
         order: m.plan.map(|p| p.order),
         lambda_count: m.sampling.count,
         taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use ash::vk;
 
-use super::diffraction::{map_target, MapCompute, MapPass, MapPipeline, MapSpec, PatchResources, Upload};
+use super::diffraction::{map_target, MapCompute, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
 use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
@@ -61,6 +61,10 @@ pub trait Workload {
     fn uploads(&self) -> Vec<Upload>;
     /// Draws one frame with the counting shaders: each pixel's texel fetches and shadings, rows top first.
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>>;
+    /// The pipeline that draws a BRDF map's frames (None: a scene, always rasterised).
+    fn map_shader(&self) -> Option<MapShader> {
+        None
+    }
     /// # Safety
     /// The GPU must be done with the workload.
     unsafe fn destroy(self: Box<Self>, ctx: &Context);
@@ -174,6 +178,13 @@ impl Workload for MapWorkload {
         counted_frame(ctx, self.size, self.size, "brdf map (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
             pass.record(ctx, cmd, patch, &target.view(), None, Some(counts));
+        })
+    }
+
+    fn map_shader(&self) -> Option<MapShader> {
+        Some(match self.pass {
+            MapPipeline::Fragment(_) => MapShader::Fragment,
+            MapPipeline::Compute(_) => MapShader::Compute,
         })
     }
 
