@@ -420,6 +420,62 @@ impl MapPipeline {
         })
     }
 
+    pub fn shader(&self) -> MapShader {
+        match self {
+            Self::Fragment(_) => MapShader::Fragment,
+            Self::Compute(_) => MapShader::Compute,
+        }
+    }
+
+    /// The name its submissions are labelled and timed with.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Fragment(_) => MapPass::NAME,
+            Self::Compute(_) => MapCompute::NAME,
+        }
+    }
+
+    /// The state [`Self::record`] leaves the target's colour image in (to copy it back from).
+    pub fn target_state(&self) -> ImageState {
+        match self {
+            Self::Fragment(_) => ImageState::COLOR_ATTACHMENT,
+            Self::Compute(_) => ImageState::STORAGE,
+        }
+    }
+
+    /// Records the rows `rows` of the map into `target` (a [`map_target`]); `first`: the target's earlier
+    /// contents are discarded, else this continues the rows an earlier submission drew.
+    pub fn record(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        patch: &PatchResources,
+        target: &OffscreenTarget,
+        rows: std::ops::Range<u32>,
+        first: bool,
+    ) {
+        match self {
+            Self::Fragment(pass) => {
+                if first {
+                    target.begin(ctx, cmd);
+                } else {
+                    target.continue_rendering(ctx, cmd);
+                }
+                let extent = target.color.extent();
+                let area = vk::Rect2D {
+                    offset: vk::Offset2D { x: 0, y: rows.start as i32 },
+                    extent: vk::Extent2D { width: extent.width, height: rows.end.min(extent.height) - rows.start },
+                };
+                pass.record(ctx, cmd, patch, &target.view(), Some(area), None);
+            }
+            Self::Compute(compute) => {
+                let from = if first { ImageState::UNDEFINED } else { ImageState::STORAGE };
+                ctx.barrier_image(cmd, &target.color, from, ImageState::STORAGE);
+                compute.record(ctx, cmd, patch, &target.color, rows);
+            }
+        }
+    }
+
     /// # Safety
     /// No pending work may use the pipeline.
     pub unsafe fn destroy(self, ctx: &Context) {
@@ -483,33 +539,14 @@ fn draw_map_bands(ctx: &Context, pipeline: &MapPipeline, patch: &PatchResources,
     bar.detail(format!("bands of {MAP_BAND_ROWS} rows"));
     for band in 0..bands {
         let y0 = band * MAP_BAND_ROWS;
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: y0 as i32 },
-            extent: vk::Extent2D { width: size, height: MAP_BAND_ROWS.min(size - y0) },
-        };
-        let band_ms = ctx.one_shot_timed(MapPass::NAME, |cmd| match pipeline {
-            MapPipeline::Fragment(pass) => {
-                if band == 0 {
-                    target.begin(ctx, cmd);
-                } else {
-                    target.continue_rendering(ctx, cmd);
-                }
-                pass.record(ctx, cmd, patch, &target.view(), Some(area), None);
-            }
-            MapPipeline::Compute(compute) => {
-                let from = if band == 0 { ImageState::UNDEFINED } else { ImageState::STORAGE };
-                ctx.barrier_image(cmd, &target.color, from, ImageState::STORAGE);
-                compute.record(ctx, cmd, patch, &target.color, y0..y0 + area.extent.height);
-            }
-        })?;
+        let rows = y0..(y0 + MAP_BAND_ROWS).min(size);
+        let band_ms =
+            ctx.one_shot_timed(pipeline.name(), |cmd| pipeline.record(ctx, cmd, patch, &target, rows, band == 0))?;
         gpu_ms = gpu_ms.zip(band_ms).map(|(total, ms)| total + ms);
         bar.step();
     }
     bar.finish();
-    let bytes = match pipeline {
-        MapPipeline::Fragment(_) => target.read(ctx)?,
-        MapPipeline::Compute(_) => ctx.read_image(&target.color, ImageState::STORAGE)?,
-    };
+    let bytes = ctx.read_image(&target.color, pipeline.target_state())?;
     Ok(MapImage { size, rgba: bytemuck::pod_collect_to_vec(&bytes), gpu_ms })
 }
 

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use ash::vk;
 
-use super::diffraction::{map_target, MapCompute, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
+use super::diffraction::{map_target, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
 use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
@@ -139,30 +139,15 @@ impl MapWorkload {
 
 impl Workload for MapWorkload {
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample> {
-        let (target, patch) = (&self.target, &self.patch);
-        match &self.pass {
-            MapPipeline::Fragment(fragment) => {
-                let copy = (&target.color, ImageState::COLOR_ATTACHMENT, &self.readback);
-                FrameSample::measure(ctx, MapPass::NAME, copy, |cmd, statistics, laps| {
-                    target.begin(ctx, cmd);
-                    statistics.begin(cmd);
-                    fragment.record(ctx, cmd, patch, &target.view(), None, None);
-                    statistics.end(cmd);
-                    laps.lap(cmd, pass::SHADING);
-                })
-            }
-            MapPipeline::Compute(compute) => {
-                let copy = (&target.color, ImageState::STORAGE, &self.readback);
-                FrameSample::measure(ctx, MapCompute::NAME, copy, |cmd, statistics, laps| {
-                    ctx.barrier_image(cmd, &target.color, ImageState::UNDEFINED, ImageState::STORAGE);
-                    // Bracketed as every timed frame is; a dispatch invokes no fragment shader.
-                    statistics.begin(cmd);
-                    compute.record(ctx, cmd, patch, &target.color, 0..self.size);
-                    statistics.end(cmd);
-                    laps.lap(cmd, pass::SHADING);
-                })
-            }
-        }
+        let (pipeline, target, patch) = (&self.pass, &self.target, &self.patch);
+        let copy = (&target.color, pipeline.target_state(), &self.readback);
+        FrameSample::measure(ctx, pipeline.name(), copy, |cmd, statistics, laps| {
+            // The whole map in one submission (a compute dispatch invokes no fragment shader: statistics of 0).
+            statistics.begin(cmd);
+            pipeline.record(ctx, cmd, patch, target, 0..self.size, true);
+            statistics.end(cmd);
+            laps.lap(cmd, pass::SHADING);
+        })
     }
 
     fn image(&self, _ctx: &Context) -> Result<Vec<f32>> {
@@ -182,10 +167,7 @@ impl Workload for MapWorkload {
     }
 
     fn map_shader(&self) -> Option<MapShader> {
-        Some(match self.pass {
-            MapPipeline::Fragment(_) => MapShader::Fragment,
-            MapPipeline::Compute(_) => MapShader::Compute,
-        })
+        Some(self.pass.shader())
     }
 
     unsafe fn destroy(self: Box<Self>, ctx: &Context) {
