@@ -4,14 +4,17 @@
 // CPU reference its inputs. Shares surface.vert and its uniforms (`orientation.z` holds the material's index).
 #include "surface_frame.glsl"
 #include "footprint.glsl"
+#include "shadow.glsl"
 
-// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, 0).
+// 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, the sun's
+// visible share: shadow.glsl).
 layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
 layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
+layout(location = 4) in vec3 shadow_coord;
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -25,6 +28,6 @@ void main() {
     } else if (PART == 2u) {
         out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
     } else {
-        out_color = vec4(normalize(world_normal), 0.0);
+        out_color = vec4(normalize(world_normal), sun_visibility(shadow_coord));
     }
 }

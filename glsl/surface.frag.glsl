@@ -12,6 +12,7 @@
 #include "approaches.glsl"
 #endif
 #include "surface_frame.glsl"
+#include "shadow.glsl"
 
 // After a depth pre-pass only the visible surface passes the EQUAL test: testing before the shader runs (which the
 // counting variant's atomics would otherwise forbid) shades each pixel once.
@@ -21,6 +22,7 @@ layout(location = 0) in vec3 patch_light;
 layout(location = 1) in vec3 patch_view;
 layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
+layout(location = 4) in vec3 shadow_coord;
 layout(location = 0) out vec4 out_color;
 
 // SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
@@ -40,14 +42,16 @@ float sky_transmittance() {
 
 // The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
 // profiler's reference adds it on the CPU). A Lambertian `albedo` under the skin's surface, lit through that
-// surface by the sun's disc (cos θ_i) and by a sky of radiance `ambient` above the horizon with dark ground below
-// (a surface whose normal makes cos = `normal_up` with the world's up sees (1 + normal_up)/2 of it), and seen
-// through it.
-vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float ambient) {
+// surface by the sun's disc (cos θ_i, times the share `sun_visible` of it that no shadow hides) and by a sky of
+// radiance `ambient` above the horizon with dark ground below (a surface whose normal makes cos = `normal_up` with
+// the world's up sees (1 + normal_up)/2 of it), and seen through it. A matte surface (`coated` false) has no skin:
+// the albedo is lit and seen directly.
+vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float ambient, float sun_visible,
+                 bool coated) {
     if (omega_r.z <= 0.0) return vec3(0.0);
-    float sun = SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0) * transmittance(omega_i.z);
-    float sky = ambient * 0.5 * (1.0 + normal_up) * sky_transmittance();
-    return albedo * (transmittance(omega_r.z) * (sun + sky));
+    float sun = SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0) * sun_visible * (coated ? transmittance(omega_i.z) : 1.0);
+    float sky = ambient * 0.5 * (1.0 + normal_up) * (coated ? sky_transmittance() : 1.0);
+    return albedo * ((coated ? transmittance(omega_r.z) : 1.0) * (sun + sky));
 }
 
 // The environment's irradiance over π at the world normal `n`: the sum of its nine SH coefficients
@@ -61,29 +65,40 @@ vec3 sky_over_pi(vec3 n) {
     return max(e, vec3(0.0));
 }
 
-// The pigment lit by the environment (`optics::pigment_sky_rgb`): through the skin both ways, in the environment's
-// own colours (not the illuminant's white).
-vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky) {
+// The pigment lit by the environment (`optics::pigment_sky_rgb`): through the skin both ways (unless matte), in
+// the environment's own colours (not the illuminant's white).
+vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky, bool coated) {
     if (omega_r.z <= 0.0) return vec3(0.0);
-    return albedo * (transmittance(omega_r.z) * sky_transmittance()) * sky;
+    return albedo * (coated ? transmittance(omega_r.z) * sky_transmittance() : 1.0) * sky;
 }
 
 void main() {
     vec3 omega_i = normalize(patch_light);
     vec3 omega_r = normalize(patch_view);
+    // A matte material (a ground) has no grating and no skin: only its pigment.
+    bool coated = frame.orientation.w < 0.5;
+    // The sun's share that no shadow hides (1 where the scene has no shadow map).
+    float sun_visible = sun_visibility(shadow_coord);
 #ifdef BAKED
+    // Derivatives, so in uniform control flow (before the branch).
     float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
-    vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
-#else
-    vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif
-    // 1 in relative units; under a physical light, the BRDF in sr⁻¹ times the sun's irradiance per unit of its
-    // radiance (`spectrum::diffraction_gain`).
-    rgb *= params.light_white.w;
+    vec3 rgb = vec3(0.0);
+    if (coated && sun_visible > 0.0) {
+#ifdef BAKED
+        rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
+#else
+        rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
+#endif
+        // 1 in relative units; under a physical light, the BRDF in sr⁻¹ times the sun's irradiance per unit of
+        // its radiance (`spectrum::diffraction_gain`).
+        rgb *= params.light_white.w * sun_visible;
+    }
     vec3 normal = normalize(world_normal);
     float normal_up = normal.y;
-    rgb += pigment_rgb(omega_i, omega_r, normal_up, frame.pigment.rgb * tint, frame.pigment.w) * params.light_white.rgb;
-    rgb += pigment_sky_rgb(omega_r, frame.pigment.rgb * tint, sky_over_pi(normal));
+    vec3 albedo = frame.pigment.rgb * tint;
+    rgb += pigment_rgb(omega_i, omega_r, normal_up, albedo, frame.pigment.w, sun_visible, coated) * params.light_white.rgb;
+    rgb += pigment_sky_rgb(omega_r, albedo, sky_over_pi(normal), coated);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

@@ -13,6 +13,10 @@ layout(location = 1) out vec3 patch_view;
 // The shading normal in the world (the sky lights what faces up) and the vertex's tint of the material's pigment.
 layout(location = 2) out vec3 world_normal;
 layout(location = 3) out vec3 tint;
+// The point in the sun's shadow map's clip space, pushed off its surface along the normal towards the light
+// (`render::shadow`: by frame.shadow.y, growing as 1/cos θ_i up to SHADOW_MAX_OFFSET_GROWTH) so that a surface
+// does not shadow itself.
+layout(location = 4) out vec3 shadow_coord;
 
 void main() {
     // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
@@ -35,6 +39,10 @@ void main() {
     patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
     world_normal = n;
     tint = in_pigment;
+    float cos_l = dot(n, l);
+    float growth = min(1.0 / max(abs(cos_l), 1e-3), SHADOW_MAX_OFFSET_GROWTH);
+    vec3 lifted = p.xyz + (cos_l >= 0.0 ? n : -n) * (frame.shadow.y * growth);
+    shadow_coord = (frame.shadow_view_proj * vec4(lifted, 1.0)).xyz;
     precise vec4 clip = frame.view_proj * p;
     gl_Position = clip;
 }

@@ -3,6 +3,7 @@
 #   docs/images/sky.png        `diffract gen sky` previews at 512×256 for a sun 10°, 35° and 70° high under a clear
 #                              sky (turbidity 2.5) and the 35° sun through haze (turbidity 8), all at one exposure
 #                              (-14 EV) so that their brightness compares
+#   docs/images/snake-ground.png  elaphe-snake-ground.toml at 320×240, with its shadow and with shadows = false
 #   docs/images/snake-sky.png  the default scene (relative units) beside elaphe-snake-sky.toml (the clear sky,
 #                              physical units) at 256², on the device (lavapipe unless extra options say otherwise)
 # Needs ImageMagick (montage) and the DejaVu fonts to compose them.
@@ -27,3 +28,13 @@ montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'default scene (relative units)' "$scratch/default.png" \
   -label 'under the sky (physical units)' "$scratch/sky.png" \
   -tile 2x1 -geometry +3+3 docs/images/snake-sky.png
+# The snake on the ground with the sun's shadow, beside the same scene with `shadows = false` (a copy whose
+# paths point back into assets/).
+run render assets/scenes/elaphe-snake-ground.toml --width 320 --height 240 --out "$scratch/ground.png" "$@"
+sed -e 's|^turbidity = 3.0|turbidity = 3.0\nshadows = false|' -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" \
+  assets/scenes/elaphe-snake-ground.toml >"$scratch/no-shadows.toml"
+run render "$scratch/no-shadows.toml" --width 320 --height 240 --out "$scratch/no-shadows.png" "$@"
+montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
+  -label 'on the ground, with the sun'"'"'s shadow' "$scratch/ground.png" \
+  -label 'shadows = false' "$scratch/no-shadows.png" \
+  -tile 2x1 -geometry +3+3 docs/images/snake-ground.png

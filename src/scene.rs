@@ -119,6 +119,8 @@ struct LightDef {
     environment: Option<Spanned<String>>,
     /// The sky's turbidity (environment = "sky").
     turbidity: Option<Spanned<f64>>,
+    /// The sun's shadows (a shadow map); on by default where the scene has a ground.
+    shadows: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -187,6 +189,9 @@ pub struct SceneMaterial {
     pub settings: Settings,
     pub orientation_deg: f32,
     pub pigment: [f32; 3],
+    /// Pigment only (a material with neither heightfield nor generate, such as a ground's): a Lambertian albedo
+    /// with no grating and no skin over it. `heightfield` is then a small flat patch that nothing draws.
+    pub matte: bool,
 }
 
 /// An object of a loaded scene.
@@ -195,6 +200,8 @@ pub struct SceneObject {
     pub mesh: Mesh,
     pub model: Mat4,
     pub material: usize,
+    /// Whether it casts the sun's shadow (everything but the ground does; every object receives it).
+    pub casts_shadow: bool,
 }
 
 /// Image settings a scene may carry (the command line overrides them).
@@ -228,6 +235,8 @@ pub struct Scene {
     /// The clear sky around the sun (`[light] environment = "sky"`), which lights the pigment instead of
     /// `ambient`.
     pub sky: Option<SkyLight>,
+    /// Whether the sun casts shadows (`[light] shadows`; by default where the scene has a ground).
+    pub shadows: bool,
     pub objects: Vec<SceneObject>,
     pub materials: Vec<SceneMaterial>,
     pub render: RenderSettings,
@@ -389,9 +398,26 @@ impl Scene {
         if !(ambient.is_finite() && ambient >= 0.0) {
             return Err(loc.whole("[light] ambient must be a non-negative number"));
         }
-        Ok(Self { name: name.to_string(), camera, light_dir, ambient, illuminant, sky, objects, materials, render })
+        let grounded = objects.iter().any(|o| !o.casts_shadow);
+        let shadows = file.light.shadows.unwrap_or(grounded);
+        Ok(Self {
+            name: name.to_string(),
+            camera,
+            light_dir,
+            ambient,
+            illuminant,
+            sky,
+            shadows,
+            objects,
+            materials,
+            render,
+        })
     }
 }
+
+/// The flat patch behind a matte material: edge and pixel (µm).
+const MATTE_PATCH_UM: f64 = 4.0;
+const MATTE_PIXEL_UM: f64 = 0.25;
 
 /// The largest coordinate, scale or angle a scene may give (world units are arbitrary, but f32 transforms of
 /// larger values lose the mesh or overflow).
@@ -481,38 +507,47 @@ fn material(
     let span = def.span();
     let d = def.get_ref();
     let at = |msg: String| loc.at(span.clone(), format!("[material.{name}] {msg}"));
-    let hf = match (&d.heightfield, d.generate) {
-        (Some(path), None) => {
-            let file = base.join(path.get_ref());
-            let png = match (d.pixel_size_um, d.height_um) {
-                (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
-                (None, None) => None,
-                _ => return Err(at("pixel_size_um and height_um go together".into())),
-            };
-            match (built_in(&file), png) {
-                (Some(bytes), Some(scale)) => {
-                    crate::physics::formats::png::from_bytes(&file, bytes, scale).map_err(|e| loc.at(path.span(), e))?
+    let matte = d.heightfield.is_none() && d.generate.is_none();
+    let patch_keys = [d.pixel_size_um, d.height_um, d.size_um, d.period_um].iter().any(Option::is_some);
+    if matte && (patch_keys || d.seed.is_some() || d.tile.is_some()) {
+        return Err(at(
+            "has no heightfield or generate (a matte material: pigment only), so its patch keys mean nothing".into(),
+        ));
+    }
+    let hf =
+        match (&d.heightfield, d.generate) {
+            (Some(path), None) => {
+                let file = base.join(path.get_ref());
+                let png = match (d.pixel_size_um, d.height_um) {
+                    (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+                    (None, None) => None,
+                    _ => return Err(at("pixel_size_um and height_um go together".into())),
+                };
+                match (built_in(&file), png) {
+                    (Some(bytes), Some(scale)) => crate::physics::formats::png::from_bytes(&file, bytes, scale)
+                        .map_err(|e| loc.at(path.span(), e))?,
+                    (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
+                    (None, _) if !file.exists() => {
+                        return Err(loc.at(
+                            path.span(),
+                            format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
+                        ))
+                    }
+                    (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
                 }
-                (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
-                (None, _) if !file.exists() => {
-                    return Err(loc.at(
-                        path.span(),
-                        format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
-                    ))
-                }
-                (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
             }
-        }
-        (None, Some(kind)) => {
-            let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
-            spec.period_um = d.period_um.unwrap_or(spec.period_um);
-            spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
-            spec.seed = d.seed.unwrap_or(1);
-            generate(&spec).map_err(|e| at(e.to_string()))?
-        }
-        (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
-        (None, None) => return Err(at("needs heightfield = \"FILE\" (.gsf or .png) or generate = \"KIND\"".into())),
-    };
+            (None, Some(kind)) => {
+                let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
+                spec.period_um = d.period_um.unwrap_or(spec.period_um);
+                spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
+                spec.seed = d.seed.unwrap_or(1);
+                generate(&spec).map_err(|e| at(e.to_string()))?
+            }
+            (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
+            // Matte: a flat patch the renderer never draws (the smallest the preparation accepts).
+            (None, None) => generate(&PatchSpec::new(PatchKind::Flat, MATTE_PATCH_UM, MATTE_PIXEL_UM))
+                .map_err(|e| at(e.to_string()))?,
+        };
     let hf = match d.tile {
         None => hf,
         Some(TileDef::Both(n)) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
@@ -535,6 +570,7 @@ fn material(
         settings,
         orientation_deg: d.orientation_deg,
         pigment: d.pigment,
+        matte,
     })
 }
 
@@ -584,7 +620,7 @@ fn object(
         Quat::from_euler(EulerRot::XYZ, rx, ry, rz),
         Vec3::from(d.translate),
     );
-    Ok(SceneObject { mesh, model, material })
+    Ok(SceneObject { mesh, model, material, casts_shadow: d.shape != Some(Shape::Ground) })
 }
 
 #[cfg(test)]
@@ -615,6 +651,27 @@ tile = [2, 3]
 
     fn error_of(text: &str) -> String {
         Scene::parse(text, "s.toml", Path::new(".")).expect_err("refused").to_string()
+    }
+
+    /// A ground (matte: a material without a patch) turns the sun's shadows on unless the scene says otherwise;
+    /// it receives them and casts none; a matte material refuses patch keys.
+    #[test]
+    fn a_ground_is_matte_receives_shadows_and_casts_none() {
+        assert!(!Scene::parse(GOOD, "s.toml", Path::new(".")).unwrap().shadows, "no ground, no shadows");
+        let ground = format!("{GOOD}\n[[object]]\nshape = \"ground\"\nmaterial = \"soil\"\n\n[material.soil]\npigment = [0.2, 0.2, 0.2]\n");
+        let s = Scene::parse(&ground, "s.toml", Path::new(".")).unwrap();
+        assert!(s.shadows);
+        assert_eq!(s.objects.iter().map(|o| o.casts_shadow).collect::<Vec<_>>(), [true, false]);
+        let soil = s.materials.iter().find(|m| m.name == "soil").unwrap();
+        assert!(soil.matte && !s.materials.iter().find(|m| m.name == "blaze").unwrap().matte);
+        let ground_mesh = &s.objects[1].mesh;
+        assert!(ground_mesh.vertices.iter().all(|v| v.position[1] == 0.0 && v.normal == [0.0, 1.0, 0.0]));
+        let off = ground.replace("illuminant = \"D65\"", "illuminant = \"D65\"\nshadows = false");
+        assert!(!Scene::parse(&off, "s.toml", Path::new(".")).unwrap().shadows);
+        let on = GOOD.replace("illuminant = \"D65\"", "illuminant = \"D65\"\nshadows = true");
+        assert!(Scene::parse(&on, "s.toml", Path::new(".")).unwrap().shadows);
+        let e = error_of(&ground.replace("pigment = [0.2, 0.2, 0.2]", "pigment = [0.2, 0.2, 0.2]\nperiod_um = 2.0"));
+        assert!(e.contains("[material.soil]") && e.contains("matte"), "{e}");
     }
 
     /// `environment = "sky"`: the sky model's sun (at the light's elevation) in physical units, and the sky's

@@ -163,7 +163,9 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     };
     let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
     for (m, material) in scene.materials.iter().zip(&materials) {
-        if let Some(line) = material.table_line() {
+        if m.matte {
+            eprintln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
+        } else if let Some(line) = material.table_line() {
             eprintln!("material {:?}: {line}", m.name);
         }
     }

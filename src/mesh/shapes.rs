@@ -19,11 +19,17 @@ pub enum Shape {
     Cylinder,
     Cube,
     Snake,
+    /// A horizontal square under the scene, [`GROUND_HALF`] each side of the origin at y = 0, facing up: it
+    /// receives the sun's shadow and casts none.
+    Ground,
 }
+
+/// Half the ground's edge at unit scale (world units): wide enough to reach the horizon of a close view.
+pub const GROUND_HALF: f32 = 50.0;
 
 impl Shape {
     /// The shape at unit size (plane and cube edges 2, disk and sphere radius 1, cylinder radius 1 and height 2,
-    /// snake 4 long).
+    /// snake 4 long, ground 100 wide).
     /// Closed shapes (sphere, cube, snake) are one-sided ([`Mesh::one_sided`]); a plane, disk or open cylinder
     /// shows its back.
     pub fn build(self) -> Mesh {
@@ -34,8 +40,20 @@ impl Shape {
             Shape::Cylinder => cylinder(1.0, 2.0, 96, 16),
             Shape::Cube => Mesh { one_sided: true, ..cube(1.0) },
             Shape::Snake => super::snake::snake(&super::snake::SnakeSpec::default()),
+            Shape::Ground => ground(GROUND_HALF),
         }
     }
+}
+
+/// A square of half-edge `half` in the y = 0 plane, normal +y, tangent along +x.
+pub fn ground(half: f32) -> Mesh {
+    let mut m = Mesh::quad(half);
+    for v in &mut m.vertices {
+        let [x, y, _] = v.position;
+        v.position = [x, 0.0, -y];
+        v.normal = [0.0, 1.0, 0.0];
+    }
+    m
 }
 
 /// A disk of radius `r` in the z = 0 plane, normal +z, tangent radial.

@@ -26,28 +26,48 @@ pub fn sky_transmittance() -> f64 {
     1.0 - (r0 + (1.0 - r0) / 21.0)
 }
 
+/// How a pigment is lit beyond the directions: the share of the sun's disc that no shadow hides (0–1), and
+/// whether the skin covers it (false: a matte material, lit and seen directly).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lit {
+    pub sun_visible: f64,
+    pub coated: bool,
+}
+
+impl Lit {
+    /// In the open sun, under the skin.
+    pub const OPEN: Self = Self { sun_visible: 1.0, coated: true };
+}
+
 /// The light the skin's pigment returns under the grating, linear RGB (the surface pass's non-diffracted term,
 /// `pigment_rgb` in glsl/surface.frag.glsl). A Lambertian `albedo` under the skin's surface, lit through that
-/// surface by the sun's disc (cos θ_i, the sun's radiance being the mirror glint's 1) and by a sky of radiance
-/// `ambient` above the horizon with dark ground below — a surface whose normal makes cos = `normal_up` with the
-/// world's up sees (1 + normal_up)/2 of it, which is what shades the form of a body — and seen through it.
-pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, normal_up: f64, albedo: DVec3, ambient: f64) -> DVec3 {
+/// surface by the sun's disc (cos θ_i, the sun's radiance being the mirror glint's 1, times the share of it
+/// `lit.sun_visible`) and by a sky of radiance `ambient` above the horizon with dark ground below — a surface
+/// whose normal makes cos = `normal_up` with the world's up sees (1 + normal_up)/2 of it, which is what shades
+/// the form of a body — and seen through it. Without the skin (`lit.coated` false) the albedo is lit and seen
+/// directly.
+pub fn pigment_rgb(omega_i: DVec3, omega_r: DVec3, normal_up: f64, albedo: DVec3, ambient: f64, lit: Lit) -> DVec3 {
     if omega_r.z <= 0.0 {
         return DVec3::ZERO;
     }
-    let sun = SUN_SOLID_ANGLE / std::f64::consts::PI * omega_i.z.max(0.0) * transmittance(omega_i.z);
-    let sky = ambient * 0.5 * (1.0 + normal_up) * sky_transmittance();
-    albedo * (transmittance(omega_r.z) * (sun + sky))
+    let through = |t: f64| if lit.coated { t } else { 1.0 };
+    let sun = SUN_SOLID_ANGLE / std::f64::consts::PI
+        * omega_i.z.max(0.0)
+        * lit.sun_visible
+        * through(transmittance(omega_i.z));
+    let sky = ambient * 0.5 * (1.0 + normal_up) * through(sky_transmittance());
+    albedo * (through(transmittance(omega_r.z)) * (sun + sky))
 }
 
 /// The pigment lit by an environment whose irradiance over π at the shading normal is `sky_over_pi` (linear RGB,
-/// `physics::sh::Irradiance::over_pi`): through the skin on the way in (averaged over the sky) and out, in the
-/// environment's own colours (`pigment_sky_rgb` in glsl/surface.frag.glsl).
-pub fn pigment_sky_rgb(omega_r: DVec3, albedo: DVec3, sky_over_pi: DVec3) -> DVec3 {
+/// `physics::sh::Irradiance::over_pi`): through the skin on the way in (averaged over the sky) and out unless
+/// not `coated`, in the environment's own colours (`pigment_sky_rgb` in glsl/surface.frag.glsl).
+pub fn pigment_sky_rgb(omega_r: DVec3, albedo: DVec3, sky_over_pi: DVec3, coated: bool) -> DVec3 {
     if omega_r.z <= 0.0 {
         return DVec3::ZERO;
     }
-    albedo * (transmittance(omega_r.z) * sky_transmittance()) * sky_over_pi
+    let through = if coated { transmittance(omega_r.z) * sky_transmittance() } else { 1.0 };
+    albedo * through * sky_over_pi
 }
 
 /// A unit vector from the surface towards the light or the viewer: (sin θ cos φ, sin θ sin φ, cos θ).

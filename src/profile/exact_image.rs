@@ -42,18 +42,21 @@ pub const CHECK_STEP_NM: f64 = 0.5;
 /// How many pixels, spread over those the surface covers, the quadrature error is estimated on.
 const CHECK_PIXELS: usize = 64;
 /// Bumped whenever the reference's definition or its cache format changes: cached images of other versions are
-/// recomputed. (2: XYZ stored only for the pixels that count.)
-const CACHE_VERSION: u32 = 2;
+/// recomputed. (2: XYZ stored only for the pixels that count; 3: a pixel's diffraction weighted by the sun's
+/// visible share.)
+const CACHE_VERSION: u32 = 3;
 /// The seed of the random pixels a sampled reference keeps (fixed: a profile repeats, and its reference caches).
 pub const SAMPLE_SEED: u64 = 0x5eed_d1ff_7ac7;
 
-/// One pixel to evaluate: patch-frame unit directions to the light and to the viewer, the material seen, and
-/// light that does not diffract (a scene's pigment term, XYZ) added as it is.
+/// One pixel to evaluate: patch-frame unit directions to the light and to the viewer, the material seen, the
+/// weight of its diffraction (the share of the sun no shadow hides; 0 for a matte material), and light that does
+/// not diffract (a scene's pigment term, XYZ) added as it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelQuery {
     pub omega_i: DVec3,
     pub omega_r: DVec3,
     pub material: usize,
+    pub diffracted: f64,
     pub extra_xyz: DVec3,
 }
 
@@ -103,6 +106,7 @@ impl ReferenceJob<'_> {
                     omega_i: light,
                     omega_r: DVec3::new(x, y, (1.0 - r2).sqrt()),
                     material: 0,
+                    diffracted: 1.0,
                     extra_xyz: DVec3::ZERO,
                 })
             })
@@ -156,6 +160,7 @@ impl ReferenceJob<'_> {
             match p {
                 Some(q) => {
                     h.u64(q.material as u64);
+                    h.f64(q.diffracted);
                     for v in [q.omega_i, q.omega_r, q.extra_xyz] {
                         h.f64(v.x);
                         h.f64(v.y);
@@ -197,8 +202,12 @@ impl ReferenceJob<'_> {
         };
         let (fine_gains, check_gains) = (gains(&fine), gains(&check));
         let pixel = |q: &PixelQuery, samplings: &[Sampling], gains: &[f64]| {
-            references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) * gains[q.material]
-                + q.extra_xyz
+            let diffraction = if q.diffracted > 0.0 {
+                references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) * gains[q.material]
+            } else {
+                DVec3::ZERO
+            };
+            diffraction * q.diffracted + q.extra_xyz
         };
         let xyz = evaluate_rows(self, |q| pixel(q, &fine, &fine_gains));
         let quadrature = quadrature_check(self, |q| pixel(q, &check, &check_gains), &xyz);

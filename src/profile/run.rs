@@ -246,10 +246,14 @@ fn scene_pixels(
         .pixels
         .iter()
         .map(|seen| {
-            let Seen { omega_i, omega_r, material, albedo, normal_up, normal, .. } = (*seen)?;
-            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient) * whites[material]
-                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal));
-            Some(PixelQuery { omega_i, omega_r, material, extra_xyz: spectrum::linear_srgb_to_xyz(extra_rgb) })
+            let Seen { omega_i, omega_r, material, albedo, normal_up, normal, sun_visible, .. } = (*seen)?;
+            let coated = !scene.materials[material].matte;
+            let lit = optics::Lit { sun_visible, coated };
+            let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
+                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated);
+            let diffracted = if coated { sun_visible } else { 0.0 };
+            let extra_xyz = spectrum::linear_srgb_to_xyz(extra_rgb);
+            Some(PixelQuery { omega_i, omega_r, material, diffracted, extra_xyz })
         })
         .collect())
 }

@@ -13,6 +13,10 @@ use crate::scene::Scene;
 use crate::shading::{Material, Reach, SettingsPatch};
 use crate::vk::{Context, Guard};
 
+/// What a matte material's (undrawn) patch is prepared for: one point, coarsely.
+const MATTE_REACH: Reach =
+    Reach::Seen { domain: crate::physics::baked::Domain::POINT, footprint: super::gbuffer::UNSEEN_FOOTPRINT };
+
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
 pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach]) -> Result<Vec<Material>> {
@@ -24,7 +28,9 @@ pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Re
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            Material::prepare(&m.heightfield, scene.material_settings(m, overrides), &reaches[i.min(reaches.len() - 1)])
+            // A matte material's patch is never drawn: the smallest table serves it.
+            let reach = if m.matte { &MATTE_REACH } else { &reaches[i.min(reaches.len() - 1)] };
+            Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
                 .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
         })
         .collect()
@@ -53,7 +59,12 @@ pub(crate) fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> V
     materials
         .iter()
         .zip(&scene.materials)
-        .map(|(material, m)| MaterialInput { material, orientation_deg: m.orientation_deg, pigment: m.pigment })
+        .map(|(material, m)| MaterialInput {
+            material,
+            orientation_deg: m.orientation_deg,
+            pigment: m.pigment,
+            matte: m.matte,
+        })
         .collect()
 }
 
@@ -90,7 +101,7 @@ impl SceneCapture {
 
     /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.
     pub fn render(&mut self, ctx: &Context, view: &SceneView) -> Result<Frame> {
-        self.renderer.update(view, self.width as f32 / self.height as f32)?;
+        self.renderer.update(ctx, view, self.width as f32 / self.height as f32)?;
         let frame = self.frames.render(ctx, &self.renderer, view.background)?;
         let bad = frame.linear().map_or(0, crate::stats::non_finite_pixels);
         if bad > 0 {

@@ -6,7 +6,8 @@
 use ash::vk;
 use glam::{DVec3, Vec3};
 
-use super::surface::{orientation, ObjectView, SurfaceUniforms, VERTEX_ATTRIBUTES};
+use super::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
+use super::surface::{ObjectView, SurfaceMaterial, SurfaceUniforms, VERTEX_ATTRIBUTES};
 use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
 use crate::camera::Camera;
 use crate::error::Result;
@@ -41,8 +42,11 @@ pub struct Seen {
     /// cos of the angle between the shading normal and the world's up (how much of the sky it sees).
     pub normal_up: f64,
     /// The shading normal in the world (unit; what an environment's irradiance is read at); zero unless the
-    /// G-buffer was drawn `with_normals`.
+    /// G-buffer was drawn `with_normals` or the scene casts shadows.
     pub normal: DVec3,
+    /// The share of the sun that no shadow hides here (the surface pass's `sun_visibility`, from the same
+    /// shadow map); 1 where the scene has no shadows.
+    pub sun_visible: f64,
 }
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
@@ -57,6 +61,7 @@ struct Parts {
     uniforms: Vec<Buffer>,
     pipelines: Vec<Pipeline>,
     target: Option<OffscreenTarget>,
+    shadow: Option<ShadowMap>,
 }
 
 impl Parts {
@@ -68,6 +73,9 @@ impl Parts {
         self.pipelines.into_iter().for_each(|p| p.destroy(ctx));
         if let Some(t) = self.target {
             t.destroy(ctx);
+        }
+        if let Some(s) = self.shadow {
+            s.destroy(ctx);
         }
     }
 }
@@ -83,7 +91,7 @@ impl GBuffer {
         with_normals: bool,
     ) -> Result<Self> {
         let mut parts = Parts::default();
-        let count = if with_normals { PARTS } else { PARTS - 1 };
+        let count = if with_normals || scene.shadows { PARTS } else { PARTS - 1 };
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), count, &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
@@ -104,6 +112,7 @@ impl GBuffer {
                     albedo: vec(p),
                     normal_up: f64::from(p[3]),
                     normal: normals.get(4 * i..4 * i + 3).map_or(DVec3::ZERO, |n| vec(n).normalize_or_zero()),
+                    sun_visible: normals.get(4 * i + 3).map_or(1.0, |&v| f64::from(v)),
                 })
             })
             .collect();
@@ -120,27 +129,42 @@ impl GBuffer {
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
         let sky_sh = scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir));
-        let view =
-            ObjectView { camera, aspect: width as f32 / height as f32, light_dir, ambient: scene.ambient, sky_sh };
+        // The sun's shadow, placed as the surface pass places it.
+        let placed: Vec<(Aabb, bool)> = scene
+            .objects
+            .iter()
+            .filter_map(|o| Some((Aabb::of(&o.mesh.vertices)?.moved(o.model), o.casts_shadow)))
+            .collect();
+        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed)).flatten();
+        let size = if frame.is_some() { SHADOW_SIZE } else { 1 };
+        let shadow = parts.shadow.insert(ShadowMap::new(ctx, scene.objects.len(), size)?);
+        let view = ObjectView {
+            camera,
+            aspect: width as f32 / height as f32,
+            light_dir,
+            ambient: scene.ambient,
+            sky_sh,
+            shadow: ShadowFrame::uniforms(frame.as_ref(), size),
+        };
+        let mut all = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {
             parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;
             let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
             let mut uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms (g-buffer)"))?;
             let material = &scene.materials[object.material];
-            let u = SurfaceUniforms::new(
-                &view,
-                object.model,
-                orientation(material.orientation_deg),
-                material.pigment,
-                object.material,
-            );
+            let u = SurfaceUniforms::new(&view, object.model, &SurfaceMaterial::of(material), object.material);
+            all.push(u);
             let written = uniforms.write(bytemuck::bytes_of(&u));
             parts.uniforms.push(uniforms);
             written?;
         }
+        shadow.update(frame, &all)?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }];
+        let bindings = [
+            Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
+            ShadowMap::binding(vk::ShaderStageFlags::FRAGMENT),
+        ];
         for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
@@ -161,10 +185,13 @@ impl GBuffer {
         let mut out: [Vec<f32>; PARTS as usize] = Default::default();
         for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
             ctx.one_shot("g-buffer", |cmd| {
+                let casts = scene.objects.iter().map(|o| o.casts_shadow);
+                shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
-                    ctx.bind(cmd, pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
+                    let writes = [DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms), shadow.write()];
+                    ctx.bind(cmd, pipeline, &writes, &[]);
                     mesh.draw(ctx, cmd);
                 }
                 end_rendering(ctx, cmd);

@@ -8,6 +8,7 @@ pub mod diffraction;
 pub(crate) mod gbuffer;
 pub mod preview;
 pub mod profile;
+pub mod shadow;
 pub mod surface;
 #[cfg(feature = "cli")] // the viewer's
 pub(crate) mod window;
@@ -81,6 +82,9 @@ pub struct SceneView {
     pub sky_sh: [[f32; 4]; 9],
     /// One model matrix per object, in the order the renderer was built with.
     pub models: Vec<glam::Mat4>,
+    /// The sun's shadow: which objects cast one (in the same order; the others only receive); None: no shadow
+    /// map, every surface is lit.
+    pub shadow_casters: Option<Vec<bool>>,
     pub background: [f32; 4],
 }
 
@@ -99,6 +103,7 @@ impl SceneView {
             ambient: scene.ambient,
             sky_sh: scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir)),
             models: scene.objects.iter().map(|o| o.model).collect(),
+            shadow_casters: scene.shadows.then(|| scene.objects.iter().map(|o| o.casts_shadow).collect()),
             background: [r, g, b, 1.0],
         }
     }
@@ -282,20 +287,32 @@ pub(crate) fn begin_rendering(
     if let Some(depth) = &depth {
         info = info.depth_attachment(depth);
     }
+    // SAFETY: cmd is recording and the target's images are in attachment layouts.
+    unsafe { begin_rendering_info(ctx, cmd, &info, full.extent, area) };
+}
+
+/// Begins rendering `info` with a viewport over `extent` (depth 0–1) and the scissor `area`.
+///
+/// # Safety
+/// `cmd` is recording and `info`'s attachments are in their attachment layouts.
+pub(crate) unsafe fn begin_rendering_info(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    info: &vk::RenderingInfo<'_>,
+    extent: vk::Extent2D,
+    area: vk::Rect2D,
+) {
     let viewport = vk::Viewport {
         x: 0.0,
         y: 0.0,
-        width: full.extent.width as f32,
-        height: full.extent.height as f32,
+        width: extent.width as f32,
+        height: extent.height as f32,
         min_depth: 0.0,
         max_depth: 1.0,
     };
-    // SAFETY: cmd is recording and the target's images are in attachment layouts.
-    unsafe {
-        ctx.device().cmd_begin_rendering(cmd, &info);
-        ctx.device().cmd_set_viewport(cmd, 0, &[viewport]);
-        ctx.device().cmd_set_scissor(cmd, 0, &[area]);
-    }
+    ctx.device().cmd_begin_rendering(cmd, info);
+    ctx.device().cmd_set_viewport(cmd, 0, &[viewport]);
+    ctx.device().cmd_set_scissor(cmd, 0, &[area]);
 }
 
 pub(crate) fn end_rendering(ctx: &Context, cmd: vk::CommandBuffer) {

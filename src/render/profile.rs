@@ -323,7 +323,7 @@ impl<'a> SceneWorkload<'a> {
         let renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
         let mut renderer = Guard::new(ctx, renderer);
         let aspect = extent.width as f32 / extent.height as f32;
-        renderer.update(view, aspect)?;
+        renderer.update(ctx, view, aspect)?;
         Ok(renderer.keep())
     }
 }

@@ -12,6 +12,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use super::diffraction::{patch_bindings, PatchResources};
+use super::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
 use super::{
     begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
     DEPTH_FORMAT, LINEAR_FORMAT,
@@ -51,15 +52,21 @@ pub struct SurfaceUniforms {
     pub camera_pos: [f32; 4],
     /// World space, unit, towards the light.
     pub light_dir: [f32; 4],
-    /// cos and sin of the patch's rotation about the normal, the material's index (the G-buffer writes it), 0.
+    /// cos and sin of the patch's rotation about the normal, the material's index (the G-buffer writes it), and
+    /// 1 for a matte material (pigment only: no grating, no skin over it), else 0.
     pub orientation: [f32; 4],
     /// Linear RGB albedo of the pigment under the grating, and the ambient (sky) radiance.
     pub pigment: [f32; 4],
     /// The environment's irradiance over π, nine SH coefficients (RGB; `physics::sh`), in units of the sun's
     /// radiance: zero where the scene has no environment.
     pub sky_sh: [[f32; 4]; 9],
+    /// World → the sun's shadow map's clip space (`render::shadow::ShadowFrame`).
+    pub shadow_view_proj: [[f32; 4]; 4],
+    /// 1 where the map is drawn (0: every surface lit), the lookup's normal offset (world units), one texel in
+    /// texture coordinates, 0.
+    pub shadow: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 400);
+const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 480);
 
 /// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
 #[derive(Clone, Copy, Debug)]
@@ -71,12 +78,15 @@ pub struct ObjectView<'a> {
     pub ambient: f32,
     /// The environment's irradiance (`SurfaceUniforms::sky_sh`).
     pub sky_sh: [[f32; 4]; 9],
+    /// Where the sun's shadow map lies (`SurfaceUniforms::shadow_view_proj` and `shadow`).
+    pub shadow: ([[f32; 4]; 4], [f32; 4]),
 }
 
 impl SurfaceUniforms {
-    /// One object's uniforms: its model matrix, its material's orientation (cos, sin) and pigment, and the
-    /// material's index (`orientation.z`, which the G-buffer writes).
-    pub fn new(view: &ObjectView<'_>, model: Mat4, orientation: [f32; 2], pigment: [f32; 3], material: usize) -> Self {
+    /// One object's uniforms: its model matrix, its material's orientation (cos, sin) and pigment, the
+    /// material's index (`orientation.z`, which the G-buffer writes) and whether it is matte.
+    pub fn new(view: &ObjectView<'_>, model: Mat4, material: &SurfaceMaterial, index: usize) -> Self {
+        let SurfaceMaterial { orientation, pigment, matte } = *material;
         let normal = Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
         let [cos, sin] = orientation;
         let [r, g, b] = pigment;
@@ -86,10 +96,28 @@ impl SurfaceUniforms {
             normal_matrix: normal.to_cols_array_2d(),
             camera_pos: view.camera.position.extend(1.0).to_array(),
             light_dir: view.light_dir.normalize().extend(0.0).to_array(),
-            orientation: [cos, sin, material as f32, 0.0],
+            orientation: [cos, sin, index as f32, if matte { 1.0 } else { 0.0 }],
             pigment: [r, g, b, view.ambient],
             sky_sh: view.sky_sh,
+            shadow_view_proj: view.shadow.0,
+            shadow: view.shadow.1,
         }
+    }
+}
+
+/// How a material lies on its objects: the patch's rotation (cos, sin) about the normal, the pigment's linear
+/// RGB albedo, and whether it is matte (pigment only).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceMaterial {
+    pub orientation: [f32; 2],
+    pub pigment: [f32; 3],
+    pub matte: bool,
+}
+
+impl SurfaceMaterial {
+    /// A scene material's.
+    pub fn of(m: &crate::scene::SceneMaterial) -> Self {
+        Self { orientation: orientation(m.orientation_deg), pigment: m.pigment, matte: m.matte }
     }
 }
 
@@ -121,20 +149,23 @@ pub struct MaterialInput<'a> {
     pub orientation_deg: f32,
     /// Linear RGB albedo (0: no pigment, only diffraction).
     pub pigment: [f32; 3],
+    /// Pigment only, no grating and no skin (a ground): the material's diffraction is not drawn.
+    pub matte: bool,
 }
 
 struct MaterialGpu {
     pipeline: Pipeline,
     patch: PatchResources,
     params: crate::shading::DiffractionParams,
-    orientation: [f32; 2],
-    pigment: [f32; 3],
+    surface: SurfaceMaterial,
 }
 
 struct ObjectGpu {
     mesh: MeshBuffers,
     uniforms: Buffer,
     material: usize,
+    /// The mesh's own box (object space), which the shadow map is fitted to once placed.
+    bounds: Option<Aabb>,
 }
 
 /// Which build of the surface shader a renderer uses.
@@ -152,6 +183,10 @@ pub struct SceneRenderer {
     materials: Vec<MaterialGpu>,
     objects: Vec<ObjectGpu>,
     depth: Option<Pipeline>,
+    /// The sun's shadow map (1×1 and undrawn until a view asks for shadows).
+    shadow: Option<ShadowMap>,
+    /// Which objects cast a shadow in the current view (empty: none).
+    casters: Vec<bool>,
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
@@ -182,8 +217,16 @@ impl SceneRenderer {
         variant: SurfaceVariant,
         samples: vk::SampleCountFlags,
     ) -> Result<Self> {
-        let mut made =
-            Guard::new(ctx, Self { materials: Vec::new(), objects: Vec::new(), depth: None, counting: false, samples });
+        let empty = Self {
+            materials: Vec::new(),
+            objects: Vec::new(),
+            depth: None,
+            shadow: None,
+            casters: Vec::new(),
+            counting: false,
+            samples,
+        };
+        let mut made = Guard::new(ctx, empty);
         made.fill(ctx, materials, objects, color_format, variant)?;
         Ok(made.keep())
     }
@@ -214,7 +257,8 @@ impl SceneRenderer {
             samples: self.samples,
         })?);
         let [p, t, s] = patch_bindings(stages);
-        let mut bindings = vec![frame_binding, p, t, s];
+        let mut bindings = vec![frame_binding, p, t, s, ShadowMap::binding(vk::ShaderStageFlags::FRAGMENT)];
+        self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
         if self.counting {
             bindings.push(super::diffraction::count_binding());
@@ -250,8 +294,11 @@ impl SceneRenderer {
                 pipeline,
                 patch: patch.keep(),
                 params: input.material.params,
-                orientation: orientation(input.orientation_deg),
-                pigment: input.pigment,
+                surface: SurfaceMaterial {
+                    orientation: orientation(input.orientation_deg),
+                    pigment: input.pigment,
+                    matte: input.matte,
+                },
             });
         }
         for (i, &(mesh, material)) in objects.iter().enumerate() {
@@ -260,30 +307,56 @@ impl SceneRenderer {
                     "object {i} names material {material}, which does not exist"
                 )));
             }
+            let bounds = Aabb::of(&mesh.vertices);
             let mesh = Guard::new(ctx, MeshBuffers::new(ctx, mesh, &format!("object {i}"))?);
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;
             let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
             let uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms"))?;
-            self.objects.push(ObjectGpu { mesh: mesh.keep(), uniforms, material });
+            self.objects.push(ObjectGpu { mesh: mesh.keep(), uniforms, material, bounds });
         }
         Ok(())
     }
 
-    /// Writes every object's uniforms for `view` (its camera, light, sky and placements) at `aspect`; no submitted
+    /// Writes every object's uniforms for `view` (its camera, light, sky, placements and shadow casters) at
+    /// `aspect`, and places the shadow map (made full size the first time a view casts a shadow); no submitted
     /// work may still read them.
-    pub fn update(&mut self, view: &SceneView, aspect: f32) -> Result<()> {
+    pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<()> {
         let models = &view.models;
-        let view = ObjectView {
+        self.casters = match &view.shadow_casters {
+            Some(casts) => (0..self.objects.len()).map(|i| casts.get(i).copied().unwrap_or(true)).collect(),
+            None => Vec::new(),
+        };
+        let frame = view.shadow_casters.as_ref().and_then(|_| {
+            let placed: Vec<(Aabb, bool)> = (self.objects.iter().zip(models).zip(&self.casters))
+                .filter_map(|((o, m), &casts)| Some((o.bounds?.moved(*m), casts)))
+                .collect();
+            ShadowFrame::of_objects(view.light_dir, &placed)
+        });
+        if frame.is_some() && self.shadow.as_ref().is_some_and(|s| s.size() != SHADOW_SIZE) {
+            let full = ShadowMap::new(ctx, self.objects.len(), SHADOW_SIZE)?;
+            if let Some(old) = self.shadow.replace(full) {
+                // SAFETY: the caller promises no submitted work still uses this renderer's resources.
+                unsafe { old.destroy(ctx) };
+            }
+        }
+        let size = self.shadow.as_ref().map_or(1, ShadowMap::size);
+        let object_view = ObjectView {
             camera: &view.camera,
             aspect,
             light_dir: view.light_dir,
             ambient: view.ambient,
             sky_sh: view.sky_sh,
+            shadow: ShadowFrame::uniforms(frame.as_ref(), size),
         };
+        let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(models) {
             let material = &self.materials[object.material];
-            let u = SurfaceUniforms::new(&view, *model, material.orientation, material.pigment, object.material);
+            let u = SurfaceUniforms::new(&object_view, *model, &material.surface, object.material);
             object.uniforms.write(bytemuck::bytes_of(&u))?;
+            all.push(u);
+        }
+        if let Some(shadow) = &mut self.shadow {
+            shadow.update(frame, &all)?;
         }
         Ok(())
     }
@@ -316,6 +389,12 @@ impl SceneRenderer {
         let Instruments { counts, statistics, laps } = instruments;
         debug_assert_eq!(self.counting, counts.is_some(), "a counting renderer takes counters, and only it");
         debug_assert_eq!(self.samples, target.samples, "the renderer's pipelines are built for the target's samples");
+        let shadow = self.shadow.as_ref().expect("a filled renderer has a shadow map");
+        shadow.record(
+            ctx,
+            cmd,
+            self.objects.iter().enumerate().map(|(i, o)| (&o.mesh, self.casters.get(i) == Some(&true))),
+        );
         begin_rendering(ctx, cmd, target, background, None);
         if let Some(depth) = &self.depth {
             ctx.begin_label(cmd, pass::DEPTH);
@@ -333,7 +412,8 @@ impl SceneRenderer {
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
-            let mut writes = vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s];
+            let mut writes =
+                vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s, shadow.write()];
             if let Some(counts) = counts.filter(|_| self.counting) {
                 writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
             }
@@ -364,6 +444,9 @@ impl SceneRenderer {
     pub unsafe fn destroy(self, ctx: &Context) {
         if let Some(depth) = self.depth {
             depth.destroy(ctx);
+        }
+        if let Some(shadow) = self.shadow {
+            shadow.destroy(ctx);
         }
         for m in self.materials {
             m.pipeline.destroy(ctx);
@@ -448,11 +531,11 @@ pub fn render_surface(
     display_output: bool,
 ) -> Result<Frame> {
     let format = OffscreenFrames::format(display_output);
-    let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3] }];
+    let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3], matte: false }];
     let one = vk::SampleCountFlags::TYPE_1;
     let mut renderer = Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &[(mesh, 0)], format, display_output, one)?);
     let frames = Guard::new(ctx, OffscreenFrames::new(ctx, width, height, display_output, one)?);
-    renderer.update(view, width as f32 / height as f32)?;
+    renderer.update(ctx, view, width as f32 / height as f32)?;
     frames.render(ctx, &renderer, view.background)
 }
 

@@ -47,6 +47,8 @@ pub const BINDING_QUERIES: u32 = 5;
 pub const BINDING_RESULTS: u32 = 6;
 /// `map.comp`'s storage image (the map written by a compute shader).
 pub const BINDING_MAP_IMAGE: u32 = 7;
+/// The sun's shadow map (a depth-comparison sampler: `render::shadow`).
+pub const BINDING_SHADOW: u32 = 8;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;
@@ -67,6 +69,9 @@ pub const APPROACH_BAKED: u32 = 4;
 pub const SKIN_INDEX: f64 = 1.5;
 /// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
 pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
+/// The largest factor a shadow lookup's normal offset grows by as the light grazes a surface (1/cos θ_i up to
+/// this; `render::shadow`).
+pub const SHADOW_MAX_OFFSET_GROWTH: f64 = 4.0;
 /// How much finer than a pixel's footprint F the baked table's mip level is chosen, log2 √3 (see
 /// `physics::baked::sample::FOOTPRINT_LOD_BIAS`).
 pub const FOOTPRINT_LOD_BIAS: f64 = 0.792_481_250_360_578_1;

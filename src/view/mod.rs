@@ -636,7 +636,7 @@ impl State {
         let light = self.live.light();
         let view = SceneView::lit(scene, self.live.camera(&scene.camera), light);
         let extent = frame.extent();
-        gpu.renderer.update(&view, extent.width as f32 / extent.height as f32)?;
+        gpu.renderer.update(ctx, &view, extent.width as f32 / extent.height as f32)?;
         let exposure = self.live.exposure_scale();
         if self.live.map_mode {
             // The map shows the first object's material as a horizontal patch with its x axis along the world's x:

@@ -54,6 +54,12 @@ impl ImageDesc {
         }
     }
 
+    /// A depth map drawn by one pass and sampled (with comparison) by a later one: the shadow map.
+    pub fn sampled_depth(width: u32, height: u32) -> Self {
+        let usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        Self { usage, ..Self::depth(width, height) }
+    }
+
     /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
     pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
         let usage =
@@ -313,6 +319,40 @@ impl Context {
         )))
     }
 
+    /// A depth-comparison sampler (`sampler2DShadow`): a reference depth passes where it is at most the stored
+    /// one (LESS_OR_EQUAL), filtered bilinearly where the device filters D32 (four texels' results averaged),
+    /// and outside the map the border's depth 1 lets everything pass (what the map does not cover is lit).
+    pub fn create_shadow_sampler(&self, name: &str) -> Result<Sampler> {
+        let filter =
+            if self.filters_linearly(vk::Format::D32_SFLOAT) { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
+        let info = vk::SamplerCreateInfo::default()
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .compare_enable(true)
+            .compare_op(vk::CompareOp::LESS_OR_EQUAL)
+            .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE);
+        self.sampler(info, filter, vk::SamplerAddressMode::CLAMP_TO_BORDER, name)
+    }
+
+    /// `info` filtering by `filter` and addressing by `address` on every axis, named.
+    fn sampler(
+        &self,
+        info: vk::SamplerCreateInfo<'_>,
+        filter: vk::Filter,
+        address: vk::SamplerAddressMode,
+        name: &str,
+    ) -> Result<Sampler> {
+        let info = info
+            .mag_filter(filter)
+            .min_filter(filter)
+            .address_mode_u(address)
+            .address_mode_v(address)
+            .address_mode_w(address);
+        // SAFETY: a plain create on a live device.
+        let raw = unsafe { self.device().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        self.set_name(raw, name);
+        Ok(Sampler { raw })
+    }
+
     /// A nearest-filtering, edge-clamped sampler (diffract reads exact texels with `texelFetch`).
     pub fn create_sampler(&self, name: &str) -> Result<Sampler> {
         self.create_filtered_sampler(name, false)
@@ -326,17 +366,7 @@ impl Context {
         } else {
             (vk::Filter::NEAREST, vk::SamplerMipmapMode::NEAREST)
         };
-        let info = vk::SamplerCreateInfo::default()
-            .mag_filter(filter)
-            .min_filter(filter)
-            .mipmap_mode(mip)
-            .max_lod(vk::LOD_CLAMP_NONE)
-            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
-        // SAFETY: a plain create on a live device.
-        let raw = unsafe { self.device().create_sampler(&info, None) }.vk("vkCreateSampler")?;
-        self.set_name(raw, name);
-        Ok(Sampler { raw })
+        let info = vk::SamplerCreateInfo::default().mipmap_mode(mip).max_lod(vk::LOD_CLAMP_NONE);
+        self.sampler(info, filter, vk::SamplerAddressMode::CLAMP_TO_EDGE, name)
     }
 }

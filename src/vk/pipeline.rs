@@ -89,6 +89,7 @@ pub struct GraphicsPipelineDesc<'a> {
     /// Stride of the vertex buffer; 0 means no vertex input (a full-screen triangle).
     pub vertex_stride: u32,
     pub vertex_attributes: &'a [VertexAttribute],
+    /// UNDEFINED: no colour attachment (a depth-only pass such as the shadow map's).
     pub color_format: vk::Format,
     /// The depth attachment's format and how it is tested, if there is one.
     pub depth: Option<(vk::Format, DepthTest)>,
@@ -244,13 +245,19 @@ impl Context {
         let depth = depth_state(test);
         let writes =
             if desc.fragment.is_some() { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
+        // A depth-only target (`color_format` UNDEFINED, the shadow map) has no colour attachment at all.
+        let colorless = desc.color_format == vk::Format::UNDEFINED;
         let blend_attachment = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes)];
-        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachment);
+        let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(if colorless {
+            &[]
+        } else {
+            &blend_attachment
+        });
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let color_formats = [desc.color_format];
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(&color_formats)
+            .color_attachment_formats(if colorless { &[] } else { &color_formats })
             .depth_attachment_format(depth_format.unwrap_or(vk::Format::UNDEFINED));
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&shader_stages)

@@ -5,6 +5,7 @@ mod diffraction;
 mod golden;
 mod harness;
 mod scenes;
+mod shadow;
 mod surface;
 
 use diffract::render::preview::{render_offscreen, PreviewScene};

@@ -35,6 +35,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
         ambient: 0.0,
         sky_sh: [[0.0; 4]; 9],
         models: vec![glam::Mat4::IDENTITY],
+        shadow_casters: None,
         background: [0.0, 0.0, 0.0, 1.0],
     };
     (mesh, view)
@@ -121,11 +122,11 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
     let render = |tangent_deg: f32, orientation_deg: f32| {
         let (mesh, sc) = scene(tangent_deg, 1.0);
         gpu_test(|ctx| {
-            let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3] }];
+            let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3], matte: false }];
             let mut renderer =
                 SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
             let frames = OffscreenFrames::new(ctx, w, h, false, ONE).unwrap();
-            renderer.update(&sc, w as f32 / h as f32).unwrap();
+            renderer.update(ctx, &sc, w as f32 / h as f32).unwrap();
             let frame = frames.render(ctx, &renderer, sc.background).unwrap();
             // SAFETY: render waited.
             unsafe {
@@ -166,11 +167,11 @@ fn silhouette(samples: u32, material: &Material) -> (diffract::render::Frame, u3
     sc.ambient = 1.0; // lit by the sky alone
     let linear = gpu_test(|ctx| {
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
-        let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.5, 0.5, 0.5] }];
+        let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.5, 0.5, 0.5], matte: false }];
         let format = OffscreenFrames::format(false);
         let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], format, false, samples).unwrap();
         let frames = OffscreenFrames::new(ctx, w, h, false, samples).unwrap();
-        renderer.update(&sc, 1.0).unwrap();
+        renderer.update(ctx, &sc, 1.0).unwrap();
         let frame = frames.render(ctx, &renderer, sc.background).unwrap();
         // SAFETY: render waited.
         unsafe {

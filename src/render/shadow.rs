@@ -1,0 +1,302 @@
+//! The sun's shadow: a depth map drawn from the light, read by the surface pass (and the G-buffer) to tell
+//! which surfaces the sun reaches.
+//!
+//! The light is a direction (the sun), so the map is an orthographic view along −`light_dir`, fitted each frame
+//! ([`ShadowFrame::fit`]) to the objects that cast shadows — the ground does not: fitted to a 100 m plane a
+//! snake's shadow would be a few texels — and deep enough to hold every object that receives one. A point the
+//! map does not cover is lit (the sampler's border passes every comparison).
+//!
+//! Reading it (`sun_visibility` in glsl/include/shadow.glsl): the point, pushed off its surface along the
+//! normal by [`NORMAL_OFFSET_TEXELS`] texels (more as the light grazes it) so that a surface does not shadow
+//! itself ("acne"), is compared with 3×3 bilinear comparison taps (percentage-closer filtering, a soft edge
+//! about three texels wide). The sun's disc (0.53°) would blur a shadow's edge by its distance to the caster
+//! times 0.0093; the filter is a fixed width instead (stated, not modelled).
+
+use ash::vk;
+use glam::{Mat4, Vec3};
+
+use super::MeshBuffers;
+use crate::error::Result;
+use crate::mesh::Vertex;
+use crate::shaders;
+use crate::shaders::interface::{BINDING_FRAME, BINDING_SHADOW};
+use crate::vk::{
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Pipeline, Sampler,
+};
+
+/// Texels along each edge of the shadow map (D32: 16 MiB).
+pub const SHADOW_SIZE: u32 = 2048;
+/// How far a point is pushed along its normal before it is looked up, in shadow-map texels (at normal
+/// incidence; divided by cos θ_i up to [`MAX_OFFSET_GROWTH`] as the light grazes it).
+pub const NORMAL_OFFSET_TEXELS: f32 = 1.5;
+/// The largest factor the normal offset grows by at grazing light (surface.vert reads the same number).
+pub const MAX_OFFSET_GROWTH: f32 = crate::shaders::interface::SHADOW_MAX_OFFSET_GROWTH as f32;
+/// The pass's name (labels, timings).
+pub const NAME: &str = "shadow map";
+
+/// A world-space box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The box of a mesh's vertices (None without any).
+    pub fn of(vertices: &[Vertex]) -> Option<Self> {
+        vertices.first()?;
+        Some(Self::around(vertices.iter().map(|v| Vec3::from(v.position))))
+    }
+
+    /// The box around this one's corners moved by `model`.
+    pub fn moved(&self, model: Mat4) -> Self {
+        Self::around(self.corners().map(|c| model.transform_point3(c)))
+    }
+
+    fn around(points: impl IntoIterator<Item = Vec3>) -> Self {
+        let mut it = points.into_iter();
+        let first = it.next().unwrap_or(Vec3::ZERO);
+        let (min, max) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        Self { min, max }
+    }
+
+    fn corners(&self) -> [Vec3; 8] {
+        corners(self.min, self.max)
+    }
+}
+
+fn corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// Where a frame's shadow map lies: the light's view-projection (world → the map's clip space, depth 0 at the
+/// light's side) and the width of one of its texels in the world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowFrame {
+    pub view_proj: Mat4,
+    pub texel_world: f32,
+}
+
+impl ShadowFrame {
+    /// The map for a sun towards `light_dir` (world, unit) fitted across its rays to `casters` (with a margin of
+    /// two texels for the filter) and along them from the nearest caster to the farthest of `receivers` (which
+    /// should include the casters); None without casters.
+    pub fn fit(light_dir: Vec3, casters: &[Aabb], receivers: &[Aabb], size: u32) -> Option<Self> {
+        let dir = light_dir.try_normalize()?;
+        let up = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::Z };
+        // Looking from the light down its rays, from the origin (the box is found in this view's coordinates).
+        let view = crate::camera::look_at(Vec3::ZERO, -dir, up);
+        let in_view =
+            |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()).map(|c| view.transform_point3(c)));
+        if casters.is_empty() {
+            return None;
+        }
+        let cast = in_view(casters);
+        let all = in_view(receivers).union(&cast);
+        // Square texels: the wider side sets the size; two texels of margin each side for the 3×3 filter.
+        let side = (cast.max.x - cast.min.x).max(cast.max.y - cast.min.y).max(1e-6);
+        let texel = side / (size as f32 - 4.0).max(1.0);
+        let half = 0.5 * side + 2.0 * texel;
+        let centre = 0.5 * (cast.min + cast.max);
+        // The view looks down −z: the nearest caster has the largest z; the far plane lies past every receiver.
+        let depth = (all.max.z - all.min.z).max(1e-6);
+        let (near, far) = (-cast.max.z - 0.01 * depth, -all.min.z + 0.01 * depth);
+        let proj = orthographic(centre.x - half, centre.x + half, centre.y - half, centre.y + half, near, far);
+        Some(Self { view_proj: proj * view, texel_world: 2.0 * half / size as f32 })
+    }
+
+    /// The map for objects placed in `boxes` (world; whether each casts), or None where nothing casts.
+    pub fn of_objects(light_dir: Vec3, boxes: &[(Aabb, bool)]) -> Option<Self> {
+        let casters: Vec<Aabb> = boxes.iter().filter(|b| b.1).map(|b| b.0).collect();
+        let receivers: Vec<Aabb> = boxes.iter().map(|b| b.0).collect();
+        Self::fit(light_dir, &casters, &receivers, SHADOW_SIZE)
+    }
+
+    /// The surface uniforms' `shadow_view_proj` and `shadow` (on, normal offset in world units, the map's texel
+    /// in texture coordinates, 0).
+    pub fn uniforms(frame: Option<&Self>, size: u32) -> ([[f32; 4]; 4], [f32; 4]) {
+        match frame {
+            Some(f) => {
+                (f.view_proj.to_cols_array_2d(), [1.0, NORMAL_OFFSET_TEXELS * f.texel_world, 1.0 / size as f32, 0.0])
+            }
+            None => (Mat4::IDENTITY.to_cols_array_2d(), [0.0; 4]),
+        }
+    }
+}
+
+/// Orthographic projection of the view box x ∈ [l, r], y ∈ [b, t], z ∈ [−far, −near] (looking down −z) to
+/// Vulkan's clip space: x, y to [−1, 1], depth 0 at the near plane and 1 at the far one.
+fn orthographic(l: f32, r: f32, b: f32, t: f32, near: f32, far: f32) -> Mat4 {
+    Mat4::from_cols(
+        glam::Vec4::new(2.0 / (r - l), 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, 2.0 / (t - b), 0.0, 0.0),
+        glam::Vec4::new(0.0, 0.0, -1.0 / (far - near), 0.0),
+        glam::Vec4::new(-(r + l) / (r - l), -(t + b) / (t - b), -near / (far - near), 1.0),
+    )
+}
+
+impl Aabb {
+    fn union(&self, other: &Self) -> Self {
+        Self { min: self.min.min(other.min), max: self.max.max(other.max) }
+    }
+}
+
+/// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
+/// always have something bound), the comparison sampler, the depth-only pipeline and one uniform buffer per
+/// object (the surface uniforms with the light's view-projection).
+pub struct ShadowMap {
+    image: Image,
+    sampler: Sampler,
+    pipeline: Pipeline,
+    uniforms: Vec<Buffer>,
+    /// This frame's placement; None: nothing is drawn and every surface is lit.
+    frame: Option<ShadowFrame>,
+}
+
+impl ShadowMap {
+    /// The binding the surface and G-buffer pipelines read it at.
+    pub fn binding(stages: vk::ShaderStageFlags) -> Binding {
+        Binding { binding: BINDING_SHADOW, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }
+    }
+
+    /// A map for `objects` objects, `size` texels square (1 while there is no shadow to draw).
+    pub fn new(ctx: &Context, objects: usize, size: u32) -> Result<Self> {
+        let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(size, size), NAME)?);
+        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME)?);
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let pipeline = Guard::new(
+            ctx,
+            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: NAME,
+                vertex: shaders::SURFACE_VERT,
+                fragment: None,
+                specialization: crate::vk::SpecConstants::default(),
+                bindings: &[Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }],
+                push_constant_size: 0,
+                vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                vertex_attributes: &super::surface::VERTEX_ATTRIBUTES,
+                color_format: vk::Format::UNDEFINED,
+                depth: Some((super::DEPTH_FORMAT, DepthTest::Write)),
+                cull_back_faces: false,
+                samples: vk::SampleCountFlags::TYPE_1,
+            })?,
+        );
+        let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));
+        for i in 0..objects {
+            let size = std::mem::size_of::<super::surface::SurfaceUniforms>() as u64;
+            let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
+            uniforms.push(ctx.create_buffer(desc, &format!("object {i} uniforms (shadow map)"))?);
+        }
+        Ok(Self {
+            image: image.keep(),
+            sampler: sampler.keep(),
+            pipeline: pipeline.keep(),
+            uniforms: uniforms.keep(),
+            frame: None,
+        })
+    }
+
+    /// Texels along an edge.
+    pub fn size(&self) -> u32 {
+        self.image.extent().width
+    }
+
+    /// This frame's placement (None: no shadow).
+    pub fn frame(&self) -> Option<&ShadowFrame> {
+        self.frame.as_ref()
+    }
+
+    /// Places the map for this frame and writes each object's uniforms for the shadow pass (`objects`: the
+    /// surface pass's, whose view-projection is replaced by the light's); no submitted work may still read them.
+    pub fn update(&mut self, frame: Option<ShadowFrame>, objects: &[super::surface::SurfaceUniforms]) -> Result<()> {
+        self.frame = frame;
+        if let Some(f) = frame {
+            for (buffer, u) in self.uniforms.iter_mut().zip(objects) {
+                let u = super::surface::SurfaceUniforms { view_proj: f.view_proj.to_cols_array_2d(), ..*u };
+                buffer.write(bytemuck::bytes_of(&u))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Records the map (cleared; `meshes` that cast, drawn from the light when there is a frame) and leaves it
+    /// ready for the fragment shaders to sample.
+    pub(crate) fn record<'a>(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        meshes: impl Iterator<Item = (&'a MeshBuffers, bool)>,
+    ) {
+        ctx.begin_label(cmd, NAME);
+        ctx.barrier_image(cmd, &self.image, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        let extent = self.image.extent();
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(self.image.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let info = vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&depth);
+        // SAFETY: cmd is recording; the image is in the depth-attachment layout.
+        unsafe { super::begin_rendering_info(ctx, cmd, &info, extent, area) };
+        if self.frame.is_some() {
+            for ((mesh, casts), uniforms) in meshes.zip(&self.uniforms) {
+                if casts {
+                    ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
+                    mesh.draw(ctx, cmd);
+                }
+            }
+        }
+        super::end_rendering(ctx, cmd);
+        ctx.barrier_image(cmd, &self.image, ImageState::DEPTH_ATTACHMENT, ImageState::SHADER_READ);
+        ctx.end_label(cmd);
+    }
+
+    /// The descriptor that binds it for reading.
+    pub fn write(&self) -> DescriptorWrite<'_> {
+        DescriptorWrite::SampledImage(BINDING_SHADOW, &self.image, &self.sampler)
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.image.destroy(ctx);
+        self.sampler.destroy(ctx);
+        self.pipeline.destroy(ctx);
+        self.uniforms.into_iter().for_each(|b| b.destroy(ctx));
+    }
+}
+
+crate::impl_destroy!(ShadowMap);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_fit_holds_the_casters_and_reaches_past_the_receivers() {
+        let ball = Aabb { min: Vec3::new(-1.0, 0.5, -1.0), max: Vec3::new(1.0, 2.5, 1.0) };
+        let ground = Aabb { min: Vec3::new(-50.0, 0.0, -50.0), max: Vec3::new(50.0, 0.0, 50.0) };
+        let light = Vec3::new(0.3, 1.0, 0.2).normalize();
+        let f = ShadowFrame::fit(light, &[ball], &[ball, ground], 256).unwrap();
+        let clip = |p: Vec3| f.view_proj.project_point3(p);
+        for c in ball.corners() {
+            let q = clip(c);
+            assert!(q.x.abs() < 1.0 && q.y.abs() < 1.0 && (0.0..=1.0).contains(&q.z), "{c} → {q}");
+        }
+        // The ground under the ball lies deeper than the ball, within the depth range.
+        let (top, below) = (clip(Vec3::new(0.0, 2.5, 0.0)), clip(Vec3::ZERO));
+        assert!(top.z < below.z && below.z <= 1.0, "{top} {below}");
+        // Texels square and about side/size wide: the ball's box across the rays is under 4 units.
+        assert!(f.texel_world > 0.0 && f.texel_world < 4.0 / 250.0, "{}", f.texel_world);
+        assert!(ShadowFrame::fit(light, &[], &[ground], 256).is_none());
+    }
+}
