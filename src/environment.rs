@@ -12,6 +12,8 @@
 //! than a texel lands in the texel that holds its centre), and below the horizon a uniform Lambertian ground of
 //! the given albedo lit by that sun and sky.
 
+use std::path::Path;
+
 use glam::DVec3;
 
 use crate::error::{Error, Result};
@@ -21,6 +23,11 @@ use crate::physics::spectrum::xyz_to_linear_srgb;
 
 /// The widest map accepted (16384×8192 texels, 1.5 GiB of f32 RGB).
 pub const MAX_WIDTH: u32 = 16384;
+/// The widest map a scene may load from a file (8192×4096 texels: 384 MiB of f32 RGB, 512 MiB as the GPU's
+/// RGBA).
+pub const MAX_FILE_WIDTH: u32 = 8192;
+/// The largest environment file read, bytes (an uncompressed 8192×4096 f32 RGBA EXR with its header).
+pub const MAX_FILE_BYTES: u64 = 600 << 20;
 /// Sub-samples per axis a texel beside the sun is split into to find how much of the disc it covers.
 const SUN_SUBSAMPLES: u32 = 16;
 /// Rings of the quadrature that gives the ground its illuminance.
@@ -54,7 +61,102 @@ pub fn texel_solid_angle(row: u32, width: u32) -> f64 {
 }
 
 impl EnvironmentMap {
-    /// The clear sky `sky` as a `width`×`width/2` map over a ground of `ground_albedo` (0–1).
+    /// Loads an equirectangular HDR map from an OpenEXR (`.exr`) or Radiance (`.hdr`) file: linear RGB (alpha
+    /// dropped). Refused, in one line: another extension, an unreadable file, a map that is not twice as wide
+    /// as high, narrower than 8 or wider than [`MAX_FILE_WIDTH`] texels, or with a texel that is not a finite,
+    /// non-negative number (the first one is named).
+    pub fn load(path: &Path) -> Result<Self> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let format = match ext.as_deref() {
+            Some("exr") => image::ImageFormat::OpenExr,
+            Some("hdr") => image::ImageFormat::Hdr,
+            _ => return Err(Error::input(path, "is not an environment map: expected a .exr or .hdr file")),
+        };
+        let bytes = crate::input::read(path, MAX_FILE_BYTES, "environment")?;
+        let mut reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_FILE_WIDTH);
+        limits.max_image_height = Some(MAX_FILE_WIDTH / 2);
+        limits.max_alloc = Some(1 << 30);
+        reader.limits(limits.clone());
+        let (width, height) = reader.into_dimensions().map_err(|e| match e {
+            image::ImageError::Limits(_) => Error::input(
+                path,
+                format!(
+                    "is larger than the {MAX_FILE_WIDTH}×{} texels an environment map may have",
+                    MAX_FILE_WIDTH / 2
+                ),
+            ),
+            e => Error::input(path, format!("cannot be read as {format:?}: {e}")),
+        })?;
+        Self::check_shape(width, height).map_err(|e| Error::input(path, e))?;
+        let mut reader = image::ImageReader::with_format(std::io::Cursor::new(&bytes), format);
+        reader.limits(limits);
+        let decoded = reader.decode().map_err(|e| Error::input(path, format!("cannot be decoded: {e}")))?;
+        let rgb: Vec<[f32; 3]> = decoded.into_rgb32f().pixels().map(|p| p.0).collect();
+        let map = Self { width, height, rgb };
+        map.check_texels().map_err(|e| Error::input(path, e))?;
+        Ok(map)
+    }
+
+    /// Equirectangular: twice as wide as high, 8 to [`MAX_FILE_WIDTH`] texels wide.
+    fn check_shape(width: u32, height: u32) -> std::result::Result<(), String> {
+        if width != 2 * height {
+            return Err(format!(
+                "is {width}×{height} texels: an equirectangular (latitude–longitude) map is twice as wide as high"
+            ));
+        }
+        if !(8..=MAX_FILE_WIDTH).contains(&width) {
+            return Err(format!("is {width} texels wide: an environment map may be 8 to {MAX_FILE_WIDTH} wide"));
+        }
+        Ok(())
+    }
+
+    /// Every texel a finite, non-negative radiance.
+    fn check_texels(&self) -> std::result::Result<(), String> {
+        let bad = |c: f32| !(c.is_finite() && c >= 0.0);
+        let count = self.rgb.iter().filter(|t| t.iter().any(|&c| bad(c))).count();
+        match self.rgb.iter().position(|t| t.iter().any(|&c| bad(c))) {
+            None => Ok(()),
+            Some(i) => {
+                let (x, y) = (i as u32 % self.width, i as u32 / self.width);
+                Err(format!(
+                    "has {count} texel(s) that are not finite, non-negative radiances, the first at ({x}, {y}): {:?}",
+                    self.rgb[i]
+                ))
+            }
+        }
+    }
+
+    /// The largest texel luminance, and the direction of its texel's centre.
+    pub fn brightest(&self) -> (f64, DVec3) {
+        let (i, y) = self
+            .rgb
+            .iter()
+            .map(|&t| crate::exposure::luminance(t))
+            .enumerate()
+            .fold((0, f64::MIN), |best, (i, y)| if y > best.1 { (i, y) } else { best });
+        let (x, row) = (i as u32 % self.width, i as u32 / self.width);
+        (y, direction_at(f64::from(x) + 0.5, f64::from(row) + 0.5, self.width))
+    }
+
+    /// The map's irradiance (E/π, nine SH coefficients, linear RGB) with its radiance times `scale` and turned
+    /// by `rotation_deg` about +y (a texel at azimuth φ lights from φ + rotation): every texel counted at its
+    /// centre with its solid angle.
+    pub fn irradiance(&self, scale: f64, rotation_deg: f64) -> crate::physics::sh::Irradiance {
+        let turn = glam::DQuat::from_rotation_y(rotation_deg.to_radians());
+        let cells = (0..self.height).flat_map(move |row| {
+            let omega = texel_solid_angle(row, self.width);
+            (0..self.width).map(move |x| {
+                let dir = turn * direction_at(f64::from(x) + 0.5, f64::from(row) + 0.5, self.width);
+                let [r, g, b] = self.rgb[(row * self.width + x) as usize].map(f64::from);
+                (dir, omega, DVec3::new(r, g, b) * scale)
+            })
+        });
+        crate::physics::sh::Irradiance::of_cells(cells)
+    }
+
+    /// The clear sky `sky` without its sun as a `width`×`width/2` map over a ground of `ground_albedo` (0–1).
     pub fn of_sky(sky: &Sky, width: u32, ground_albedo: f64) -> Result<Self> {
         if width < 8 || width % 2 != 0 || width > MAX_WIDTH {
             return Err(Error::Invalid(format!(
@@ -69,15 +171,28 @@ impl EnvironmentMap {
         }
         let height = width / 2;
         let light = sky_light(sky, ground_albedo);
-        let mut xyz: Vec<DVec3> = (0..height)
+        let xyz: Vec<DVec3> = (0..height)
             .flat_map(|y| (0..width).map(move |x| (x, y)))
             .map(|(x, y)| light(direction_at(f64::from(x) + 0.5, f64::from(y) + 0.5, width)))
             .collect();
+        Ok(Self::from_xyz(width, xyz))
+    }
+
+    /// [`Self::of_sky`] with the sun's disc added to the texels it covers (its energy kept exactly).
+    pub fn of_sky_and_sun(sky: &Sky, width: u32, ground_albedo: f64) -> Result<Self> {
+        let mut map = Self::of_sky(sky, width, ground_albedo)?;
+        let sun = xyz_to_linear_srgb(sky.sun_xyz()).as_vec3().to_array();
         for (i, weight) in sun_weights(sky.sun, width) {
-            xyz[i] += sky.sun_xyz() * weight;
+            for (t, s) in map.rgb[i].iter_mut().zip(sun) {
+                *t += s * weight as f32;
+            }
         }
+        Ok(map)
+    }
+
+    fn from_xyz(width: u32, xyz: Vec<DVec3>) -> Self {
         let rgb = xyz.iter().map(|&v| xyz_to_linear_srgb(v).as_vec3().to_array()).collect();
-        Ok(Self { width, height, rgb })
+        Self { width, height: width / 2, rgb }
     }
 
     /// The illuminance (lux, the luminance-weighted sum) the map's upper half gives a horizontal surface.
@@ -192,7 +307,7 @@ mod tests {
             let weights = sun_weights(sky.sun, width);
             let omega: f64 = weights.iter().map(|&(i, w)| w * texel_solid_angle(i as u32 / width, width)).sum();
             assert!((omega / SUN_SOLID_ANGLE - 1.0).abs() < 1e-12, "{width}: {omega}");
-            let map = EnvironmentMap::of_sky(&sky, width, 0.0).unwrap();
+            let map = EnvironmentMap::of_sky_and_sun(&sky, width, 0.0).unwrap();
             let (sun, sky_lux) = sky.horizontal_illuminance(GROUND_RINGS);
             let lux = map.horizontal_illuminance();
             let tolerance = if width >= 512 { 0.01 } else { 0.05 };
@@ -203,7 +318,7 @@ mod tests {
             );
         }
         let sky = Sky::at(2.0, 45.0, 0.0).unwrap();
-        let map = EnvironmentMap::of_sky(&sky, 64, 0.2).unwrap();
+        let map = EnvironmentMap::of_sky_and_sun(&sky, 64, 0.2).unwrap();
         let (sun, sky_lux) = sky.horizontal_illuminance(GROUND_RINGS);
         let [r, g, b] = map.rgb[map.rgb.len() - 1].map(f64::from);
         let ground = 0.2126 * r + 0.7152 * g + 0.0722 * b;
@@ -231,6 +346,75 @@ mod tests {
                 assert!(rel < tolerance, "T {t}, sun {elevation}°, normal {n:.2}: {rel:.3e}");
             }
         }
+    }
+
+    /// A scratch folder for this test process.
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("diffract-env-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn write(path: &Path, width: u32, height: u32, rgb: &[[f32; 3]]) {
+        let rgba: Vec<f32> = rgb.iter().flat_map(|&[r, g, b]| [r, g, b, 1.0]).collect();
+        crate::output::write_exr_rgb(path, width, height, &rgba).unwrap();
+    }
+
+    /// A map read back is the map written; its irradiance is that of a uniform map (E/π = L·scale at every
+    /// normal, to the quadrature's 1e-3) and turns with it (light from the +z half lights +x after a 90° turn).
+    #[test]
+    fn maps_load_and_light_by_their_texels() {
+        let dir = scratch("load");
+        let path = dir.join("map.exr");
+        let rgb: Vec<[f32; 3]> = (0..32 * 16).map(|i| [i as f32, 0.5, 2.0]).collect();
+        write(&path, 32, 16, &rgb);
+        let map = EnvironmentMap::load(&path).unwrap();
+        assert_eq!((map.width, map.height, &map.rgb), (32, 16, &rgb));
+        let uniform = EnvironmentMap { width: 64, height: 32, rgb: vec![[1.0, 0.5, 0.25]; 64 * 32] };
+        let e = uniform.irradiance(2.0, 37.0);
+        for n in [DVec3::Y, -DVec3::Y, DVec3::X, DVec3::new(0.3, -0.5, 0.81).normalize()] {
+            // Texel centres stand for their rows: the quadratic harmonics sum to zero within 5e-4 at 32 rows.
+            assert!((e.over_pi(n) - DVec3::new(2.0, 1.0, 0.5)).length() < 2e-3, "{n}: {}", e.over_pi(n));
+        }
+        // Bright where the azimuth is within 90° of +z (columns 16–47 of 64).
+        let front = EnvironmentMap {
+            width: 64,
+            height: 32,
+            rgb: (0..64 * 32).map(|i| if (16..48).contains(&(i % 64)) { [1.0; 3] } else { [0.0; 3] }).collect(),
+        };
+        let (still, turned) = (front.irradiance(1.0, 0.0), front.irradiance(1.0, 90.0));
+        assert!(still.over_pi(DVec3::Z).x > 0.8 && still.over_pi(-DVec3::Z).x < 0.2);
+        assert!((turned.over_pi(DVec3::X).x - still.over_pi(DVec3::Z).x).abs() < 1e-9);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// One line for each way a map can be wrong: its extension, its shape, its size, its texels.
+    #[test]
+    fn bad_maps_are_refused_in_one_line() {
+        let dir = scratch("bad");
+        let refused = |name: &str, needle: &str| {
+            let e = EnvironmentMap::load(&dir.join(name)).unwrap_err().to_string();
+            assert!(e.contains(needle) && !e.contains('\n'), "{name}: {e}");
+        };
+        std::fs::write(dir.join("map.png"), b"not a map").unwrap();
+        refused("map.png", ".exr or .hdr");
+        refused("missing.exr", "missing.exr");
+        write(&dir.join("wide.exr"), 24, 8, &[[1.0; 3]; 24 * 8]);
+        refused("wide.exr", "twice as wide as high");
+        write(&dir.join("tiny.exr"), 4, 2, &[[1.0; 3]; 8]);
+        refused("tiny.exr", "8 to 8192");
+        for (name, bad) in [("nan.exr", f32::NAN), ("negative.exr", -1.0), ("inf.exr", f32::INFINITY)] {
+            let mut rgb = vec![[1.0; 3]; 16 * 8];
+            rgb[3 * 16 + 5][1] = bad;
+            write(&dir.join(name), 16, 8, &rgb);
+            refused(name, "the first at (5, 3)");
+        }
+        // A Radiance header that claims 16384×8192 texels: refused from the header, before any decoding.
+        std::fs::write(dir.join("huge.hdr"), b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n").unwrap();
+        refused("huge.hdr", "larger than the 8192×4096 texels");
+        std::fs::write(dir.join("garbage.hdr"), b"#?RADIANCE\nnonsense").unwrap();
+        refused("garbage.hdr", "cannot be read");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

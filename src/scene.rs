@@ -115,10 +115,14 @@ struct LightDef {
     /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
     #[serde(default)]
     ambient: Option<Spanned<f32>>,
-    /// "sky": the clear-sky model around the light's sun lights the pigment; "none" (the default): no environment.
+    /// "sky": the clear-sky model around the light's sun lights the pigment; "FILE.exr" or "FILE.hdr": an HDR
+    /// map of the sky around it; "none" (the default): no environment.
     environment: Option<Spanned<String>>,
     /// The sky's turbidity (environment = "sky").
     turbidity: Option<Spanned<f64>>,
+    /// An environment map's turn about the up axis, degrees, and the factor on its radiance.
+    rotation_deg: Option<Spanned<f64>>,
+    intensity: Option<Spanned<f64>>,
     /// The sun's shadows (a shadow map); on by default where the scene has a ground.
     shadows: Option<bool>,
 }
@@ -232,9 +236,9 @@ pub struct Scene {
     /// The light's spectrum (`[light] illuminant`, D65 unless named; the sky model's sun under `environment =
     /// "sky"`); every material is prepared under it.
     pub illuminant: Illuminant,
-    /// The clear sky around the sun (`[light] environment = "sky"`), which lights the pigment instead of
-    /// `ambient`.
-    pub sky: Option<SkyLight>,
+    /// The light around the sun (`[light] environment`: the clear sky or an HDR map), which lights the pigment
+    /// instead of `ambient`; with one the frame is in physical units.
+    pub environment: Option<Environment>,
     /// Whether the sun casts shadows (`[light] shadows`; by default where the scene has a ground).
     pub shadows: bool,
     pub objects: Vec<SceneObject>,
@@ -246,6 +250,61 @@ pub struct Scene {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyLight {
     pub turbidity: f64,
+}
+
+/// What lights a scene besides its sun.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Environment {
+    /// The clear-sky model around the sun.
+    Sky(SkyLight),
+    /// An HDR map of the sky around the sun, from a file.
+    Map(std::sync::Arc<MapLight>),
+}
+
+/// An equirectangular HDR map (`[light] environment = "FILE.exr"`): linear RGB radiance whose luminance, times
+/// `intensity`, is in cd/m² (what `diffract gen sky` writes), turned by `rotation_deg` about the up axis. It is the
+/// light around the scene's sun, not the sun itself: the sun is the light's direction, with the clear-sky model's
+/// radiance at its elevation, and the frame is in units of that radiance.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapLight {
+    pub path: PathBuf,
+    pub map: crate::environment::EnvironmentMap,
+    pub rotation_deg: f64,
+    pub intensity: f64,
+    /// The map's irradiance (E/π in cd/m², scaled and turned).
+    pub irradiance: crate::physics::sh::Irradiance,
+}
+
+/// A map texel brighter than this (cd/m², after `intensity`) is a sun: the clear sky's brightest, beside the sun,
+/// is some 10⁵ cd/m², the sun's disc 10⁹.
+pub const SUN_BRIGHT: f64 = 1e7;
+
+impl Environment {
+    /// Its irradiance on the pigment for the sun towards `light_dir`: nine SH coefficients of E/π in units of the
+    /// sun's radiance (zero while the sun is below the horizon, where that unit is not defined).
+    pub fn irradiance(&self, light_dir: Vec3) -> [[f32; 4]; 9] {
+        match self {
+            Environment::Sky(sky) => sky.irradiance(light_dir),
+            Environment::Map(m) => {
+                match crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3()) {
+                    Ok(sky) => {
+                        let sun = sky.sun_xyz().y;
+                        crate::physics::sh::Irradiance { coefficients: m.irradiance.coefficients.map(|c| c / sun) }
+                            .to_vec4s()
+                    }
+                    Err(_) => [[0.0; 4]; 9],
+                }
+            }
+        }
+    }
+
+    /// The turbidity the sun's spectrum is seen through: the sky's, or the model's default under a map.
+    pub fn turbidity(&self) -> f64 {
+        match self {
+            Environment::Sky(sky) => sky.turbidity,
+            Environment::Map(_) => crate::physics::illuminant::SUN_TURBIDITY,
+        }
+    }
 }
 
 /// The albedo of the ground below a scene's sky (grass and soil, about 0.2).
@@ -274,29 +333,89 @@ impl SkyLight {
     }
 }
 
-/// `[light] environment` and `turbidity`: the sky, or none; refused where the light is below the horizon, where a
-/// uniform `ambient` sky would light the pigment twice, or for a turbidity outside the model's range.
-fn sky_light(loc: &Locator<'_>, light: &LightDef, light_dir: Vec3) -> Result<Option<SkyLight>> {
-    let kind = light.environment.as_ref().map(|e| (e.get_ref().trim().to_ascii_lowercase(), e.span()));
+/// `[light] environment`, `turbidity`, `rotation_deg` and `intensity`: the sky, a map, or none; refused where the
+/// light is below the horizon, where a uniform `ambient` sky would light the pigment twice, for a turbidity outside
+/// the model's range, a map that cannot be used, or keys that belong to another kind.
+fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3) -> Result<Option<Environment>> {
+    let kind = light.environment.as_ref().map(|e| (e.get_ref().trim().to_string(), e.span()));
+    let is_file = |k: &str| {
+        let lower = k.to_ascii_lowercase();
+        lower.ends_with(".exr") || lower.ends_with(".hdr")
+    };
+    let map_keys = [&light.rotation_deg, &light.intensity];
+    if !kind.as_ref().is_some_and(|(k, _)| is_file(k)) {
+        if let Some(key) = map_keys.iter().find_map(|k| k.as_ref()) {
+            return Err(loc.at(key.span(), "rotation_deg and intensity belong to environment = \"FILE.exr\" (a map)"));
+        }
+    }
+    if let (Some(a), Some((k, _))) = (light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0), &kind) {
+        if !k.eq_ignore_ascii_case("none") {
+            return Err(
+                loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one"))
+            );
+        }
+    }
     match kind {
         None => {}
-        Some((k, _)) if k == "none" => {}
-        Some((k, span)) if k == "sky" => {
-            if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
-                return Err(
-                    loc.at(a.span(), "ambient and environment = \"sky\" would both light the pigment: keep one")
-                );
+        Some((k, _)) if k.eq_ignore_ascii_case("none") => {}
+        Some((k, span)) if is_file(&k) => {
+            if let Some(t) = &light.turbidity {
+                return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
             }
+            let number = |v: &Option<Spanned<f64>>, default: f64, what: &str, ok: &dyn Fn(f64) -> bool| {
+                let x = v.as_ref().map_or(default, |v| *v.get_ref());
+                if ok(x) {
+                    Ok(x)
+                } else {
+                    Err(loc.at(v.as_ref().map_or(span.clone(), |v| v.span()), what.to_string()))
+                }
+            };
+            let rotation_deg =
+                number(&light.rotation_deg, 0.0, "rotation_deg must be a finite angle", &|x| x.is_finite())?;
+            let intensity = number(&light.intensity, 1.0, "intensity must be a positive, finite factor", &|x| {
+                x.is_finite() && x > 0.0
+            })?;
+            crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3())
+                .map_err(|e| loc.at(light.direction.span(), format!("environment = {k:?}: the sun: {e}")))?;
+            let path = base.join(&k);
+            let map = crate::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
+            let (brightest, dir) = map.brightest();
+            if brightest * intensity > SUN_BRIGHT {
+                let elevation = dir.y.clamp(-1.0, 1.0).asin().to_degrees();
+                let azimuth = dir.x.atan2(dir.z).to_degrees() + rotation_deg;
+                return Err(loc.at(
+                    span,
+                    format!(
+                        "environment {k:?} holds a sun ({:.2e} cd/m² at {elevation:.1}° elevation, {azimuth:.1}° \
+                         azimuth): the scene's sun is [light] direction, and the map would light the pigment with a \
+                         second one; use a map without its sun (diffract gen sky --no-sun) or scale it by intensity",
+                        brightest * intensity
+                    ),
+                ));
+            }
+            let irradiance = map.irradiance(intensity, rotation_deg);
+            return Ok(Some(Environment::Map(std::sync::Arc::new(MapLight {
+                path,
+                map,
+                rotation_deg,
+                intensity,
+                irradiance,
+            }))));
+        }
+        Some((k, span)) if k.eq_ignore_ascii_case("sky") => {
             let turbidity =
                 light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
             crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
                 let at = light.turbidity.as_ref().map_or(span.clone(), |t| t.span());
                 loc.at(at, format!("environment = \"sky\": {e}"))
             })?;
-            return Ok(Some(SkyLight { turbidity }));
+            return Ok(Some(Environment::Sky(SkyLight { turbidity })));
         }
         Some((k, span)) => {
-            return Err(loc.at(span, format!("environment {k:?}: expected \"sky\" (the clear-sky model) or \"none\"")))
+            return Err(loc.at(
+                span,
+                format!("environment {k:?}: expected \"sky\" (the clear-sky model), \"FILE.exr\" or \"FILE.hdr\" (an HDR map) or \"none\""),
+            ))
         }
     }
     if let Some(t) = &light.turbidity {
@@ -338,7 +457,7 @@ impl Scene {
     /// light the overrides name is in physical units too.
     pub fn material_settings(&self, m: &SceneMaterial, overrides: &crate::settings::SettingsPatch) -> Settings {
         let mut s = overrides.apply(m.settings);
-        if self.sky.is_some() {
+        if self.environment.is_some() {
             s.illuminant = s.illuminant.physical();
         }
         s
@@ -363,23 +482,24 @@ impl Scene {
         let light_dir = Vec3::from(*file.light.direction.get_ref())
             .try_normalize()
             .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
-        let sky = sky_light(&loc, &file.light, light_dir)?;
+        let environment = environment(&loc, base, &file.light, light_dir)?;
         let sun = |span| {
             // The sun at the light's own elevation, to 0.01° (the direction is f32: the name reads cleanly and the
             // spectrum does not notice).
             let elevation = (f64::from(light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
-            let turbidity = sky.map_or(crate::physics::illuminant::SUN_TURBIDITY, |s| s.turbidity);
+            let turbidity =
+                environment.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, Environment::turbidity);
             Illuminant::sun(elevation, turbidity).map_err(|e| loc.at(span, e))
         };
         let illuminant = match &file.light.illuminant {
             Some(ill) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => sun(ill.span())?,
             Some(ill) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
-            // Under the sky the sun is the sky model's.
-            None if sky.is_some() => sun(file.light.direction.span())?,
+            // Under an environment the sun is the sky model's.
+            None if environment.is_some() => sun(file.light.direction.span())?,
             None => Illuminant::d65(),
         };
         // Under the sky the frame is in physical units: the diffraction in its true ratio to the sky-lit pigment.
-        let illuminant = if sky.is_some() { illuminant.physical() } else { illuminant };
+        let illuminant = if environment.is_some() { illuminant.physical() } else { illuminant };
         let mut materials = Vec::new();
         let mut index = BTreeMap::new();
         for (mat_name, def) in &file.material {
@@ -406,7 +526,7 @@ impl Scene {
             light_dir,
             ambient,
             illuminant,
-            sky,
+            environment,
             shadows,
             objects,
             materials,
@@ -674,6 +794,55 @@ tile = [2, 3]
         assert!(e.contains("[material.soil]") && e.contains("matte"), "{e}");
     }
 
+    /// `environment = "FILE.exr"`: the map lights the pigment as the sky it holds would (a map of the clear sky
+    /// without its sun gives the sky's nine coefficients within 2 %), in physical units under the model's sun;
+    /// a map that holds a sun, map keys without a map and a turbidity with one are refused.
+    #[test]
+    fn an_environment_map_lights_the_scene_as_its_sky_would() {
+        let dir = std::env::temp_dir().join(format!("diffract-scene-env-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let light_dir = Vec3::new(-0.3, 0.6, 0.5).normalize();
+        let sky = crate::physics::sky::Sky::new(3.0, light_dir.as_dvec3()).unwrap();
+        for (name, map) in [
+            ("around.exr", crate::environment::EnvironmentMap::of_sky(&sky, 512, SKY_GROUND_ALBEDO).unwrap()),
+            ("sunny.exr", crate::environment::EnvironmentMap::of_sky_and_sun(&sky, 64, SKY_GROUND_ALBEDO).unwrap()),
+        ] {
+            crate::output::write_exr_rgb(&dir.join(name), map.width, map.height, &map.to_rgba()).unwrap();
+        }
+        let [x, y, z] = light_dir.to_array();
+        let text = GOOD.replace("direction = [0.3, 1.0, 0.5]", &format!("direction = [{x}, {y}, {z}]"));
+        assert!(text.contains(&format!("direction = [{x}")), "GOOD's light moved");
+        let with = |light: &str| text.replace("illuminant = \"D65\"", light);
+        let map = Scene::parse(&with("environment = \"around.exr\""), "s.toml", &dir).unwrap();
+        let sky = Scene::parse(&with("environment = \"sky\""), "s.toml", &dir).unwrap();
+        assert!(matches!(map.environment, Some(Environment::Map(_))));
+        assert_eq!((map.illuminant, map.illuminant.physical), (sky.illuminant, true));
+        let (a, b) = (map.environment.as_ref().unwrap(), sky.environment.as_ref().unwrap());
+        let (a, b) = (a.irradiance(light_dir), b.irradiance(light_dir));
+        let size = b.iter().map(|c| c[0].abs() + c[1].abs() + c[2].abs()).fold(0.0, f32::max);
+        for (p, q) in a.iter().zip(&b) {
+            for k in 0..3 {
+                assert!((p[k] - q[k]).abs() < 0.02 * size, "map {a:?}\nsky {b:?}");
+            }
+        }
+        // Half the intensity, half the light.
+        let dim = Scene::parse(&with("environment = \"around.exr\"\nintensity = 0.5"), "s.toml", &dir).unwrap();
+        let half = dim.environment.unwrap().irradiance(light_dir);
+        assert!((half[0][2] / a[0][2] - 0.5).abs() < 1e-6);
+        let refused = |light: &str, needle: &str| {
+            let e = Scene::parse(&with(light), "s.toml", &dir).expect_err("refused").to_string();
+            assert!(e.starts_with("s.toml:") && e.contains(needle), "{light}: {e}");
+        };
+        refused("environment = \"sunny.exr\"", "--no-sun");
+        refused("environment = \"missing.hdr\"", "missing.hdr");
+        refused("environment = \"sky\"\nrotation_deg = 10.0", "belong to environment = \"FILE.exr\"");
+        refused("environment = \"around.exr\"\nturbidity = 3.0", "turbidity belongs");
+        refused("environment = \"around.exr\"\nintensity = -1.0", "intensity must be");
+        refused("environment = \"around.exr\"\nambient = 0.1", "both light the pigment");
+        refused("environment = \"around.png\"", "expected \"sky\"");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// `environment = "sky"`: the sky model's sun (at the light's elevation) in physical units, and the sky's
     /// irradiance for the pigment; refused with a second sky (`ambient`), a turbidity out of range or without the
     /// sky, a sun below the horizon, an unknown environment.
@@ -681,11 +850,11 @@ tile = [2, 3]
     fn a_sky_lights_the_scene_in_physical_units() {
         let sky = GOOD.replace("illuminant = \"D65\"", "environment = \"sky\"\nturbidity = 2.5");
         let s = Scene::parse(&sky, "s.toml", Path::new(".")).unwrap();
-        assert_eq!(s.sky, Some(SkyLight { turbidity: 2.5 }));
+        assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 2.5 })));
         let elevation = (f64::from(s.light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
         assert_eq!(s.illuminant, Illuminant::sun(elevation, 2.5).unwrap().physical());
         assert!(s.illuminant.physical && s.materials[0].settings.illuminant.physical);
-        let sh = s.sky.unwrap().irradiance(s.light_dir);
+        let sh = s.environment.as_ref().unwrap().irradiance(s.light_dir);
         assert!(sh[0][2] > sh[0][0] && sh[0][0] > 0.0, "a blue sky: {:?}", sh[0]);
         // A named light under the sky, from the file or the command line, is in physical units too.
         let lamp = sky.replace("turbidity = 2.5", "illuminant = \"A\"");

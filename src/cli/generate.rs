@@ -33,7 +33,8 @@ of --ground-albedo lit by the sun and sky. The sun's disc (0.53°) keeps its ene
 Examples:
   diffract gen sky --out sky.exr                                   sun 50° high, turbidity 3, 1024×512
   diffract gen sky --sun-elevation-deg 15 --turbidity 2 --out low-sun.exr --width 2048
-  diffract gen sky --sun-elevation-deg 35 --sun-azimuth-deg 120 --out sky.png        a preview")]
+  diffract gen sky --sun-elevation-deg 35 --sun-azimuth-deg 120 --out sky.png        a preview
+  diffract gen sky --sun-elevation-deg 35 --no-sun --out around.exr   a scene's environment = \"around.exr\"")]
     Sky(SkyArgs),
 }
 
@@ -57,6 +58,10 @@ pub struct SkyArgs {
     /// The ground's albedo below the horizon (0: black)
     #[arg(long, value_parser = parse::finite, default_value_t = 0.2)]
     pub ground_albedo: f64,
+    /// Leave the sun's disc out: the sky around it alone (what a scene's `environment = "FILE.exr"` takes, whose
+    /// sun is the scene's light)
+    #[arg(long)]
+    pub no_sun: bool,
     /// The PNG preview's exposure, stops (default: measured from the map)
     #[arg(long, value_parser = parse::finite, value_name = "EV", allow_negative_numbers = true)]
     pub exposure: Option<f64>,
@@ -137,7 +142,11 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     let png = png_path(&args.out);
     crate::output::check_path(&args.out, if png { "png" } else { "exr" })?;
     let sky = crate::physics::sky::Sky::at(args.turbidity, args.sun_elevation_deg, args.sun_azimuth_deg)?;
-    let map = crate::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?;
+    let map = if args.no_sun {
+        crate::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?
+    } else {
+        crate::environment::EnvironmentMap::of_sky_and_sun(&sky, args.width, args.ground_albedo)?
+    };
     let (sun, sky_lux) = sky.horizontal_illuminance(180);
     println!(
         "sky: turbidity {}, sun {}° high at azimuth {}°: zenith {:.0} cd/m², sun {:.3e} cd/m²; a horizontal surface \

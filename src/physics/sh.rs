@@ -54,9 +54,14 @@ pub struct Irradiance {
 impl Irradiance {
     /// Projects `radiance` (RGB, any unit) by the midpoint rule of [`sphere_cells`] with `rings` rings.
     pub fn of(radiance: impl Fn(DVec3) -> DVec3, rings: usize) -> Self {
+        Self::of_cells(sphere_cells(rings).map(|(dir, solid_angle)| (dir, solid_angle, radiance(dir))))
+    }
+
+    /// Projects light given as cells of the sphere: (unit direction, solid angle, radiance RGB).
+    pub fn of_cells(cells: impl Iterator<Item = (DVec3, f64, DVec3)>) -> Self {
         let mut coefficients = [DVec3::ZERO; 9];
-        for (dir, solid_angle) in sphere_cells(rings) {
-            let l = radiance(dir) * solid_angle;
+        for (dir, solid_angle, radiance) in cells {
+            let l = radiance * solid_angle;
             for (c, y) in coefficients.iter_mut().zip(basis(dir)) {
                 *c += l * y;
             }

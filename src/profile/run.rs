@@ -238,8 +238,9 @@ fn scene_pixels(
     // The environment's irradiance, as the shaders have it (the same nine coefficients, in f32).
     let sky = crate::physics::sh::Irradiance {
         coefficients: scene
-            .sky
-            .map_or([[0.0; 4]; 9], |s| s.irradiance(scene.light_dir))
+            .environment
+            .as_ref()
+            .map_or([[0.0; 4]; 9], |e| e.irradiance(scene.light_dir))
             .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
     };
     Ok(gbuffer

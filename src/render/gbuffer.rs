@@ -128,7 +128,7 @@ impl GBuffer {
         count: u32,
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
-        let sky_sh = scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir));
+        let sky_sh = scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir));
         // The sun's shadow, placed as the surface pass places it.
         let placed: Vec<(Aabb, bool)> = scene
             .objects

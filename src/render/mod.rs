@@ -101,7 +101,7 @@ impl SceneView {
             camera,
             light_dir,
             ambient: scene.ambient,
-            sky_sh: scene.sky.map_or([[0.0; 4]; 9], |s| s.irradiance(light_dir)),
+            sky_sh: scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir)),
             models: scene.objects.iter().map(|o| o.model).collect(),
             shadow_casters: scene.shadows.then(|| scene.objects.iter().map(|o| o.casts_shadow).collect()),
             background: [r, g, b, 1.0],
