@@ -32,6 +32,7 @@ const UNIFORM_BLOCKS: &[(&str, &str, &str, &str, &str)] = &[
     ("src/shading.rs", "DiffractionParams", "BINDING_PARAMS", "params", "diffraction_params.glsl"),
     ("src/render/surface.rs", "SurfaceUniforms", "BINDING_FRAME", "frame", "surface_uniforms.glsl"),
     ("src/render/preview.rs", "FrameUniforms", "BINDING_FRAME", "frame", "preview_uniforms.glsl"),
+    ("src/render/background.rs", "BackgroundUniforms", "BINDING_FRAME", "background", "background_uniforms.glsl"),
 ];
 
 /// Push-constant blocks generated from Rust structs in src/shaders/interface.rs: (struct, GLSL instance name,

@@ -3,6 +3,7 @@
 #   docs/images/sky.png        `diffract gen sky` previews at 512×256 for a sun 10°, 35° and 70° high under a clear
 #                              sky (turbidity 2.5) and the 35° sun through haze (turbidity 8), all at one exposure
 #                              (-14 EV) so that their brightness compares
+#   docs/images/environment-map.png  a ball under a map written by gen sky --no-sun, and under the sky
 #   docs/images/snake-ground.png  elaphe-snake-ground.toml at 320×240, with its shadow and with shadows = false
 #   docs/images/snake-sky.png  the default scene (relative units) beside elaphe-snake-sky.toml (the clear sky,
 #                              physical units) at 256², on the device (lavapipe unless extra options say otherwise)
@@ -38,3 +39,40 @@ montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'on the ground, with the sun'"'"'s shadow' "$scratch/ground.png" \
   -label 'shadows = false' "$scratch/no-shadows.png" \
   -tile 2x1 -geometry +3+3 docs/images/snake-ground.png
+# A user's HDR map: the clear sky around a 35° sun without its sun, written by gen sky, lighting and drawn behind a
+# ball on a small ground; beside it the same scene under environment = "sky".
+run gen sky --sun-elevation-deg 35 --no-sun --width 512 --out "$scratch/around.exr"
+cat >"$scratch/map.toml" <<'SCENE'
+[camera]
+position = [0.0, 0.6, -3.0]
+target = [0.0, 0.8, 0.0]
+fov_y_deg = 70.0
+
+[light]
+direction = [0.0, 0.5736, 0.8192]   # the map's sun: 35° up, azimuth 0 (+z)
+environment = "around.exr"
+
+[[object]]
+shape = "sphere"
+material = "grey"
+scale = 0.5
+translate = [0.0, 0.5, 0.0]
+
+[[object]]
+shape = "ground"
+material = "grey"
+scale = 0.05
+
+[material.grey]
+pigment = [0.5, 0.5, 0.5]
+
+[render]
+exposure_ev = 15.1
+SCENE
+sed 's/^environment = "around.exr"/environment = "sky"/' "$scratch/map.toml" >"$scratch/sky.toml"
+run render "$scratch/map.toml" --width 320 --height 200 --out "$scratch/map.png" "$@"
+run render "$scratch/sky.toml" --width 320 --height 200 --out "$scratch/sky-ball.png" "$@"
+montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
+  -label 'a map: gen sky --no-sun' "$scratch/map.png" \
+  -label 'environment = "sky"' "$scratch/sky-ball.png" \
+  -tile 2x1 -geometry +3+3 docs/images/environment-map.png

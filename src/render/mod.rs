@@ -3,6 +3,7 @@
 //! Offscreen capture and the window share everything but the final target: a pass records into a
 //! [`TargetView`], which either an [`OffscreenTarget`] or a `window::WindowTarget`'s frame provides.
 
+pub mod background;
 pub mod capture;
 pub mod diffraction;
 pub(crate) mod gbuffer;
@@ -85,6 +86,8 @@ pub struct SceneView {
     /// The sun's shadow: which objects cast one (in the same order; the others only receive); None: no shadow
     /// map, every surface is lit.
     pub shadow_casters: Option<Vec<bool>>,
+    /// The environment drawn behind the objects (None: the background colour).
+    pub behind: Option<crate::scene::Environment>,
     pub background: [f32; 4],
 }
 
@@ -104,6 +107,7 @@ impl SceneView {
             sky_sh: scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir)),
             models: scene.objects.iter().map(|o| o.model).collect(),
             shadow_casters: scene.shadows.then(|| scene.objects.iter().map(|o| o.casts_shadow).collect()),
+            behind: scene.environment.clone().filter(|_| scene.environment_behind),
             background: [r, g, b, 1.0],
         }
     }

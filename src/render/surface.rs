@@ -11,6 +11,7 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
+use super::background::BackgroundPass;
 use super::diffraction::{patch_bindings, PatchResources};
 use super::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
 use super::{
@@ -187,6 +188,14 @@ pub struct SceneRenderer {
     shadow: Option<ShadowMap>,
     /// Which objects cast a shadow in the current view (empty: none).
     casters: Vec<bool>,
+    /// The environment drawn behind the objects (made when a view first shows one) and whether this view does.
+    background: Option<BackgroundPass>,
+    shows_background: bool,
+    /// What the background pass is built for: the targets' format and whether they are display-encoded.
+    color_format: vk::Format,
+    display_output: bool,
+    /// 2^EV of a display-encoded target (the materials' `params.display[0]`), for the background too.
+    display_scale: f32,
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
@@ -223,6 +232,11 @@ impl SceneRenderer {
             depth: None,
             shadow: None,
             casters: Vec::new(),
+            background: None,
+            shows_background: false,
+            color_format,
+            display_output: matches!(variant, SurfaceVariant::Shade { display_output: true }),
+            display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
             counting: false,
             samples,
         };
@@ -358,6 +372,17 @@ impl SceneRenderer {
         if let Some(shadow) = &mut self.shadow {
             shadow.update(frame, &all)?;
         }
+        self.shows_background = view.behind.is_some();
+        if let Some(environment) = &view.behind {
+            if self.background.is_none() {
+                let mut pass =
+                    Guard::new(ctx, BackgroundPass::new(ctx, self.color_format, self.display_output, self.samples)?);
+                pass.set_exposure_scale(self.display_scale)?;
+                self.background = Some(pass.keep());
+            }
+            let background = self.background.as_mut().expect("made above");
+            background.update(ctx, environment, view.light_dir, (&view.camera, aspect))?;
+        }
         Ok(())
     }
 
@@ -366,6 +391,10 @@ impl SceneRenderer {
         for m in &mut self.materials {
             m.params.display[0] = exposure_ev.exp2() as f32;
             m.patch.update(&m.params)?;
+        }
+        self.display_scale = exposure_ev.exp2() as f32;
+        if let Some(background) = &mut self.background {
+            background.set_exposure_scale(self.display_scale)?;
         }
         Ok(())
     }
@@ -424,6 +453,9 @@ impl SceneRenderer {
         if let Some(s) = statistics {
             s.end(cmd);
         }
+        if let Some(background) = self.background.as_ref().filter(|_| self.shows_background) {
+            background.record(ctx, cmd);
+        }
         if target.resolve.is_some() {
             laps.lap(cmd, pass::SHADING);
             end_rendering(ctx, cmd);
@@ -447,6 +479,9 @@ impl SceneRenderer {
         }
         if let Some(shadow) = self.shadow {
             shadow.destroy(ctx);
+        }
+        if let Some(background) = self.background {
+            background.destroy(ctx);
         }
         for m in self.materials {
             m.pipeline.destroy(ctx);

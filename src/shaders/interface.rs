@@ -49,6 +49,8 @@ pub const BINDING_RESULTS: u32 = 6;
 pub const BINDING_MAP_IMAGE: u32 = 7;
 /// The sun's shadow map (a depth-comparison sampler: `render::shadow`).
 pub const BINDING_SHADOW: u32 = 8;
+/// The environment map drawn behind a scene (`render::background`).
+pub const BINDING_ENVIRONMENT: u32 = 9;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;

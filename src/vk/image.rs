@@ -60,6 +60,11 @@ impl ImageDesc {
         Self { usage, ..Self::depth(width, height) }
     }
 
+    /// A sampled 2D texture (not an array) filled by upload.
+    pub fn texture(width: u32, height: u32, format: vk::Format) -> Self {
+        Self { array: false, ..Self::texture_array(width, height, 1, format) }
+    }
+
     /// A sampled 2D array texture filled by upload (one layer per Taylor term, for instance).
     pub fn texture_array(width: u32, height: u32, layers: u32, format: vk::Format) -> Self {
         let usage =
@@ -347,6 +352,20 @@ impl Context {
             .address_mode_u(address)
             .address_mode_v(address)
             .address_mode_w(address);
+        // SAFETY: a plain create on a live device.
+        let raw = unsafe { self.device().create_sampler(&info, None) }.vk("vkCreateSampler")?;
+        self.set_name(raw, name);
+        Ok(Sampler { raw })
+    }
+
+    /// A bilinear sampler for an equirectangular map: wrapping around in x (the azimuth), clamped in y.
+    pub fn create_panorama_sampler(&self, name: &str) -> Result<Sampler> {
+        let info = vk::SamplerCreateInfo::default().address_mode_u(vk::SamplerAddressMode::REPEAT);
+        let info = info
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
         // SAFETY: a plain create on a live device.
         let raw = unsafe { self.device().create_sampler(&info, None) }.vk("vkCreateSampler")?;
         self.set_name(raw, name);

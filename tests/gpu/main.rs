@@ -2,6 +2,7 @@
 //! validation (see `harness`).
 
 mod diffraction;
+mod environment;
 mod golden;
 mod harness;
 mod scenes;

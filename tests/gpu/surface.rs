@@ -36,6 +36,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
         sky_sh: [[0.0; 4]; 9],
         models: vec![glam::Mat4::IDENTITY],
         shadow_casters: None,
+        behind: None,
         background: [0.0, 0.0, 0.0, 1.0],
     };
     (mesh, view)

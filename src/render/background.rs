@@ -1,0 +1,184 @@
+//! The environment drawn behind a scene: a full-screen triangle at the far plane, drawn after the objects with an
+//! EQUAL depth test so that it covers only the samples no object covered (`glsl/background.frag.glsl`), looks up
+//! each pixel's view ray in the environment's equirectangular map.
+//!
+//! The map is the scene's file (`[light] environment = "FILE.exr"`, uploaded once) or the clear sky with its sun
+//! (`environment = "sky"`, rendered by [`EnvironmentMap::of_sky_and_sun`] at [`SKY_WIDTH`] and again whenever the
+//! sun moves). Its texels (cd/m²) are shown in the frame's units, the sun's radiance, as the pigment's sky light is.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use crate::environment::EnvironmentMap;
+use crate::error::Result;
+use crate::scene::Environment;
+use crate::shaders;
+use crate::shaders::interface::{BINDING_ENVIRONMENT, BINDING_FRAME, SPEC_DISPLAY_OUTPUT};
+use crate::vk::{
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Pipeline, Sampler, SpecConstants,
+};
+
+/// The width of the clear sky's map behind a scene (its height is half): 0.7° texels, about the sun's disc.
+pub const SKY_WIDTH: u32 = 512;
+/// The pass's name (labels).
+pub const NAME: &str = "environment";
+
+/// The background pass's uniforms (std140): build.rs generates their GLSL block (`background`) from this struct.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct BackgroundUniforms {
+    /// Clip space → world (the camera's view-projection inverted).
+    pub inverse_view_proj: [[f32; 4]; 4],
+    /// The camera's position (world), 0.
+    pub camera: [f32; 4],
+    /// The factor from the map's texels to the frame's units, the map's turn about +y (radians), 0, 0.
+    pub view: [f32; 4],
+    /// 2^EV of a display-encoded target's exposure, 0, 0, 0.
+    pub display: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<BackgroundUniforms>() == 112);
+
+/// Which map is on the GPU: a file's (by its address in memory: the scene's map is shared, never changed) or the
+/// sky's for one sun.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shown {
+    Map(usize),
+    Sky { turbidity: u64, sun: [u32; 3] },
+}
+
+/// The pass: its pipeline, the map's texture and the uniforms.
+pub struct BackgroundPass {
+    pipeline: Pipeline,
+    sampler: Sampler,
+    uniforms: Buffer,
+    texture: Option<(Image, Shown)>,
+    values: BackgroundUniforms,
+}
+
+impl BackgroundPass {
+    /// A pass drawing into `color_format` targets of `samples` (display-encoded with `display_output`).
+    pub fn new(
+        ctx: &Context,
+        color_format: vk::Format,
+        display_output: bool,
+        samples: vk::SampleCountFlags,
+    ) -> Result<Self> {
+        let stages = vk::ShaderStageFlags::FRAGMENT;
+        let bindings = [
+            Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
+            Binding { binding: BINDING_ENVIRONMENT, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
+        ];
+        let pipeline = Guard::new(
+            ctx,
+            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: NAME,
+                vertex: shaders::BACKGROUND_VERT,
+                fragment: Some(shaders::BACKGROUND_FRAG),
+                specialization: SpecConstants::default().u32(SPEC_DISPLAY_OUTPUT, u32::from(display_output)),
+                bindings: &bindings,
+                push_constant_size: 0,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+                color_format,
+                depth: Some((super::DEPTH_FORMAT, DepthTest::Equal)),
+                cull_back_faces: false,
+                samples,
+            })?,
+        );
+        let sampler = Guard::new(ctx, ctx.create_panorama_sampler(NAME)?);
+        let size = std::mem::size_of::<BackgroundUniforms>() as u64;
+        let uniforms = ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), NAME)?;
+        let values = BackgroundUniforms::zeroed();
+        Ok(Self { pipeline: pipeline.keep(), sampler: sampler.keep(), uniforms, texture: None, values })
+    }
+
+    /// Makes the pass show `environment` around the sun towards `light_dir` from `camera` into a target of
+    /// `aspect` (uploading its map where it is not there yet); no submitted work may still read it.
+    pub fn update(
+        &mut self,
+        ctx: &Context,
+        environment: &Environment,
+        light_dir: Vec3,
+        (camera, aspect): (&crate::camera::Camera, f32),
+    ) -> Result<()> {
+        let Ok(sun) =
+            crate::physics::sky::Sky::new(environment.turbidity(), light_dir.as_dvec3()).map(|s| s.sun_xyz().y)
+        else {
+            // The sun below the horizon: the frame has no unit, the environment shows black.
+            self.values.view[0] = 0.0;
+            return self.uniforms.write(bytemuck::bytes_of(&self.values));
+        };
+        let (shown, scale, rotation) = match environment {
+            Environment::Map(m) => {
+                (Shown::Map(std::sync::Arc::as_ptr(m) as usize), m.intensity / sun, m.rotation_deg.to_radians())
+            }
+            Environment::Sky(sky) => (
+                Shown::Sky { turbidity: sky.turbidity.to_bits(), sun: light_dir.to_array().map(f32::to_bits) },
+                1.0 / sun,
+                0.0,
+            ),
+        };
+        if self.texture.as_ref().map(|t| t.1) != Some(shown) {
+            let map = match environment {
+                Environment::Map(m) => std::borrow::Cow::Borrowed(&m.map),
+                Environment::Sky(sky) => {
+                    let model = crate::physics::sky::Sky::new(sky.turbidity, light_dir.as_dvec3())?;
+                    let albedo = crate::scene::SKY_GROUND_ALBEDO;
+                    std::borrow::Cow::Owned(EnvironmentMap::of_sky_and_sun(&model, SKY_WIDTH, albedo)?)
+                }
+            };
+            let image = Guard::new(ctx, upload(ctx, &map)?);
+            if let Some((old, _)) = self.texture.replace((image.keep(), shown)) {
+                // SAFETY: the caller promises no submitted work still reads the pass.
+                unsafe { old.destroy(ctx) };
+            }
+        }
+        self.values.inverse_view_proj = camera.view_projection(aspect).inverse().to_cols_array_2d();
+        self.values.camera = camera.position.extend(0.0).to_array();
+        self.values.view = [scale as f32, rotation as f32, 0.0, 0.0];
+        self.uniforms.write(bytemuck::bytes_of(&self.values))
+    }
+
+    /// Sets a display-encoded target's exposure (2^EV); no submitted work may still read the uniforms.
+    pub fn set_exposure_scale(&mut self, scale: f32) -> Result<()> {
+        self.values.display[0] = scale;
+        self.uniforms.write(bytemuck::bytes_of(&self.values))
+    }
+
+    /// Records the draw (inside the scene's rendering, after its objects); nothing before the first update.
+    pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        let Some((image, _)) = &self.texture else { return };
+        ctx.begin_label(cmd, NAME);
+        let writes = [
+            DescriptorWrite::UniformBuffer(BINDING_FRAME, &self.uniforms),
+            DescriptorWrite::SampledImage(BINDING_ENVIRONMENT, image, &self.sampler),
+        ];
+        ctx.bind(cmd, &self.pipeline, &writes, &[]);
+        // SAFETY: cmd is recording inside a rendering scope with this pipeline bound.
+        unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
+        ctx.end_label(cmd);
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.pipeline.destroy(ctx);
+        self.sampler.destroy(ctx);
+        self.uniforms.destroy(ctx);
+        if let Some((image, _)) = self.texture {
+            image.destroy(ctx);
+        }
+    }
+}
+
+/// The map as an RGBA32F texture.
+fn upload(ctx: &Context, map: &EnvironmentMap) -> Result<Image> {
+    let image =
+        Guard::new(ctx, ctx.create_image(ImageDesc::texture(map.width, map.height, super::LINEAR_FORMAT), NAME)?);
+    ctx.upload_image(&image, bytemuck::cast_slice(&map.to_rgba()), ImageState::SHADER_READ)?;
+    Ok(image.keep())
+}
+
+crate::impl_destroy!(BackgroundPass);
