@@ -72,7 +72,15 @@ SCENE
 sed 's/^environment = "around.exr"/environment = "sky"/' "$scratch/map.toml" >"$scratch/sky.toml"
 run render "$scratch/map.toml" --width 320 --height 200 --out "$scratch/map.png" "$@"
 run render "$scratch/sky.toml" --width 320 --height 200 --out "$scratch/sky-ball.png" "$@"
+# The snake on the ground under a user's map: a hazy sky (turbidity 8) around the scene's sun, 26.8° high at
+# azimuth -137.7° (its [light] direction), written without its sun.
+run gen sky --sun-elevation-deg 26.77 --sun-azimuth-deg -137.73 --turbidity 8 --no-sun --width 512 \
+  --out "$scratch/hazy.exr"
+sed -e 's|^environment = "sky".*|environment = "hazy.exr"|' -e '/^turbidity = /d' \
+  -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" assets/scenes/elaphe-snake-ground.toml >"$scratch/hazy.toml"
+run render "$scratch/hazy.toml" --width 320 --height 200 --out "$scratch/hazy.png" "$@"
 montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'a map: gen sky --no-sun' "$scratch/map.png" \
   -label 'environment = "sky"' "$scratch/sky-ball.png" \
-  -tile 2x1 -geometry +3+3 docs/images/environment-map.png
+  -label 'the snake under a hazy map' "$scratch/hazy.png" \
+  -tile 3x1 -geometry +3+3 docs/images/environment-map.png
