@@ -374,3 +374,13 @@ fn a_sky_lit_scene_matches_its_reference_in_physical_units() {
     assert!(table.rows[0]["illuminant"].contains("physical units"), "{:?}", table.rows[0]);
     assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
 }
+
+/// On the ground with the sun's shadow (the G-buffer reads the shadow map the frame reads: the reference weighs
+/// each pixel's diffraction and sunlit pigment by the same visible share; the ground is matte) FLSS still matches
+/// the exact reference.
+#[test]
+fn a_shadowed_scene_on_the_ground_matches_its_reference() {
+    let table = profile_scene("elaphe-snake-ground.toml", (24, 24), 1, "flss", "ground.csv");
+    assert_eq!(table.rows.len(), 1);
+    assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
+}
