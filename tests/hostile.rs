@@ -42,6 +42,21 @@ fn fixtures() -> &'static Path {
         write("no-faces.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n");
         write("missing-vertex.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
         write("nan-vertex.obj", b"v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        let env = |name: &str, width: u32, height: u32, bad: Option<f32>| {
+            let mut rgba = vec![1.0f32; (width * height * 4) as usize];
+            if let Some(b) = bad {
+                rgba[4 * 5 + 1] = b;
+            }
+            diffract::output::write_exr_rgb(&dir.join(name), width, height, &rgba).unwrap();
+        };
+        env("env-good.exr", 16, 8, None);
+        env("env-3to1.exr", 24, 8, None);
+        env("env-nan.exr", 16, 8, Some(f32::NAN));
+        env("env-negative.exr", 16, 8, Some(-2.0));
+        env("env-inf.exr", 16, 8, Some(f32::INFINITY));
+        env("env-sun.exr", 16, 8, Some(1e9));
+        write("env-huge.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n");
+        write("env-text.exr", b"this is not an EXR");
         write("not-utf8.toml", &[0xff, 0xfe, b'[', 0x80]);
         write("huge.toml", &vec![b'#'; (1 << 20) + 10]);
         for (name, target) in [("zero.gsf", "/dev/zero"), ("zero.obj", "/dev/zero"), ("zero.toml", "/dev/zero")] {
@@ -279,6 +294,41 @@ fn hostile_scenes_and_meshes() {
         ),
         with_scene("scene: NaN vertex", scene("s14.toml", mesh("nan-vertex.obj")), "not finite"),
         with_scene("scene: missing mesh", scene("s15.toml", mesh("nope.obj")), "nope.obj"),
+    ]);
+}
+
+/// `[light] environment = "FILE"`: every way a map can be wrong ends in one line that names the scene's line.
+#[test]
+fn hostile_environment_maps() {
+    let env = |file: &'static str| {
+        move |s: String| {
+            s.replace("direction = [0.3, 1.0, 0.5]", &format!("direction = [0.3, 1.0, 0.5]\nenvironment = \"{file}\""))
+        }
+    };
+    run_all(&[
+        with_scene("environment: 3:1", scene("e1.toml", env("env-3to1.exr")), "twice as wide as high"),
+        with_scene("environment: NaN texel", scene("e2.toml", env("env-nan.exr")), "the first at (5, 0)"),
+        with_scene("environment: negative texel", scene("e3.toml", env("env-negative.exr")), "non-negative"),
+        with_scene("environment: infinite texel", scene("e4.toml", env("env-inf.exr")), "not finite"),
+        with_scene(
+            "environment: over the size cap",
+            scene("e5.toml", env("env-huge.hdr")),
+            "larger than the 8192×4096",
+        ),
+        with_scene("environment: not an EXR", scene("e6.toml", env("env-text.exr")), "env-text.exr"),
+        with_scene("environment: missing", scene("e7.toml", env("env-nope.exr")), "env-nope.exr"),
+        with_scene("environment: holds a sun", scene("e8.toml", env("env-sun.exr")), "--no-sun"),
+        with_scene("environment: a PNG", scene("e9.toml", env("env.png")), "expected \"sky\""),
+        with_scene(
+            "environment: negative intensity",
+            scene("e10.toml", |s| env("env-good.exr")(s).replace("[light]", "[light]\nintensity = -1.0")),
+            "intensity",
+        ),
+        with_scene(
+            "environment: sun below the horizon",
+            scene("e11.toml", |s| env("env-good.exr")(s).replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]")),
+            "horizon",
+        ),
     ]);
 }
 
