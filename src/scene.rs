@@ -301,6 +301,25 @@ impl Environment {
         }
     }
 
+    /// One line for the user: what the environment does in a frame and what it does not (yet).
+    pub fn describe(&self) -> String {
+        let what = match self {
+            Environment::Sky(sky) => format!("the clear sky (turbidity {})", crate::error::number(sky.turbidity)),
+            Environment::Map(m) => format!(
+                "{} ({}×{} texels, intensity {}, turned {}°)",
+                m.path.display(),
+                m.map.width,
+                m.map.height,
+                crate::error::number(m.intensity),
+                crate::error::number(m.rotation_deg)
+            ),
+        };
+        format!(
+            "environment: {what} lights the pigment (nine SH coefficients); only the sun diffracts: the \
+             environment's own diffraction is not modelled yet"
+        )
+    }
+
     /// The turbidity the sun's spectrum is seen through: the sky's, or the model's default under a map.
     pub fn turbidity(&self) -> f64 {
         match self {

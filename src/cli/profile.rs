@@ -179,6 +179,9 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
         Some(path) => Scene::load(path)?,
         None => Scene::default_scene()?,
     };
+    if let Some(environment) = &scene.environment {
+        eprintln!("{}", environment.describe());
+    }
     let name = args.scene.as_ref().map_or(crate::scene::DEFAULT_SCENE_NAME.to_string(), |p| p.display().to_string());
     let aspect = match args.height {
         Some(h) => f64::from(h) / f64::from(args.width),

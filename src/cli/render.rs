@@ -162,6 +162,9 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         vec![crate::shading::Reach::ANY]
     };
     let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
+    if let Some(environment) = &scene.environment {
+        eprintln!("{}", environment.describe());
+    }
     for (m, material) in scene.materials.iter().zip(&materials) {
         if m.matte {
             eprintln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
