@@ -161,9 +161,11 @@ impl GBuffer {
         }
         shadow.update(frame, &all)?;
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let [shadow_compare, shadow_depths] = ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT);
         let bindings = [
             Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
-            ShadowMap::binding(vk::ShaderStageFlags::FRAGMENT),
+            shadow_compare,
+            shadow_depths,
         ];
         for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -190,7 +192,8 @@ impl GBuffer {
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
-                    let writes = [DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms), shadow.write()];
+                    let [compare, depths] = shadow.writes();
+                    let writes = [DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms), compare, depths];
                     ctx.bind(cmd, pipeline, &writes, &[]);
                     mesh.draw(ctx, cmd);
                 }

@@ -8,9 +8,9 @@
 //!
 //! Reading it (`sun_visibility` in glsl/include/shadow.glsl): the point, pushed off its surface along the
 //! normal by [`NORMAL_OFFSET_TEXELS`] texels (more as the light grazes it) so that a surface does not shadow
-//! itself ("acne"), is compared with 3×3 bilinear comparison taps (percentage-closer filtering, a soft edge
-//! about three texels wide). The sun's disc (0.53°) would blur a shadow's edge by its distance to the caster
-//! times 0.0093; the filter is a fixed width instead (stated, not modelled).
+//! itself ("acne"), is compared over the disc of rays that reach it from the sun's disc (0.53°): the casters'
+//! mean depth d above it (a blocker search) sets the penumbra's radius d·tan α ([`sun_tan_radius`]), over
+//! which the comparisons are averaged (percentage-closer soft shadows, at least one texel wide).
 
 use ash::vk;
 use glam::{Mat4, Vec3};
@@ -19,7 +19,7 @@ use super::MeshBuffers;
 use crate::error::Result;
 use crate::mesh::Vertex;
 use crate::shaders;
-use crate::shaders::interface::{BINDING_FRAME, BINDING_SHADOW};
+use crate::shaders::interface::{BINDING_FRAME, BINDING_SHADOW, BINDING_SHADOW_DEPTH};
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
     ImageState, Pipeline, Sampler,
@@ -82,6 +82,22 @@ fn corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
 pub struct ShadowFrame {
     pub view_proj: Mat4,
     pub texel_world: f32,
+    /// World units along the rays from depth 0 to depth 1 (far − near).
+    pub depth_range: f32,
+}
+
+/// What the surface uniforms hold of the shadow map (`SurfaceUniforms::shadow_view_proj`, `shadow` and
+/// `shadow_penumbra`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub lookup: [f32; 4],
+    pub penumbra: [f32; 4],
+}
+
+/// The tangent of the sun's angular radius (its disc of `SUN_SOLID_ANGLE`: α = √(Ω/π), 0.2666°).
+pub fn sun_tan_radius() -> f64 {
+    (crate::physics::optics::SUN_SOLID_ANGLE / std::f64::consts::PI).sqrt().tan()
 }
 
 impl ShadowFrame {
@@ -109,7 +125,7 @@ impl ShadowFrame {
         let depth = (all.max.z - all.min.z).max(1e-6);
         let (near, far) = (-cast.max.z - 0.01 * depth, -all.min.z + 0.01 * depth);
         let proj = orthographic(centre.x - half, centre.x + half, centre.y - half, centre.y + half, near, far);
-        Some(Self { view_proj: proj * view, texel_world: 2.0 * half / size as f32 })
+        Some(Self { view_proj: proj * view, texel_world: 2.0 * half / size as f32, depth_range: far - near })
     }
 
     /// The map for objects placed in `boxes` (world; whether each casts), or None where nothing casts.
@@ -119,14 +135,18 @@ impl ShadowFrame {
         Self::fit(light_dir, &casters, &receivers, SHADOW_SIZE)
     }
 
-    /// The surface uniforms' `shadow_view_proj` and `shadow` (on, normal offset in world units, the map's texel
-    /// in texture coordinates, 0).
-    pub fn uniforms(frame: Option<&Self>, size: u32) -> ([[f32; 4]; 4], [f32; 4]) {
+    /// The surface uniforms' share: the view-projection; on, the normal offset in world units, the map's texel in
+    /// texture coordinates; the penumbra's scales.
+    pub fn uniforms(frame: Option<&Self>, size: u32) -> ShadowUniforms {
         match frame {
-            Some(f) => {
-                (f.view_proj.to_cols_array_2d(), [1.0, NORMAL_OFFSET_TEXELS * f.texel_world, 1.0 / size as f32, 0.0])
+            Some(f) => ShadowUniforms {
+                view_proj: f.view_proj.to_cols_array_2d(),
+                lookup: [1.0, NORMAL_OFFSET_TEXELS * f.texel_world, 1.0 / size as f32, 0.0],
+                penumbra: [f.texel_world, f.depth_range, sun_tan_radius() as f32, 0.0],
+            },
+            None => {
+                ShadowUniforms { view_proj: Mat4::IDENTITY.to_cols_array_2d(), lookup: [0.0; 4], penumbra: [0.0; 4] }
             }
-            None => (Mat4::IDENTITY.to_cols_array_2d(), [0.0; 4]),
         }
     }
 }
@@ -154,6 +174,8 @@ impl Aabb {
 pub struct ShadowMap {
     image: Image,
     sampler: Sampler,
+    /// Reads its depths (the blocker search).
+    depths: Sampler,
     pipeline: Pipeline,
     uniforms: Vec<Buffer>,
     /// This frame's placement; None: nothing is drawn and every surface is lit.
@@ -161,15 +183,17 @@ pub struct ShadowMap {
 }
 
 impl ShadowMap {
-    /// The binding the surface and G-buffer pipelines read it at.
-    pub fn binding(stages: vk::ShaderStageFlags) -> Binding {
-        Binding { binding: BINDING_SHADOW, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }
+    /// The bindings the surface and G-buffer pipelines read it at: by comparison and as depths.
+    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
+        let kind = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        [Binding { binding: BINDING_SHADOW, kind, stages }, Binding { binding: BINDING_SHADOW_DEPTH, kind, stages }]
     }
 
     /// A map for `objects` objects, `size` texels square (1 while there is no shadow to draw).
     pub fn new(ctx: &Context, objects: usize, size: u32) -> Result<Self> {
         let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(size, size), NAME)?);
-        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME)?);
+        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME, true)?);
+        let depths = Guard::new(ctx, ctx.create_shadow_sampler(NAME, false)?);
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let pipeline = Guard::new(
             ctx,
@@ -197,6 +221,7 @@ impl ShadowMap {
         Ok(Self {
             image: image.keep(),
             sampler: sampler.keep(),
+            depths: depths.keep(),
             pipeline: pipeline.keep(),
             uniforms: uniforms.keep(),
             frame: None,
@@ -260,9 +285,12 @@ impl ShadowMap {
         ctx.end_label(cmd);
     }
 
-    /// The descriptor that binds it for reading.
-    pub fn write(&self) -> DescriptorWrite<'_> {
-        DescriptorWrite::SampledImage(BINDING_SHADOW, &self.image, &self.sampler)
+    /// The descriptors that bind it for reading ([`Self::bindings`]).
+    pub fn writes(&self) -> [DescriptorWrite<'_>; 2] {
+        [
+            DescriptorWrite::SampledImage(BINDING_SHADOW, &self.image, &self.sampler),
+            DescriptorWrite::SampledImage(BINDING_SHADOW_DEPTH, &self.image, &self.depths),
+        ]
     }
 
     /// # Safety
@@ -270,6 +298,7 @@ impl ShadowMap {
     pub unsafe fn destroy(self, ctx: &Context) {
         self.image.destroy(ctx);
         self.sampler.destroy(ctx);
+        self.depths.destroy(ctx);
         self.pipeline.destroy(ctx);
         self.uniforms.into_iter().for_each(|b| b.destroy(ctx));
     }

@@ -13,7 +13,7 @@ use glam::{Mat4, Vec3};
 
 use super::background::BackgroundPass;
 use super::diffraction::{patch_bindings, PatchResources};
-use super::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
+use super::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
 use super::{
     begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
     DEPTH_FORMAT, LINEAR_FORMAT,
@@ -66,8 +66,11 @@ pub struct SurfaceUniforms {
     /// 1 where the map is drawn (0: every surface lit), the lookup's normal offset (world units), one texel in
     /// texture coordinates, 0.
     pub shadow: [f32; 4],
+    /// The penumbra's scales: one texel in world units, the map's depth range in world units (far − near), the
+    /// tangent of the sun's angular radius, 0.
+    pub shadow_penumbra: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 480);
+const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 496);
 
 /// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
 #[derive(Clone, Copy, Debug)]
@@ -80,7 +83,7 @@ pub struct ObjectView<'a> {
     /// The environment's irradiance (`SurfaceUniforms::sky_sh`).
     pub sky_sh: [[f32; 4]; 9],
     /// Where the sun's shadow map lies (`SurfaceUniforms::shadow_view_proj` and `shadow`).
-    pub shadow: ([[f32; 4]; 4], [f32; 4]),
+    pub shadow: ShadowUniforms,
 }
 
 impl SurfaceUniforms {
@@ -100,8 +103,9 @@ impl SurfaceUniforms {
             orientation: [cos, sin, index as f32, if matte { 1.0 } else { 0.0 }],
             pigment: [r, g, b, view.ambient],
             sky_sh: view.sky_sh,
-            shadow_view_proj: view.shadow.0,
-            shadow: view.shadow.1,
+            shadow_view_proj: view.shadow.view_proj,
+            shadow: view.shadow.lookup,
+            shadow_penumbra: view.shadow.penumbra,
         }
     }
 }
@@ -271,7 +275,8 @@ impl SceneRenderer {
             samples: self.samples,
         })?);
         let [p, t, s] = patch_bindings(stages);
-        let mut bindings = vec![frame_binding, p, t, s, ShadowMap::binding(vk::ShaderStageFlags::FRAGMENT)];
+        let mut bindings = vec![frame_binding, p, t, s];
+        bindings.extend(ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT));
         self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
         if self.counting {
@@ -441,8 +446,8 @@ impl SceneRenderer {
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
-            let mut writes =
-                vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s, shadow.write()];
+            let mut writes = vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s];
+            writes.extend(shadow.writes());
             if let Some(counts) = counts.filter(|_| self.counting) {
                 writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
             }

@@ -51,6 +51,8 @@ pub const BINDING_MAP_IMAGE: u32 = 7;
 pub const BINDING_SHADOW: u32 = 8;
 /// The environment map drawn behind a scene (`render::background`).
 pub const BINDING_ENVIRONMENT: u32 = 9;
+/// The same shadow map read as depths (its blocker search: `render::shadow`).
+pub const BINDING_SHADOW_DEPTH: u32 = 10;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;

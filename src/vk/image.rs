@@ -324,15 +324,16 @@ impl Context {
         )))
     }
 
-    /// A depth-comparison sampler (`sampler2DShadow`): a reference depth passes where it is at most the stored
-    /// one (LESS_OR_EQUAL), filtered bilinearly where the device filters D32 (four texels' results averaged),
-    /// and outside the map the border's depth 1 lets everything pass (what the map does not cover is lit).
-    pub fn create_shadow_sampler(&self, name: &str) -> Result<Sampler> {
-        let filter =
-            if self.filters_linearly(vk::Format::D32_SFLOAT) { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
+    /// A shadow map's sampler: with `compare`, a depth-comparison sampler (`sampler2DShadow`: a reference depth
+    /// passes where it is at most the stored one, LESS_OR_EQUAL, filtered bilinearly where the device filters
+    /// D32: four texels' results averaged); without, one that reads the depths themselves, nearest. Outside the
+    /// map the border's depth 1 lets everything pass (what the map does not cover is lit).
+    pub fn create_shadow_sampler(&self, name: &str, compare: bool) -> Result<Sampler> {
+        let linear = compare && self.filters_linearly(vk::Format::D32_SFLOAT);
+        let filter = if linear { vk::Filter::LINEAR } else { vk::Filter::NEAREST };
         let info = vk::SamplerCreateInfo::default()
             .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
-            .compare_enable(true)
+            .compare_enable(compare)
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
             .border_color(vk::BorderColor::FLOAT_OPAQUE_WHITE);
         self.sampler(info, filter, vk::SamplerAddressMode::CLAMP_TO_BORDER, name)

@@ -150,3 +150,99 @@ fn a_ball_shadows_the_ground_where_its_rays_are_blocked_and_nowhere_else() {
     let (compared, dark_unshadowed) = check(false);
     assert!(compared > 10_000 && dark_unshadowed * 2 < dark, "compared {compared}, unlit {dark_unshadowed}");
 }
+
+/// The fraction of the sun's disc (angular radius `a`) that a sphere of angular radius `b`, its centre `c` away
+/// from the sun's, leaves visible: one minus the two discs' overlap over the sun's (small angles: plane circles).
+fn visible_share(a: f64, b: f64, c: f64) -> f64 {
+    let overlap = if c >= a + b {
+        0.0
+    } else if c <= (a - b).abs() {
+        std::f64::consts::PI * a.min(b).powi(2)
+    } else {
+        let lens = (-c + a + b) * (c + a - b) * (c - a + b) * (c + a + b);
+        a * a * ((c * c + a * a - b * b) / (2.0 * c * a)).acos()
+            + b * b * ((c * c + b * b - a * a) / (2.0 * c * b)).acos()
+            - 0.5 * lens.max(0.0).sqrt()
+    };
+    1.0 - overlap / (std::f64::consts::PI * a * a)
+}
+
+/// A ball 40 units above the ground casts an umbra ringed by the penumbra of the sun's 0.53° disc, some 0.37
+/// units wide: each ground pixel must show the share of the disc the ball leaves visible (the overlap of two
+/// discs, closed form): on average within 3 % of the sun's light and unbiased within 1 %, every pixel within 10 %
+/// (the filter's steps).
+#[test]
+fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
+    let light = DVec3::new(0.3, 1.0, 0.2).normalize();
+    let ball = DVec3::new(0.0, 40.0, 0.0);
+    let centre = ball - light * (ball.y / light.y);
+    let text = format!(
+        r#"
+[camera]
+position = [{x}, 8.0, {z1}]
+target = [{x}, 0.0, {z}]
+fov_y_deg = 25.0
+
+[light]
+direction = [0.3, 1.0, 0.2]
+
+[material.ball]
+pigment = [0.6, 0.6, 0.6]
+
+[material.ground]
+pigment = [0.3, 0.3, 0.3]
+
+[[object]]
+shape = "sphere"
+material = "ball"
+translate = [0.0, 40.0, 0.0]
+
+[[object]]
+shape = "ground"
+material = "ground"
+
+[render]
+samples = 1
+"#,
+        x = centre.x,
+        z = centre.z,
+        z1 = centre.z + 0.001
+    );
+    let scene = Scene::parse(&text, "penumbra.toml", std::path::Path::new(".")).unwrap();
+    let size = (160u32, 120u32);
+    let linear = render(&scene, size);
+    let sun = SUN_SOLID_ANGLE / std::f64::consts::PI;
+    let lit = ALBEDO[1] * sun * light.y;
+    let alpha = (SUN_SOLID_ANGLE / std::f64::consts::PI).sqrt();
+    let inv = scene.camera.view_projection(size.0 as f32 / size.1 as f32).inverse().as_dmat4();
+    let (mut worst, mut penumbra, mut sum, mut signed) = (0.0f64, 0, 0.0f64, 0.0f64);
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            let ndc = |p: u32, n: u32| (f64::from(p) + 0.5) / f64::from(n) * 2.0 - 1.0;
+            let at = |z: f64| {
+                let v = inv * glam::DVec4::new(ndc(x, size.0), ndc(y, size.1), z, 1.0);
+                v.truncate() / v.w
+            };
+            let (o, d) = (at(0.0), (at(1.0) - at(0.0)).normalize());
+            let g = o - d * (o.y / d.y);
+            let to_ball = ball - g;
+            let beta = (RADIUS / to_ball.length()).asin();
+            let gamma = light.dot(to_ball.normalize()).clamp(-1.0, 1.0).acos();
+            let share = visible_share(alpha, beta, gamma);
+            let i = ((y * size.0 + x) * 4) as usize;
+            let got = f64::from(linear[i]) / lit;
+            worst = worst.max((got - share).abs());
+            if share > 0.02 && share < 0.98 {
+                penumbra += 1;
+                sum += (got - share).abs();
+                signed += got - share;
+            }
+        }
+    }
+    // Measured on lavapipe: 2701 penumbra pixels, mean |error| 0.018 of the sun's light, mean error +0.003, the
+    // worst 0.076 (the filter's 32 taps are the steps of a penumbra 170 texels wide).
+    let (mean, bias) = (sum / penumbra as f64, signed / penumbra as f64);
+    assert!(penumbra > 500, "only {penumbra} pixels in the penumbra");
+    assert!(mean < 0.03 && bias.abs() < 0.01, "penumbra: mean |error| {mean:.4}, mean error {bias:.4}");
+    assert!(worst < 0.1, "the worst pixel is {worst:.3} of the sun's light off the disc's visible share");
+}
