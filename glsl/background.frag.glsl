@@ -7,6 +7,9 @@
 #include "background_uniforms.glsl"
 #include "display.glsl"
 
+// The depth test first: the samples an object covers never run this shader.
+layout(early_fragment_tests) in;
+
 layout(constant_id = SPEC_DISPLAY_OUTPUT) const uint DISPLAY_OUTPUT = 0;
 layout(set = 0, binding = BINDING_ENVIRONMENT) uniform sampler2D environment_map;
 layout(location = 0) in vec2 ndc;
