@@ -16,18 +16,11 @@ const BALL: DVec3 = DVec3::new(0.0, 1.6, 0.0);
 const RADIUS: f64 = 1.0;
 const ALBEDO: [f64; 2] = [0.6, 0.3]; // ball, ground
 
-fn scene(shadows: bool) -> Scene {
+/// A matte ball of [`RADIUS`] at `ball` over a matte ground, seen and lit as `head` (its `[camera]` and `[light]`)
+/// says.
+fn ball_scene(head: &str, ball: DVec3) -> Scene {
     let text = format!(
-        r#"
-[camera]
-position = [3.0, 6.0, 7.0]
-target = [-1.2, 0.4, 0.0]
-fov_y_deg = 40.0
-
-[light]
-direction = [1.0, 1.1, 0.35]
-shadows = {shadows}
-
+        r#"{head}
 [material.ball]
 pigment = [{a}, {a}, {a}]
 
@@ -48,11 +41,19 @@ samples = 1
 "#,
         a = ALBEDO[0],
         g = ALBEDO[1],
-        x = BALL.x,
-        y = BALL.y,
-        z = BALL.z
+        x = ball.x,
+        y = ball.y,
+        z = ball.z
     );
     Scene::parse(&text, "shadow.toml", std::path::Path::new(".")).unwrap()
+}
+
+fn scene(shadows: bool) -> Scene {
+    let head = format!(
+        "[camera]\nposition = [3.0, 6.0, 7.0]\ntarget = [-1.2, 0.4, 0.0]\nfov_y_deg = 40.0\n\n[light]\n\
+         direction = [1.0, 1.1, 0.35]\nshadows = {shadows}\n"
+    );
+    ball_scene(&head, BALL)
 }
 
 fn render(scene: &Scene, (w, h): (u32, u32)) -> Vec<f32> {
@@ -176,39 +177,14 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
     let light = DVec3::new(0.3, 1.0, 0.2).normalize();
     let ball = DVec3::new(0.0, 40.0, 0.0);
     let centre = ball - light * (ball.y / light.y);
-    let text = format!(
-        r#"
-[camera]
-position = [{x}, 8.0, {z1}]
-target = [{x}, 0.0, {z}]
-fov_y_deg = 25.0
-
-[light]
-direction = [0.3, 1.0, 0.2]
-
-[material.ball]
-pigment = [0.6, 0.6, 0.6]
-
-[material.ground]
-pigment = [0.3, 0.3, 0.3]
-
-[[object]]
-shape = "sphere"
-material = "ball"
-translate = [0.0, 40.0, 0.0]
-
-[[object]]
-shape = "ground"
-material = "ground"
-
-[render]
-samples = 1
-"#,
+    let head = format!(
+        "[camera]\nposition = [{x}, 8.0, {z1}]\ntarget = [{x}, 0.0, {z}]\nfov_y_deg = 25.0\n\n[light]\n\
+         direction = [0.3, 1.0, 0.2]\n",
         x = centre.x,
         z = centre.z,
         z1 = centre.z + 0.001
     );
-    let scene = Scene::parse(&text, "penumbra.toml", std::path::Path::new(".")).unwrap();
+    let scene = ball_scene(&head, ball);
     let size = (160u32, 120u32);
     let linear = render(&scene, size);
     let sun = SUN_SOLID_ANGLE / std::f64::consts::PI;
