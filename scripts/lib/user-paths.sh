@@ -24,6 +24,11 @@ check_offscreen_paths() {
     name=$(basename "$scene" .toml)
     check "scene-$name" "$bin" render "$scene" --out "$out/$name.png" --width 64 --height 64
   done
+  # A user's HDR environment map: the sky around its sun written by gen sky, behind and around the ground scene.
+  check sky-map "$bin" gen sky --no-sun --width 64 --out "$out/around.exr"
+  sed -e 's|^environment = "sky".*|environment = "around.exr"|' -e '/^turbidity = /d' \
+    -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" assets/scenes/elaphe-snake-ground.toml >"$out/map-scene.toml"
+  check scene-env-map "$bin" render "$out/map-scene.toml" --out "$out/map-scene.png" --width 64 --height 64
   check preview "$bin" render --out "$out/preview.png" --width 64 --height 64 --preview
   check sequence "$bin" render assets/scenes/blazed-disk.toml --out "$out/turn.png" --width 48 --height 48 \
     --frames 3 --orbit
