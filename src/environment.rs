@@ -388,6 +388,26 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A Radiance file written and read back keeps every texel within RGBE's resolution (8-bit mantissas: 1 %).
+    #[test]
+    fn hdr_files_round_trip_within_rgbe() {
+        let dir = scratch("hdr");
+        let path = dir.join("map.hdr");
+        let rgb: Vec<[f32; 3]> = (0..32 * 16).map(|i| [1e-3 * (i + 1) as f32, 7.5, 2e4 + i as f32]).collect();
+        let rgba: Vec<f32> = rgb.iter().flat_map(|&[r, g, b]| [r, g, b, 1.0]).collect();
+        crate::output::write_hdr_rgb(&path, 32, 16, &rgba).unwrap();
+        let map = EnvironmentMap::load(&path).unwrap();
+        assert_eq!((map.width, map.height), (32, 16));
+        for (got, want) in map.rgb.iter().zip(&rgb) {
+            // RGBE shares one exponent: each channel within 1 % of the texel's largest.
+            let largest = want.iter().fold(0.0f32, |m, &c| m.max(c));
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() <= 0.01 * largest, "{got:?} vs {want:?}");
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// One line for each way a map can be wrong: its extension, its shape, its size, its texels.
     #[test]
     fn bad_maps_are_refused_in_one_line() {

@@ -170,10 +170,21 @@ pub fn write_png_gray16(path: &Path, width: u32, height: u32, grey: Vec<u16>) ->
 /// Writes linear RGB (from RGBA float pixels, top row first) as an OpenEXR file with 32-bit float R, G, B.
 pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Result<()> {
     check_exr_path(path)?;
+    write_float_rgb(path, width, height, rgba, image::ImageFormat::OpenExr)
+}
+
+/// Writes linear RGB (alpha dropped) as a Radiance HDR file (RGBE: 8-bit mantissas with a shared exponent, about
+/// 1 % resolution), atomically.
+pub fn write_hdr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Result<()> {
+    check_path(path, "hdr")?;
+    write_float_rgb(path, width, height, rgba, image::ImageFormat::Hdr)
+}
+
+fn write_float_rgb(path: &Path, width: u32, height: u32, rgba: &[f32], format: image::ImageFormat) -> Result<()> {
     let rgb: Vec<f32> = rgba.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     let img = image::Rgb32FImage::from_raw(width, height, rgb)
         .ok_or_else(|| Error::output(path, "image data does not match its size"))?;
-    write_file(path, &encode(path, img.into(), image::ImageFormat::OpenExr)?)
+    write_file(path, &encode(path, img.into(), format)?)
 }
 
 #[cfg(test)]

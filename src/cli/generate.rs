@@ -40,8 +40,9 @@ Examples:
 
 #[derive(Args, Debug)]
 pub struct SkyArgs {
-    /// Output: .exr (linear radiance, luminance in cd/m²) or .png (a preview at a measured exposure)
-    #[arg(long, value_name = "FILE.exr|FILE.png")]
+    /// Output: .exr or .hdr (Radiance RGBE, about 1 % resolution) (linear radiance, luminance in cd/m²) or .png
+    /// (a preview at a measured exposure)
+    #[arg(long, value_name = "FILE.exr|FILE.hdr|FILE.png")]
     pub out: PathBuf,
     /// The sun's elevation above the horizon, degrees (0–90)
     #[arg(long, value_parser = parse::finite, default_value_t = 50.0, allow_negative_numbers = true)]
@@ -137,10 +138,20 @@ fn png_path(path: &std::path::Path) -> bool {
 
 fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     if args.exposure.is_some() && !png_path(&args.out) {
-        bail!("--exposure sets the PNG preview's exposure; an EXR holds the radiance itself");
+        bail!("--exposure sets the PNG preview's exposure; an EXR or HDR file holds the radiance itself");
     }
     let png = png_path(&args.out);
-    crate::output::check_path(&args.out, if png { "png" } else { "exr" })?;
+    let hdr = args.out.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
+    crate::output::check_path(
+        &args.out,
+        if png {
+            "png"
+        } else if hdr {
+            "hdr"
+        } else {
+            "exr"
+        },
+    )?;
     let sky = crate::physics::sky::Sky::at(args.turbidity, args.sun_elevation_deg, args.sun_azimuth_deg)?;
     let map = if args.no_sun {
         crate::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?
@@ -172,10 +183,13 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
             map.height,
             &crate::physics::spectrum::linear_to_rgba8(&rgba, ev),
         )?;
+    } else if hdr {
+        crate::output::write_hdr_rgb(&args.out, map.width, map.height, &rgba)?;
     } else {
         crate::output::write_exr_rgb(&args.out, map.width, map.height, &rgba)?;
     }
-    println!("wrote {} ({}×{} texels)", args.out.display(), map.width, map.height);
+    let without = if args.no_sun { ", without its sun" } else { "" };
+    println!("wrote {} ({}×{} texels{without})", args.out.display(), map.width, map.height);
     Ok(())
 }
 
