@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use super::gbuffer::{merge_reaches, GBuffer};
-use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
 use super::{Frame, SceneView};
 use crate::camera::Camera;
 use crate::error::{Error, Result};
@@ -59,12 +59,7 @@ pub(crate) fn material_inputs<'a>(scene: &Scene, materials: &'a [Material]) -> V
     materials
         .iter()
         .zip(&scene.materials)
-        .map(|(material, m)| MaterialInput {
-            material,
-            orientation_deg: m.orientation_deg,
-            pigment: m.pigment,
-            matte: m.matte,
-        })
+        .map(|(material, m)| MaterialInput { material, surface: SurfaceMaterial::of(m) })
         .collect()
 }
 

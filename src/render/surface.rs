@@ -111,7 +111,7 @@ impl SurfaceUniforms {
 }
 
 /// How a material lies on its objects: the patch's rotation (cos, sin) about the normal, the pigment's linear
-/// RGB albedo, and whether it is matte (pigment only).
+/// RGB albedo (0: none, only diffraction), and whether it is matte (pigment only).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceMaterial {
     pub orientation: [f32; 2],
@@ -147,15 +147,11 @@ pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
     VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, pigment) as u32 },
 ];
 
-/// What the renderer draws: a material (prepared patch) with its orientation on the surface and the pigment
-/// under it.
+/// What the renderer draws: a material (prepared patch) and how it lies on its objects (its orientation on the
+/// surface, the pigment under it, whether it is matte: then its diffraction is not drawn).
 pub struct MaterialInput<'a> {
     pub material: &'a Material,
-    pub orientation_deg: f32,
-    /// Linear RGB albedo (0: no pigment, only diffraction).
-    pub pigment: [f32; 3],
-    /// Pigment only, no grating and no skin (a ground): the material's diffraction is not drawn.
-    pub matte: bool,
+    pub surface: SurfaceMaterial,
 }
 
 struct MaterialGpu {
@@ -313,11 +309,7 @@ impl SceneRenderer {
                 pipeline,
                 patch: patch.keep(),
                 params: input.material.params,
-                surface: SurfaceMaterial {
-                    orientation: orientation(input.orientation_deg),
-                    pigment: input.pigment,
-                    matte: input.matte,
-                },
+                surface: input.surface,
             });
         }
         for (i, &(mesh, material)) in objects.iter().enumerate() {
@@ -571,7 +563,8 @@ pub fn render_surface(
     display_output: bool,
 ) -> Result<Frame> {
     let format = OffscreenFrames::format(display_output);
-    let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.0; 3], matte: false }];
+    let surface = SurfaceMaterial { orientation: orientation(0.0), pigment: [0.0; 3], matte: false };
+    let inputs = [MaterialInput { material, surface }];
     let one = vk::SampleCountFlags::TYPE_1;
     let mut renderer = Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &[(mesh, 0)], format, display_output, one)?);
     let frames = Guard::new(ctx, OffscreenFrames::new(ctx, width, height, display_output, one)?);

@@ -111,7 +111,7 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
 
 #[test]
 fn material_orientation_turns_the_patch_like_the_tangent() {
-    use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+    use diffract::render::surface::{orientation, MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
     let hf = diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale))
         .unwrap()
@@ -123,7 +123,9 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
     let render = |tangent_deg: f32, orientation_deg: f32| {
         let (mesh, sc) = scene(tangent_deg, 1.0);
         gpu_test(|ctx| {
-            let inputs = [MaterialInput { material: &material, orientation_deg, pigment: [0.0; 3], matte: false }];
+            let surface =
+                SurfaceMaterial { orientation: orientation(orientation_deg), pigment: [0.0; 3], matte: false };
+            let inputs = [MaterialInput { material: &material, surface }];
             let mut renderer =
                 SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
             let frames = OffscreenFrames::new(ctx, w, h, false, ONE).unwrap();
@@ -159,7 +161,7 @@ fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
 
 /// [`silhouette_frame`]'s frame itself.
 fn silhouette(samples: u32, material: &Material) -> (diffract::render::Frame, u32, u32) {
-    use diffract::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer};
+    use diffract::render::surface::{orientation, MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
     let (w, h) = (64u32, 64u32);
     let (mesh, mut sc) = scene(0.0, 1.0);
     sc.camera.position = Vec3::new(0.0, 0.0, 4.0);
@@ -168,7 +170,8 @@ fn silhouette(samples: u32, material: &Material) -> (diffract::render::Frame, u3
     sc.ambient = 1.0; // lit by the sky alone
     let linear = gpu_test(|ctx| {
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
-        let inputs = [MaterialInput { material, orientation_deg: 0.0, pigment: [0.5, 0.5, 0.5], matte: false }];
+        let surface = SurfaceMaterial { orientation: orientation(0.0), pigment: [0.5, 0.5, 0.5], matte: false };
+        let inputs = [MaterialInput { material, surface }];
         let format = OffscreenFrames::format(false);
         let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], format, false, samples).unwrap();
         let frames = OffscreenFrames::new(ctx, w, h, false, samples).unwrap();
