@@ -288,17 +288,20 @@ impl Environment {
     pub fn irradiance(&self, light_dir: Vec3) -> [[f32; 4]; 9] {
         match self {
             Environment::Sky(sky) => sky.irradiance(light_dir),
-            Environment::Map(m) => {
-                match crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3()) {
-                    Ok(sky) => {
-                        let sun = sky.sun_xyz().y;
-                        crate::physics::sh::Irradiance { coefficients: m.irradiance.coefficients.map(|c| c / sun) }
-                            .to_vec4s()
-                    }
-                    Err(_) => [[0.0; 4]; 9],
+            Environment::Map(m) => match self.sun_luminance(light_dir) {
+                Some(sun) => {
+                    crate::physics::sh::Irradiance { coefficients: m.irradiance.coefficients.map(|c| c / sun) }
+                        .to_vec4s()
                 }
-            }
+                None => [[0.0; 4]; 9],
+            },
         }
+    }
+
+    /// The luminance (cd/m²) of the model's sun towards `light_dir` through [`Self::turbidity`]: the frame's unit,
+    /// which an environment's radiance is divided by; None while the sun is below the horizon.
+    pub fn sun_luminance(&self, light_dir: Vec3) -> Option<f64> {
+        crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|sky| sky.sun_xyz().y)
     }
 
     /// One line for the user: what the environment does in a frame and what it does not (yet).

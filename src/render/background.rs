@@ -103,9 +103,7 @@ impl BackgroundPass {
         light_dir: Vec3,
         (camera, aspect): (&crate::camera::Camera, f32),
     ) -> Result<()> {
-        let Ok(sun) =
-            crate::physics::sky::Sky::new(environment.turbidity(), light_dir.as_dvec3()).map(|s| s.sun_xyz().y)
-        else {
+        let Some(sun) = environment.sun_luminance(light_dir) else {
             // The sun below the horizon: the frame has no unit, the environment shows black.
             self.values.view[0] = 0.0;
             return self.uniforms.write(bytemuck::bytes_of(&self.values));
