@@ -363,90 +363,82 @@ impl SkyLight {
 /// the model's range, a map that cannot be used, or keys that belong to another kind.
 fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3) -> Result<Option<Environment>> {
     let kind = light.environment.as_ref().map(|e| (e.get_ref().trim().to_string(), e.span()));
+    let named = |name: &str| kind.as_ref().is_some_and(|(k, _)| k.eq_ignore_ascii_case(name));
     let is_file = |k: &str| {
         let lower = k.to_ascii_lowercase();
         lower.ends_with(".exr") || lower.ends_with(".hdr")
     };
-    let map_keys = [&light.rotation_deg, &light.intensity];
+    if let Some((k, span)) = kind.as_ref().filter(|(k, _)| !(is_file(k) || named("sky") || named("none"))) {
+        return Err(loc.at(
+            span.clone(),
+            format!("environment {k:?}: expected \"sky\" (the clear-sky model), \"FILE.exr\" or \"FILE.hdr\" (an HDR map) or \"none\""),
+        ));
+    }
     if !kind.as_ref().is_some_and(|(k, _)| is_file(k)) {
-        if let Some(key) = map_keys.iter().find_map(|k| k.as_ref()) {
+        if let Some(key) = [&light.rotation_deg, &light.intensity].iter().find_map(|k| k.as_ref()) {
             return Err(loc.at(key.span(), "rotation_deg and intensity belong to environment = \"FILE.exr\" (a map)"));
         }
     }
-    if let (Some(a), Some((k, _))) = (light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0), &kind) {
-        if !k.eq_ignore_ascii_case("none") {
-            return Err(
-                loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one"))
-            );
-        }
-    }
-    match kind {
-        None => {}
-        Some((k, _)) if k.eq_ignore_ascii_case("none") => {}
-        Some((k, span)) if is_file(&k) => {
-            if let Some(t) = &light.turbidity {
-                return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
-            }
-            let number = |v: &Option<Spanned<f64>>, default: f64, what: &str, ok: &dyn Fn(f64) -> bool| {
-                let x = v.as_ref().map_or(default, |v| *v.get_ref());
-                if ok(x) {
-                    Ok(x)
-                } else {
-                    Err(loc.at(v.as_ref().map_or(span.clone(), |v| v.span()), what.to_string()))
-                }
-            };
-            let rotation_deg =
-                number(&light.rotation_deg, 0.0, "rotation_deg must be a finite angle", &|x| x.is_finite())?;
-            let intensity = number(&light.intensity, 1.0, "intensity must be a positive, finite factor", &|x| {
-                x.is_finite() && x > 0.0
-            })?;
-            crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3())
-                .map_err(|e| loc.at(light.direction.span(), format!("environment = {k:?}: the sun: {e}")))?;
-            let path = base.join(&k);
-            let map = crate::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
-            let (brightest, dir) = map.brightest();
-            if brightest * intensity > SUN_BRIGHT {
-                let elevation = dir.y.clamp(-1.0, 1.0).asin().to_degrees();
-                let azimuth = dir.x.atan2(dir.z).to_degrees() + rotation_deg;
-                return Err(loc.at(
-                    span,
-                    format!(
-                        "environment {k:?} holds a sun ({:.2e} cd/m² at {elevation:.1}° elevation, {azimuth:.1}° \
-                         azimuth): the scene's sun is [light] direction, and the map would light the pigment with a \
-                         second one; use a map without its sun (diffract gen sky --no-sun) or scale it by intensity",
-                        brightest * intensity
-                    ),
-                ));
-            }
-            let irradiance = map.irradiance(intensity, rotation_deg);
-            return Ok(Some(Environment::Map(std::sync::Arc::new(MapLight {
-                path,
-                map,
-                rotation_deg,
-                intensity,
-                irradiance,
-            }))));
-        }
-        Some((k, span)) if k.eq_ignore_ascii_case("sky") => {
-            let turbidity =
-                light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
-            crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
-                let at = light.turbidity.as_ref().map_or(span.clone(), |t| t.span());
-                loc.at(at, format!("environment = \"sky\": {e}"))
-            })?;
-            return Ok(Some(Environment::Sky(SkyLight { turbidity })));
-        }
-        Some((k, span)) => {
-            return Err(loc.at(
-                span,
-                format!("environment {k:?}: expected \"sky\" (the clear-sky model), \"FILE.exr\" or \"FILE.hdr\" (an HDR map) or \"none\""),
-            ))
-        }
-    }
-    if let Some(t) = &light.turbidity {
+    if let Some(t) = light.turbidity.as_ref().filter(|_| !named("sky")) {
         return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
     }
-    Ok(None)
+    let none = named("none");
+    let Some((k, span)) = kind.filter(|_| !none) else { return Ok(None) };
+    if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
+        return Err(loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one")));
+    }
+    if is_file(&k) {
+        return map_light(loc, base, light, (&k, span), light_dir)
+            .map(|m| Some(Environment::Map(std::sync::Arc::new(m))));
+    }
+    let turbidity = light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
+    crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
+        let at = light.turbidity.as_ref().map_or(span, |t| t.span());
+        loc.at(at, format!("environment = \"sky\": {e}"))
+    })?;
+    Ok(Some(Environment::Sky(SkyLight { turbidity })))
+}
+
+/// `environment = "FILE.exr"` (named `file`, at `span`) with its `rotation_deg` and `intensity`: the map loaded
+/// and checked, refused where it holds a sun or the light is below the horizon.
+fn map_light(
+    loc: &Locator<'_>,
+    base: &Path,
+    light: &LightDef,
+    (file, span): (&str, std::ops::Range<usize>),
+    light_dir: Vec3,
+) -> Result<MapLight> {
+    let number = |v: &Option<Spanned<f64>>, default: f64, what: &str, ok: &dyn Fn(f64) -> bool| {
+        let x = v.as_ref().map_or(default, |v| *v.get_ref());
+        if ok(x) {
+            Ok(x)
+        } else {
+            Err(loc.at(v.as_ref().map_or(span.clone(), |v| v.span()), what.to_string()))
+        }
+    };
+    let rotation_deg = number(&light.rotation_deg, 0.0, "rotation_deg must be a finite angle", &|x| x.is_finite())?;
+    let intensity =
+        number(&light.intensity, 1.0, "intensity must be a positive, finite factor", &|x| x.is_finite() && x > 0.0)?;
+    crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3())
+        .map_err(|e| loc.at(light.direction.span(), format!("environment = {file:?}: the sun: {e}")))?;
+    let path = base.join(file);
+    let map = crate::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
+    let (brightest, dir) = map.brightest();
+    if brightest * intensity > SUN_BRIGHT {
+        let elevation = dir.y.clamp(-1.0, 1.0).asin().to_degrees();
+        let azimuth = dir.x.atan2(dir.z).to_degrees() + rotation_deg;
+        return Err(loc.at(
+            span,
+            format!(
+                "environment {file:?} holds a sun ({:.2e} cd/m² at {elevation:.1}° elevation, {azimuth:.1}° azimuth): \
+                 the scene's sun is [light] direction, and the map would light the pigment with a second one; use a \
+                 map without its sun (diffract gen sky --no-sun) or scale it by intensity",
+                brightest * intensity
+            ),
+        ));
+    }
+    let irradiance = map.irradiance(intensity, rotation_deg);
+    Ok(MapLight { path, map, rotation_deg, intensity, irradiance })
 }
 
 /// Errors located in a scene file: `file:line: message`.
