@@ -185,10 +185,13 @@ impl GBuffer {
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
         let mut out: [Vec<f32>; PARTS as usize] = Default::default();
-        for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
+        for (part, (pipeline, out)) in parts.pipelines.iter().zip(&mut out).enumerate() {
             ctx.one_shot("g-buffer", |cmd| {
-                let casts = scene.objects.iter().map(|o| o.casts_shadow);
-                shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
+                // The map is drawn once, with the first part; it stays in the sampled layout for the others.
+                if part == 0 {
+                    let casts = scene.objects.iter().map(|o| o.casts_shadow);
+                    shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
+                }
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
