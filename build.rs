@@ -39,6 +39,7 @@ const UNIFORM_BLOCKS: &[(&str, &str, &str, &str, &str)] = &[
 /// include file). Fields are f32, u32 or [f32; 2], laid out as the push-constant (std430) rules place them.
 const PUSH_BLOCKS: &[(&str, &str, &str)] = &[
     ("MapPush", "map", "map_push.glsl"),
+    ("EnvMapPush", "map", "env_map_push.glsl"),
     ("EvalPush", "eval", "eval_push.glsl"),
     ("SelftestPush", "pc", "selftest_push.glsl"),
 ];
@@ -192,7 +193,11 @@ fn interface_header(rust: &Path) -> String {
         let Some((ty, value)) = rest.split_once(" = ") else { continue };
         let value = value.trim_end_matches(';').replace('_', "");
         let literal = match ty {
-            "u32" => value.parse::<u32>().map(|v| v.to_string()).map_err(|e| e.to_string()),
+            // Beyond i32's range GLSL needs the literal marked unsigned (smaller ones stay plain: layout qualifiers).
+            "u32" => value
+                .parse::<u32>()
+                .map(|v| if v > i32::MAX as u32 { format!("{v}u") } else { v.to_string() })
+                .map_err(|e| e.to_string()),
             "f64" => value.parse::<f64>().map(|v| format!("{v:?}")).map_err(|e| e.to_string()),
             _ => continue,
         };

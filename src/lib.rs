@@ -58,6 +58,7 @@ pub(crate) mod cache;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod env_light;
 pub mod environment;
 pub mod error;
 pub mod exposure;

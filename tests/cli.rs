@@ -177,3 +177,46 @@ fn gen_sky_writes_an_equirectangular_sky_and_refuses_what_the_model_cannot_do() 
     }
     assert_one_line_error(&diffract(&["gen", "sky", "--out", scratch("sky.jpg").to_str().unwrap()]), ".exr");
 }
+
+#[test]
+fn map_under_an_environment_writes_radiance_and_checks_itself_against_the_exact_reference() {
+    let (sky, patch, png, exr) =
+        (scratch("map-sky.exr"), scratch("map-sine.gsf"), scratch("map-env.png"), scratch("map-env.exr"));
+    let path = |p: &PathBuf| p.to_str().unwrap().to_string();
+    let o = diffract(&["gen", "sky", "--out", &path(&sky), "--width", "128", "--sun-elevation-deg", "60"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let args = ["gen", "patch", "sinusoidal", "--period-um", "1.6", "--height-um", "0.1", "--size-um", "16"];
+    let o = diffract(&[&args[..], &["--out", &path(&patch)]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = diffract(&[
+        "map",
+        "--heightfield",
+        &path(&patch),
+        "--environment",
+        &path(&sky),
+        "--size",
+        "24",
+        "--env-samples",
+        "256",
+        "--env-reference",
+        "6",
+        "--out",
+        &path(&png),
+        "--exr",
+        &path(&exr),
+        "--validation",
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "{}{stdout}", stderr(&o));
+    assert!(!stderr(&o).contains("VALIDATION"), "{}", stderr(&o));
+    assert!(
+        stdout.contains("256 samples per pixel") && stdout.contains("exact reference at 6 random pixels"),
+        "{stdout}"
+    );
+    // The map is radiance in the sky's cd/m²: somewhere between the sky's and the sun's, and finite.
+    let image = image::open(&exr).unwrap().into_rgb32f();
+    assert_eq!(image.dimensions(), (24, 24));
+    let brightest = image.pixels().map(|p| p.0[1]).fold(0.0f32, f32::max);
+    assert!(image.pixels().all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0)));
+    assert!(brightest > 100.0 && brightest < 1e9, "brightest {brightest} cd/m²");
+}

@@ -50,6 +50,7 @@ fn fixtures() -> &'static Path {
             diffract::output::write_exr_rgb(&dir.join(name), width, height, &rgba).unwrap();
         };
         env("env-good.exr", 16, 8, None);
+        diffract::output::write_exr_rgb(&dir.join("env-black.exr"), 16, 8, &[0.0; 16 * 8 * 4]).unwrap();
         env("env-3to1.exr", 24, 8, None);
         env("env-nan.exr", 16, 8, Some(f32::NAN));
         env("env-negative.exr", 16, 8, Some(-2.0));
@@ -329,6 +330,30 @@ fn hostile_environment_maps() {
             scene("e11.toml", |s| env("env-good.exr")(s).replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]")),
             "horizon",
         ),
+    ]);
+}
+
+/// `map --environment FILE`: a bad map or flag ends in one line.
+#[test]
+fn hostile_environment_maps_of_a_map() {
+    let map = |name: &'static str, file: &'static str, extra: &[&str], needle: &'static str| {
+        let args = [
+            &["map", "--heightfield", "good.gsf", "--size", "8", "--out", "OUT/keep.png", "--environment", file][..],
+            extra,
+        ];
+        case(name, &args.concat(), needle)
+    };
+    run_all(&[
+        map("map environment: 3:1", "env-3to1.exr", &[], "twice as wide as high"),
+        map("map environment: NaN texel", "env-nan.exr", &[], "the first at (5, 0)"),
+        map("map environment: not an EXR", "env-text.exr", &[], "env-text.exr"),
+        map("map environment: missing", "env-nope.exr", &[], "env-nope.exr"),
+        map("map environment: black", "env-black.exr", &[], "no light"),
+        map("map environment: flss", "env-good.exr", &["--approach", "flss"], "--approach baked"),
+        map("map environment: intensity 0", "env-good.exr", &["--env-intensity", "0"], "positive"),
+        map("map environment: and a light", "env-good.exr", &["--light-theta", "10"], "cannot be used with"),
+        map("map environment: 1 sample", "env-good.exr", &["--env-samples", "1"], "2..=65536"),
+        case("map: no light", &["map", "--heightfield", "good.gsf", "--out", "OUT/keep.png"], "--light-theta"),
     ]);
 }
 

@@ -1,4 +1,4 @@
-//! `diffract map`: the BRDF map of a height field for one light, on the GPU.
+//! `diffract map`: the BRDF map of a height field for one light, or under an environment, on the GPU.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -6,7 +6,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 use clap::Args;
 
-use super::args::{HeightFieldArgs, LightArgs, MaterialArgs};
+use super::args::{HeightFieldArgs, MaterialArgs};
 use super::parse;
 use super::GpuArgs;
 use crate::physics::optics;
@@ -18,8 +18,31 @@ use crate::shading::{Approach, Material, Reach};
 pub struct MapArgs {
     #[command(flatten)]
     pub heightfield: HeightFieldArgs,
-    #[command(flatten)]
-    pub light: LightArgs,
+    /// Light inclination θ_i in degrees (0 = normal incidence); not with --environment
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", required_unless_present = "environment")]
+    pub light_theta: Option<f64>,
+    /// Light azimuth φ_i in degrees
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
+    pub light_phi: f64,
+    /// Light the patch by an equirectangular HDR map (.exr or .hdr, linear RGB in cd/m², like `diffract gen sky`
+    /// writes) instead of one light: its zenith is the patch normal, azimuth 0 the patch's −y and 90° its +x. The
+    /// map is then radiance in the map's units (the baked approach)
+    #[arg(long, value_name = "FILE.exr|FILE.hdr", conflicts_with = "light_theta")]
+    pub environment: Option<PathBuf>,
+    /// Turn the environment about the normal, degrees (a texel at azimuth φ lights from φ + rotation)
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0, requires = "environment")]
+    pub env_rotation: f64,
+    /// Scale the environment's radiance
+    #[arg(value_parser = parse::finite, long, value_name = "X", default_value_t = 1.0, requires = "environment")]
+    pub env_intensity: f64,
+    /// Samples per pixel of the environment's integral (half drawn from the BRDF, half from the environment)
+    #[arg(long, value_name = "N", default_value_t = crate::env_light::DEFAULT_ENV_SAMPLES, requires = "environment",
+          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::env_light::MAX_ENV_SAMPLES)))]
+    pub env_samples: u32,
+    /// Also integrate the exact BRDF (f64, on the CPU) over the environment at N random pixels and print the mean
+    /// ΔE00 of the map against it, with the reference's standard error
+    #[arg(long, value_name = "N", requires = "environment", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub env_reference: Option<u32>,
     /// Output PNG (display-referred 8-bit sRGB after --exposure)
     #[arg(long, value_name = "FILE.png")]
     pub out: PathBuf,
@@ -45,9 +68,13 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if let Some(exr) = &args.exr {
         crate::output::check_exr_path(exr)?;
     }
-    optics::check_theta("light", args.light.light_theta)?;
+    if let Some(path) = &args.environment {
+        return environment_map(gpu, args, path);
+    }
+    let theta = args.light_theta.context("--light-theta is needed without --environment")?;
+    optics::check_theta("light", theta)?;
     let hf = args.heightfield.load()?;
-    let light = optics::direction(args.light.light_theta, args.light.light_phi);
+    let light = optics::direction(theta, args.light_phi);
     let start = Instant::now();
     let material = Material::prepare(
         &hf,
@@ -58,25 +85,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let ctx = crate::vk::Context::new(&gpu.context_desc())?;
     let map =
         diffraction::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
-    let bad = map.non_finite();
-    if bad > 0 {
-        anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");
-    }
-    let exposure = match args.exposure {
-        Some(ev) => ev,
-        None => {
-            let (ev, line) = crate::exposure::measure(&map.rgba, "the map");
-            eprintln!("{line}");
-            ev
-        }
-    };
-    if let Some(line) = crate::exposure::verdict(&map.rgba, exposure) {
-        eprintln!("{line}");
-    }
-    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
-    if let Some(exr) = &args.exr {
-        crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
-    }
+    write_map(args, &map)?;
     if let Some(line) = material.table_line() {
         eprintln!("{line}");
     }
@@ -103,6 +112,123 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
         approach = material.settings.approach.name(),
         device = ctx.info.name
     );
+    let log = ctx.validation();
+    drop(ctx);
+    Ok(super::validation_status(&log))
+}
+
+/// Writes the map's PNG (at --exposure, else one measured from it) and EXR; refuses a map with non-finite pixels.
+/// Returns the exposure used.
+fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64> {
+    let bad = map.non_finite();
+    if bad > 0 {
+        anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");
+    }
+    let exposure = match args.exposure {
+        Some(ev) => ev,
+        None => {
+            let (ev, line) = crate::exposure::measure(&map.rgba, "the map");
+            eprintln!("{line}");
+            ev
+        }
+    };
+    if let Some(line) = crate::exposure::verdict(&map.rgba, exposure) {
+        eprintln!("{line}");
+    }
+    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
+    if let Some(exr) = &args.exr {
+        crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
+    }
+    Ok(exposure)
+}
+
+/// The map under the environment in `path` (`env_light`): a table for every pair of directions, the GPU's
+/// estimate, and with --env-reference the exact BRDF's at random pixels.
+fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
+    use crate::env_light::{EnvLight, TableProposal};
+    // Baked unless another approach is asked for (and refused).
+    let mut settings = args
+        .material
+        .patch
+        .apply(crate::shading::Settings { approach: Approach::Baked, ..crate::shading::Settings::default() });
+    if settings.approach != Approach::Baked {
+        anyhow::bail!(
+            "--environment needs --approach baked: {} evaluates one pair of directions per pixel, and an environment \
+             needs thousands (the exact reference is --env-reference)",
+            settings.approach.name()
+        );
+    }
+    settings.illuminant = settings.illuminant.physical();
+    let map = crate::environment::EnvironmentMap::load(path)?;
+    if args.env_intensity <= 0.0 {
+        anyhow::bail!("--env-intensity must be positive, got {}", args.env_intensity);
+    }
+    let env = EnvLight::new(&map, args.env_intensity, args.env_rotation)?;
+    if env.width < map.width {
+        eprintln!(
+            "note: the {}×{} environment lights the map averaged down to {}×{} texels",
+            map.width, map.height, env.width, env.height
+        );
+    }
+    let hf = args.heightfield.load()?;
+    let start = Instant::now();
+    // Texels no wider than the map's pixels, nor than ENV_TABLE_TEXEL: the integral's accuracy depends on them
+    // (coarse texels spread each lobe over angles where the gain and cos θ_i differ).
+    let footprint = (2.0 / f64::from(args.size)).min(crate::env_light::ENV_TABLE_FOOTPRINT);
+    let material = Material::prepare(&hf, settings, &Reach::Hemisphere { footprint })?;
+    let prep_ms = start.elapsed().as_secs_f64() * 1e3;
+    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let n_brdf = args.env_samples / 2;
+    let spec = crate::render::env_map::EnvMapSpec {
+        material: &material,
+        env: &env,
+        size: args.size,
+        n_brdf,
+        n_env: args.env_samples - n_brdf,
+        seed: 1,
+    };
+    let image =
+        crate::render::env_map::render_env_map(&ctx, &spec).context("integrating the map over the environment")?;
+    let exposure = write_map(args, &image)?;
+    if let Some(line) = material.table_line() {
+        eprintln!("{line}");
+    }
+    let gpu_time = image.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
+    println!(
+        "wrote {} ({size}×{size} baked under {}: {} samples per pixel; precompute {prep_ms:.0} ms{gpu_time} on {device})",
+        args.out.display(),
+        path.display(),
+        args.env_samples,
+        size = args.size,
+        device = ctx.info.name
+    );
+    if let Some(count) = args.env_reference {
+        let table = material.table.as_ref().context("the baked material has a table")?;
+        let proposal = TableProposal::new(table)?;
+        let pixels = crate::env_light::random_map_pixels(args.size, count as usize, 0x5eed);
+        let start = Instant::now();
+        let samples = crate::env_light::REFERENCE_SAMPLES;
+        let reference = crate::env_light::reference_map_pixels(
+            &hf,
+            &material.settings,
+            &proposal,
+            &env,
+            args.size,
+            &pixels,
+            samples,
+        )?;
+        let check = crate::env_light::compare(&image, &pixels, &reference, exposure);
+        println!(
+            "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
+             {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
+            pixels.len(),
+            crate::env_light::REFERENCE_STEP_NM,
+            start.elapsed().as_secs_f64(),
+            check.mean,
+            check.worst,
+            100.0 * check.median_relative_error
+        );
+    }
     let log = ctx.validation();
     drop(ctx);
     Ok(super::validation_status(&log))

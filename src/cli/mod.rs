@@ -125,7 +125,10 @@ radius 1) looks along sin θ_r = √(x²+y²), φ_r = atan2(y, x), so the patch'
 Examples:
   diffract map --heightfield blaze.gsf --light-theta 0 --out blaze.png --exposure 4
   diffract map --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \\
-               --light-theta 20 --approach nmm --out elaphe-nmm.png --exr elaphe-nmm.exr";
+               --light-theta 20 --approach nmm --out elaphe-nmm.png --exr elaphe-nmm.exr
+  diffract gen sky --sun-elevation-deg 50 --out sky.exr
+  diffract map --heightfield blaze.gsf --environment sky.exr --out blaze-sky.png \
+               --env-samples 1024 --env-reference 32      the map under a sky, checked against the exact BRDF";
 
 const BRDF_HELP: &str = "\
 Conventions: patch x along image columns, y along rows, z the normal. Directions point from the surface to

@@ -6,6 +6,7 @@
 pub mod background;
 pub mod capture;
 pub mod diffraction;
+pub mod env_map;
 pub(crate) mod gbuffer;
 pub mod preview;
 pub mod profile;

@@ -53,6 +53,14 @@ pub const BINDING_SHADOW: u32 = 8;
 pub const BINDING_ENVIRONMENT: u32 = 9;
 /// The same shadow map read as depths (its blocker search: `render::shadow`).
 pub const BINDING_SHADOW_DEPTH: u32 = 10;
+/// `map_env.comp`'s distributions (each a `env_light::Distribution2D`'s CDF then its densities: the baked
+/// table's texels, the environment's) and the environment's radiance.
+pub const BINDING_TABLE_SAMPLING: u32 = 11;
+pub const BINDING_ENV_SAMPLING: u32 = 12;
+pub const BINDING_ENV_RADIANCE: u32 = 13;
+/// The R2 sequence's steps in 32-bit fixed point, 2³²/g and 2³²/g² for the plastic number g (`env_light::r2`).
+pub const R2_STEP_X: u32 = 3242174889;
+pub const R2_STEP_Y: u32 = 2447445413;
 /// The self-test's input and output buffers (`selftest.comp`).
 pub const BINDING_SELFTEST_IN: u32 = 0;
 pub const BINDING_SELFTEST_OUT: u32 = 1;
@@ -90,6 +98,30 @@ pub struct MapPush {
     pub origin: [f32; 2],
 }
 
+/// `map_env.comp`'s push constants (`EnvMapPush`): the map's square, offset and band origin as in [`MapPush`]; the
+/// table proposal's texels (`nu`×`nv`, drawn by `env_light::TableProposal`), the environment's size and rotation
+/// (radians), the samples per pixel of each strategy, the gain K (sr⁻¹, `env_light::env_gain`), how many of
+/// the BRDF strategy's samples are drawn cosine-weighted, and the seed of the samples.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EnvMapPush {
+    pub size: [f32; 2],
+    pub offset: [f32; 2],
+    pub origin: [f32; 2],
+    pub nu: u32,
+    pub nv: u32,
+    pub env_width: u32,
+    pub env_height: u32,
+    pub rotation: f32,
+    pub n_brdf: u32,
+    pub n_env: u32,
+    pub gain: f32,
+    pub n_floor: u32,
+    pub seed: u32,
+    pub first: u32,
+    pub chunk: u32,
+}
+
 /// `brdf_eval.comp`'s push constants (`EvalPush`): the number of queries.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
@@ -109,4 +141,5 @@ pub struct SelftestPush {
 // would place elsewhere; their sizes, for the pipelines' push-constant ranges:
 const _: () = assert!(std::mem::size_of::<MapPush>() == 24);
 const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
+const _: () = assert!(std::mem::size_of::<EnvMapPush>() == 72);
 const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);

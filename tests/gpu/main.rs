@@ -2,6 +2,7 @@
 //! validation (see `harness`).
 
 mod diffraction;
+mod env_map;
 mod environment;
 mod golden;
 mod harness;

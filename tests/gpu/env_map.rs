@@ -1,0 +1,173 @@
+//! The BRDF map under an environment (`render::env_map`, `env_light`): the furnace, a disc against the directional
+//! sun it stands for, and the baked map against the exact BRDF integrated over the same sky.
+
+use diffract::env_light::{env_of_patch, map_view, reference_map_pixels, EnvLight, SplitMix, TableProposal};
+use diffract::environment::{direction_at, texel_solid_angle, EnvironmentMap};
+use diffract::physics::illuminant::Illuminant;
+use diffract::physics::optics::{direction, fresnel_ratio, normal_reflectance, SKIN_INDEX, SUN_SOLID_ANGLE};
+use diffract::physics::sky::Sky;
+use diffract::physics::spectrum::{linear_srgb_to_xyz, white_rgb};
+use diffract::physics::HeightField;
+use diffract::profile::exact_image::delta_e;
+use diffract::render::diffraction::{render_map, MapImage};
+use diffract::render::env_map::{render_env_map, EnvMapSpec};
+use diffract::shading::{Approach, Material, Reach, Settings};
+use glam::DVec3;
+
+use crate::diffraction::blazed;
+use crate::harness::gpu_test;
+
+/// Baked, its light in physical units (what an environment needs).
+fn physical() -> Settings {
+    Settings { illuminant: Illuminant::d65().physical(), approach: Approach::Baked, ..Settings::default() }
+}
+
+/// A table for every pair of directions, texels of 0.01 or finer.
+fn any_view(hf: &HeightField) -> Material {
+    Material::prepare(hf, physical(), &Reach::Hemisphere { footprint: 0.01 }).unwrap()
+}
+
+fn env_map(material: &Material, env: &EnvLight, size: u32, samples: u32) -> MapImage {
+    let spec = EnvMapSpec { material, env, size, n_brdf: samples / 2, n_env: samples / 2, seed: 1 };
+    let image = gpu_test(|ctx| render_env_map(ctx, &spec).unwrap());
+    assert_eq!(image.non_finite(), 0);
+    image
+}
+
+fn xyz(rgb: DVec3) -> DVec3 {
+    linear_srgb_to_xyz(rgb)
+}
+
+#[test]
+fn a_flat_mirror_in_a_white_furnace_reflects_the_white() {
+    let hf = HeightField::new(64, 64, 0.1, 0.1, vec![0.1; 64 * 64]).unwrap();
+    let size = 32;
+    let material = any_view(&hf);
+    let white = EnvironmentMap { width: 64, height: 32, rgb: vec![[1.0; 3]; 64 * 32] };
+    let image = env_map(&material, &EnvLight::new(&white, 1.0, 0.0).unwrap(), size, 65536);
+    // A mirror reflects the environment times its Fresnel reflectance R(θ) (n = 1.5): the map over R is white.
+    let (mut worst, mut sum, mut n) = (0.0f64, DVec3::ZERO, 0);
+    for y in 0..size {
+        for x in 0..size {
+            let Some(omega_r) = map_view(size, x, y).filter(|w| w.z >= 0.5) else { continue };
+            let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
+            let r = normal_reflectance(SKIN_INDEX) * fresnel_ratio(mirror, omega_r, SKIN_INDEX);
+            let rgb = image.pixel(x, y) / r;
+            worst = worst.max((rgb - DVec3::ONE).abs().max_element());
+            sum += rgb;
+            n += 1;
+        }
+    }
+    let mean = sum / f64::from(n);
+    eprintln!("furnace: mean {mean:.4} of white over {n} pixels within 60° of the normal, worst {worst:.4}");
+    assert!((mean - DVec3::ONE).abs().max_element() < 0.003, "mean {mean}");
+    assert!(worst < 0.01, "worst {worst}");
+}
+
+/// An environment that is black but for a disc of the sun's 0.53° towards `sun` (unit, patch frame), whose texels
+/// (2048 across, each weighted by the share of it the disc covers, 8×8 sub-samples) carry the light of a sun of
+/// luminance 1 and colour `white`: the power of the directional sun a BRDF map is lit by.
+fn sun_disc(sun: DVec3, white: DVec3) -> EnvironmentMap {
+    let width = 2048;
+    let d = env_of_patch(sun);
+    let radius = 0.265f64.to_radians();
+    let mut cover = vec![0.0f64; (width * width / 2) as usize];
+    let mut power = 0.0;
+    for (i, c) in cover.iter_mut().enumerate() {
+        let (x, y) = (i as u32 % width, i as u32 / width);
+        if direction_at(f64::from(x) + 0.5, f64::from(y) + 0.5, width).dot(d) < (4.0 * radius).cos() {
+            continue;
+        }
+        let n = 8;
+        let inside = (0..n * n)
+            .filter(|k| {
+                let (sx, sy) = ((f64::from(k % n) + 0.5) / f64::from(n), (f64::from(k / n) + 0.5) / f64::from(n));
+                direction_at(f64::from(x) + sx, f64::from(y) + sy, width).dot(d) >= radius.cos()
+            })
+            .count();
+        *c = inside as f64 / f64::from(n * n);
+        power += *c * texel_solid_angle(y, width);
+    }
+    let scale = SUN_SOLID_ANGLE / power;
+    let rgb = cover.iter().map(|&c| (white * c * scale).as_vec3().to_array()).collect();
+    EnvironmentMap { width, height: width / 2, rgb }
+}
+
+/// Mean and largest ΔE00 of `a` against `b` over the map's disk, at the exposure measured from `b`.
+fn map_delta_e(a: &MapImage, b: &MapImage) -> (f64, f64, usize) {
+    let (ev, _) = diffract::exposure::measure(&b.rgba, "the map");
+    let mut errors = Vec::new();
+    for y in 0..a.size {
+        for x in 0..a.size {
+            if map_view(a.size, x, y).is_some() {
+                errors.push(delta_e(xyz(a.pixel(x, y)), xyz(b.pixel(x, y)), ev));
+            }
+        }
+    }
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    (mean, errors.iter().copied().fold(0.0, f64::max), errors.len())
+}
+
+#[test]
+fn a_disc_of_the_sun_renders_as_the_directional_sun() {
+    // A coherence length of 10 µm gives lobes of σ ≈ 2° (λ/2πσ_s), wide beside the sun's 0.27° radius: there the
+    // disc must give what the point gives. (With 65 µm lobes of 0.3°, the disc visibly blurs their flanks: that is
+    // physics, not error.)
+    let hf = blazed(50, 26, 4, 0.05, 0.25);
+    let size = 32;
+    let light = direction(30.0, 0.0);
+    let settings = Settings { coherence_um: 10.0, ..physical() };
+    let sun_material = Material::prepare(&hf, settings, &Reach::Map { light, size, filtered: false }).unwrap();
+    let sun = gpu_test(|ctx| render_map(ctx, &sun_material, size, light, false).unwrap());
+    let material = Material::prepare(&hf, settings, &Reach::Hemisphere { footprint: 0.01 }).unwrap();
+    let white = white_rgb(material.settings.illuminant);
+    let disc = env_map(&material, &EnvLight::new(&sun_disc(light, white), 1.0, 0.0).unwrap(), size, 1024);
+    let (mean, worst, n) = map_delta_e(&disc, &sun);
+    eprintln!("disc vs directional sun: mean ΔE00 {mean:.3}, worst {worst:.2} over {n} pixels");
+    assert!(mean < 1.0, "mean ΔE00 {mean}");
+    // A disc of a tenth the power is told apart: the comparison can fail.
+    let dim = env_map(&material, &EnvLight::new(&sun_disc(light, white), 0.1, 0.0).unwrap(), size, 1024);
+    let (mean_dim, _, _) = map_delta_e(&dim, &sun);
+    assert!(mean_dim > 1.0 && mean_dim > 10.0 * mean, "a tenth of the sun reads mean ΔE00 {mean_dim}");
+}
+
+#[test]
+fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
+    let hf = blazed(50, 26, 4, 0.05, 0.25);
+    let size = 24;
+    let settings = physical();
+    let material = any_view(&hf);
+    // The sun 50° up at azimuth 90° (the patch's +x: the grating's plane of diffraction), a clear sky around it, in
+    // units of the sun's luminance.
+    let sky = Sky::new(3.0, diffract::physics::sky::direction(50.0, 90.0)).unwrap();
+    let map = EnvironmentMap::of_sky_and_sun(&sky, 512, 0.2).unwrap();
+    let env = EnvLight::new(&map, 1.0 / sky.sun_xyz().y, 0.0).unwrap();
+    let gpu = env_map(&material, &env, size, 16384);
+    let (ev, _) = diffract::exposure::measure(&gpu.rgba, "the map");
+    let mut rng = SplitMix(42);
+    let mut pixels = Vec::new();
+    while pixels.len() < 24 {
+        let (x, y) = ((rng.uniform() * f64::from(size)) as u32, (rng.uniform() * f64::from(size)) as u32);
+        if map_view(size, x, y).is_some() {
+            pixels.push((x, y));
+        }
+    }
+    let proposal = TableProposal::new(material.table.as_ref().unwrap()).unwrap();
+    let start = std::time::Instant::now();
+    let reference = reference_map_pixels(&hf, &settings, &proposal, &env, size, &pixels, 8192).unwrap();
+    let mut errors = Vec::new();
+    for (&(x, y), r) in pixels.iter().zip(&reference) {
+        let r = r.unwrap();
+        let e = delta_e(xyz(gpu.pixel(x, y)), xyz(r.rgb), ev);
+        eprintln!(
+            "({x}, {y}) GPU {:.4e} reference {:.4e} ± {:.1e}: ΔE00 {e:.2}",
+            gpu.pixel(x, y).y,
+            r.rgb.y,
+            r.std_error.y
+        );
+        errors.push(e);
+    }
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    eprintln!("mean ΔE00 {mean:.3} over {} pixels (reference {:.1} s)", errors.len(), start.elapsed().as_secs_f64());
+    assert!(mean < 1.0, "mean ΔE00 {mean}");
+}
