@@ -22,3 +22,9 @@ montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'one light (the sun alone)' "$scratch/sun.png" \
   -label 'under the clear sky and its sun' "$scratch/sky.png" \
   -tile 2x1 -geometry +3+3 docs/images/map-environment.png
+# Samples against accuracy: the same map at 128² for 64 to 4096 samples per pixel, each against the exact reference
+# at the same 32 pixels (GPU ms and mean ΔE00 in the log).
+for n in 64 256 1024 4096; do
+  run map --heightfield "$scratch/blaze.gsf" --environment "$scratch/sky.exr" --size 128 --env-samples "$n" \
+    --env-reference 32 --out "$scratch/sky-$n.png" "$@"
+done
