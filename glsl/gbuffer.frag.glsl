@@ -7,7 +7,7 @@
 #include "shadow.glsl"
 
 // 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, the sun's
-// visible share: shadow.glsl).
+// visible share: shadow.glsl); 4: (the patch's x axis in the world, its handedness: y = w·(normal × x)).
 layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
@@ -15,6 +15,7 @@ layout(location = 1) in vec3 patch_view;
 layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
+layout(location = 5) in vec4 patch_axis;
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -27,7 +28,9 @@ void main() {
         out_color = vec4(omega_r, footprint);
     } else if (PART == 2u) {
         out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
-    } else {
+    } else if (PART == 3u) {
         out_color = vec4(normalize(world_normal), sun_visibility(shadow_coord));
+    } else {
+        out_color = patch_axis;
     }
 }

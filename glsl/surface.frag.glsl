@@ -13,6 +13,7 @@
 #endif
 #include "surface_frame.glsl"
 #include "shadow.glsl"
+#include "sky_diffraction.glsl"
 
 // After a depth pre-pass only the visible surface passes the EQUAL test: testing before the shader runs (which the
 // counting variant's atomics would otherwise forbid) shades each pixel once.
@@ -23,6 +24,7 @@ layout(location = 1) in vec3 patch_view;
 layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
+layout(location = 5) in vec4 patch_axis;
 layout(location = 0) out vec4 out_color;
 
 // SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
@@ -99,6 +101,11 @@ void main() {
     vec3 albedo = frame.pigment.rgb * tint;
     rgb += pigment_rgb(omega_i, omega_r, normal_up, albedo, frame.pigment.w, sun_visible, coated) * params.light_white.rgb;
     rgb += pigment_sky_rgb(omega_r, albedo, sky_over_pi(normal), coated);
+    if (coated) {
+        // The environment's own diffraction (no shadow: like the sky's light on the pigment, it is not occluded).
+        vec3 x = normalize(patch_axis.xyz - normal * dot(normal, patch_axis.xyz));
+        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal) / params.light_white.rgb;
+    }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

@@ -17,6 +17,9 @@ layout(location = 3) out vec3 tint;
 // (`render::shadow`: by frame.shadow.y, growing as 1/cos θ_i up to SHADOW_MAX_OFFSET_GROWTH) so that a surface
 // does not shadow itself.
 layout(location = 4) out vec3 shadow_coord;
+// The patch's x axis in the world and the frame's handedness w (its y is w·(normal × x)): how the environment is
+// seen from the patch (sky_diffraction.glsl).
+layout(location = 5) out vec4 patch_axis;
 
 void main() {
     // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
@@ -38,6 +41,7 @@ void main() {
     vec3 v = frame.camera_pos.xyz - p.xyz;
     patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
     world_normal = n;
+    patch_axis = vec4(t, in_tangent.w < 0.0 ? -1.0 : 1.0);
     tint = in_pigment;
     float cos_l = dot(n, l);
     float growth = min(1.0 / max(abs(cos_l), 1e-3), SHADOW_MAX_OFFSET_GROWTH);

@@ -59,6 +59,7 @@ pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod env_light;
+pub mod env_prefilter;
 pub mod environment;
 pub mod error;
 pub mod exposure;

@@ -318,8 +318,8 @@ impl Environment {
             ),
         };
         format!(
-            "environment: {what} lights the pigment (nine SH coefficients); only the sun diffracts: the \
-             environment's own diffraction is not modelled yet"
+            "environment: {what} lights the pigment (nine SH coefficients) and diffracts, by the BRDF's moments \
+             against its l ≤ 2 radiance (the sun diffracts as the directional light)"
         )
     }
 

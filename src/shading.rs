@@ -178,6 +178,9 @@ pub struct Material {
     pub table_plan: Option<TablePlan>,
     pub table_ms: f64,
     pub table_cached: bool,
+    /// The BRDF's moments against the environment's light (`env_prefilter`): where a scene's environment
+    /// diffracts (set by [`Material::prepare_moments`]).
+    pub moments: Option<crate::env_prefilter::Moments>,
 }
 
 impl Material {
@@ -244,11 +247,20 @@ impl Material {
             table_plan,
             table_ms,
             table_cached,
+            moments: None,
         };
         if let Some(caveat) = material.caveat() {
             eprintln!("warning: {caveat}");
         }
         Ok(material)
+    }
+
+    /// Tabulates the moments of `hf`'s BRDF under these settings (`env_prefilter::Moments`), from a table for every
+    /// pair of directions with texels of `env_prefilter::MOMENT_TEXEL` (built or read from the cache like any
+    /// other). The light must be in physical units.
+    pub fn prepare_moments(&mut self, hf: &HeightField) -> Result<()> {
+        self.moments = Some(crate::env_prefilter::moments_of(hf, &self.settings)?);
+        Ok(())
     }
 
     /// Where the approach's own assumption fails for this patch and coherence length (so that its colours are off

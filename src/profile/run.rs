@@ -243,15 +243,36 @@ fn scene_pixels(
             .map_or([[0.0; 4]; 9], |e| e.irradiance(scene.light_dir))
             .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
     };
+    // The environment's diffraction, from the materials' moments (the same as the frames': env_prefilter) and
+    // the environment's l ≤ 2 radiance as the shaders have it.
+    let quadratic = crate::env_prefilter::Quadratic::of_irradiance(&sky);
+    let moments: Vec<Option<crate::env_prefilter::Moments>> = scene
+        .materials
+        .iter()
+        .zip(lights)
+        .map(|(m, &(coherence_um, illuminant))| {
+            if scene.environment.is_none() || m.matte {
+                return Ok(None);
+            }
+            let settings = Settings { coherence_um, illuminant, ..m.settings };
+            crate::env_prefilter::moments_of(&m.heightfield, &settings).map(Some)
+        })
+        .collect::<Result<_>>()?;
     Ok(gbuffer
         .pixels
         .iter()
         .map(|seen| {
-            let Seen { omega_i, omega_r, material, albedo, normal_up, normal, sun_visible, .. } = (*seen)?;
+            let Seen { omega_i, omega_r, material, albedo, normal_up, normal, sun_visible, frame, .. } = (*seen)?;
             let coated = !scene.materials[material].matte;
             let lit = optics::Lit { sun_visible, coated };
+            let sky_diffraction =
+                moments[material].as_ref().filter(|_| coated && omega_r.z > 0.0).map_or(DVec3::ZERO, |m| {
+                    let mirror = quadratic.radiance(frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z));
+                    m.radiance(omega_r, &quadratic, frame, mirror.max(DVec3::ZERO), whites[material])
+                });
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
-                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated);
+                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated)
+                + sky_diffraction;
             let diffracted = if coated { sun_visible } else { 0.0 };
             let extra_xyz = spectrum::linear_srgb_to_xyz(extra_rgb);
             Some(PixelQuery { omega_i, omega_r, material, diffracted, extra_xyz })

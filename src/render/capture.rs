@@ -30,8 +30,15 @@ pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Re
         .map(|(i, m)| {
             // A matte material's patch is never drawn: the smallest table serves it.
             let reach = if m.matte { &MATTE_REACH } else { &reaches[i.min(reaches.len() - 1)] };
-            Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
-                .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))
+            let mut material = Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
+                .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))?;
+            // Under an environment the grating diffracts it too (env_prefilter), by its BRDF's moments.
+            if scene.environment.is_some() && !m.matte {
+                material.prepare_moments(&m.heightfield).map_err(|e| {
+                    Error::Invalid(format!("material {:?}: the environment's diffraction: {e}", m.name))
+                })?;
+            }
+            Ok(material)
         })
         .collect()
 }

@@ -49,6 +49,12 @@ pub(crate) fn count_binding() -> Binding {
 pub(crate) struct PatchResources {
     pub terms: Image,
     pub sampler: Sampler,
+    /// The material's moments against the environment (`env_prefilter`), or one black texel where it has none;
+    /// filtered linearly.
+    pub moments: Image,
+    pub moments_sampler: Sampler,
+    /// Whether `moments` holds a material's (else the black texel).
+    pub has_moments: bool,
     pub spectrum: Buffer,
     pub params: Buffer,
     /// What uploading the Taylor terms or the baked table cost.
@@ -116,6 +122,15 @@ impl PatchResources {
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         };
         let sampler = Guard::new(ctx, ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
+        let layers = crate::env_prefilter::MOMENT_LAYERS as u32;
+        let (moment_side, moment_texels) = match &material.moments {
+            Some(m) => (m.grid as u32, m.gpu_texels()),
+            None => (1, vec![0.0; layers as usize * 4]),
+        };
+        let moments_desc = ImageDesc::texture_array(moment_side, moment_side, layers, TABLE_FORMAT);
+        let moments = Guard::new(ctx, ctx.create_image(moments_desc, "environment moments")?);
+        ctx.upload_image(&moments, bytemuck::cast_slice(&moment_texels), ImageState::SHADER_READ)?;
+        let moments_sampler = Guard::new(ctx, ctx.create_filtered_sampler("environment moments (bilinear)", true)?);
         let table = spectrum::gpu_table(&material.sampling);
         let spectrum = Guard::new(
             ctx,
@@ -134,6 +149,9 @@ impl PatchResources {
         Ok(Self {
             terms: terms.keep(),
             sampler: sampler.keep(),
+            moments: moments.keep(),
+            moments_sampler: moments_sampler.keep(),
+            has_moments: material.moments.is_some(),
             spectrum: spectrum.keep(),
             params: params.keep(),
             upload,
@@ -153,11 +171,18 @@ impl PatchResources {
         ]
     }
 
+    /// The moments' descriptor (the surface pass's).
+    pub fn moments_write(&self) -> DescriptorWrite<'_> {
+        DescriptorWrite::SampledImage(crate::shaders::interface::BINDING_MOMENTS, &self.moments, &self.moments_sampler)
+    }
+
     /// # Safety
     /// The GPU must be done with the resources.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.terms.destroy(ctx);
         self.sampler.destroy(ctx);
+        self.moments.destroy(ctx);
+        self.moments_sampler.destroy(ctx);
         self.spectrum.destroy(ctx);
         self.params.destroy(ctx);
     }

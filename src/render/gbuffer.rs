@@ -22,8 +22,8 @@ use crate::vk::{
 };
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
-/// (world normal).
-const PARTS: u32 = 4;
+/// (world normal, the sun's visible share), (the patch's x axis in the world, its handedness).
+const PARTS: u32 = 5;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
 /// seen at a glance, which would size a table for nothing else).
 const FOOTPRINT_PERCENTILE: f64 = 0.05;
@@ -47,6 +47,9 @@ pub struct Seen {
     /// The share of the sun that no shadow hides here (the surface pass's `sun_visibility`, from the same
     /// shadow map); 1 where the scene has no shadows.
     pub sun_visible: f64,
+    /// The patch frame in the world (columns x, y, z: d = frame·ω), where the G-buffer was drawn `with_normals`
+    /// (zero otherwise): how the environment is seen from the patch.
+    pub frame: glam::DMat3,
 }
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
@@ -82,7 +85,7 @@ impl Parts {
 
 impl GBuffer {
     /// Draws `scene` from `camera` under `light_dir` (world, towards the light) at `width`×`height`; the world
-    /// normals too (a fourth pass, for the exact reference's sky term) `with_normals`.
+    /// normals and patch frames too (a fourth and a fifth pass, for the exact reference's sky terms) `with_normals`.
     pub fn draw(
         ctx: &Context,
         scene: &Scene,
@@ -91,11 +94,17 @@ impl GBuffer {
         with_normals: bool,
     ) -> Result<Self> {
         let mut parts = Parts::default();
-        let count = if with_normals || scene.shadows { PARTS } else { PARTS - 1 };
+        let count = if with_normals {
+            PARTS
+        } else if scene.shadows {
+            PARTS - 1
+        } else {
+            PARTS - 2
+        };
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), count, &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
-        let [light, view, skin, normals] = drawn?;
+        let [light, view, skin, normals, axes] = drawn?;
         let vec = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
         let pixels = light
             .chunks(4)
@@ -113,6 +122,13 @@ impl GBuffer {
                     normal_up: f64::from(p[3]),
                     normal: normals.get(4 * i..4 * i + 3).map_or(DVec3::ZERO, |n| vec(n).normalize_or_zero()),
                     sun_visible: normals.get(4 * i + 3).map_or(1.0, |&v| f64::from(v)),
+                    frame: match (normals.get(4 * i..4 * i + 3), axes.get(4 * i..4 * i + 4)) {
+                        (Some(n), Some(a)) => {
+                            let (z, x) = (vec(n).normalize_or_zero(), vec(a).normalize_or_zero());
+                            glam::DMat3::from_cols(x, z.cross(x) * f64::from(a[3]), z)
+                        }
+                        _ => glam::DMat3::ZERO,
+                    },
                 })
             })
             .collect();
@@ -144,6 +160,7 @@ impl GBuffer {
             light_dir,
             ambient: scene.ambient,
             sky_sh,
+            sky_quadratic: crate::env_prefilter::sky_quadratic(&sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
         };
         let mut all = Vec::with_capacity(scene.objects.len());

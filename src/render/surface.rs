@@ -69,8 +69,11 @@ pub struct SurfaceUniforms {
     /// The penumbra's scales: one texel in world units, the map's depth range in world units (far − near), the
     /// tangent of the sun's angular radius, 0.
     pub shadow_penumbra: [f32; 4],
+    /// The environment's radiance to l = 2 as a quadratic form of the world direction (`env_prefilter::Quadratic`:
+    /// c₀, c, Q), in units of the sun's radiance; `sky_quadratic[0].w` 1 where the material diffracts it.
+    pub sky_quadratic: [[f32; 4]; 10],
 }
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 496);
+const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 656);
 
 /// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
 #[derive(Clone, Copy, Debug)]
@@ -82,6 +85,8 @@ pub struct ObjectView<'a> {
     pub ambient: f32,
     /// The environment's irradiance (`SurfaceUniforms::sky_sh`).
     pub sky_sh: [[f32; 4]; 9],
+    /// Its radiance to l = 2 (`SurfaceUniforms::sky_quadratic`, `w` of the first 0): zero without an environment.
+    pub sky_quadratic: [[f32; 4]; 10],
     /// Where the sun's shadow map lies (`SurfaceUniforms::shadow_view_proj` and `shadow`).
     pub shadow: ShadowUniforms,
 }
@@ -106,6 +111,7 @@ impl SurfaceUniforms {
             shadow_view_proj: view.shadow.view_proj,
             shadow: view.shadow.lookup,
             shadow_penumbra: view.shadow.penumbra,
+            sky_quadratic: view.sky_quadratic,
         }
     }
 }
@@ -271,7 +277,12 @@ impl SceneRenderer {
             samples: self.samples,
         })?);
         let [p, t, s] = patch_bindings(stages);
-        let mut bindings = vec![frame_binding, p, t, s];
+        let moments = Binding {
+            binding: crate::shaders::interface::BINDING_MOMENTS,
+            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            stages: vk::ShaderStageFlags::FRAGMENT,
+        };
+        let mut bindings = vec![frame_binding, p, t, s, moments];
         bindings.extend(ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT));
         self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
@@ -357,12 +368,15 @@ impl SceneRenderer {
             light_dir: view.light_dir,
             ambient: view.ambient,
             sky_sh: view.sky_sh,
+            sky_quadratic: crate::env_prefilter::sky_quadratic(&view.sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
         };
         let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(models) {
             let material = &self.materials[object.material];
-            let u = SurfaceUniforms::new(&object_view, *model, &material.surface, object.material);
+            let mut u = SurfaceUniforms::new(&object_view, *model, &material.surface, object.material);
+            // The environment diffracts where the material has its moments.
+            u.sky_quadratic[0][3] = if material.patch.has_moments { 1.0 } else { 0.0 };
             object.uniforms.write(bytemuck::bytes_of(&u))?;
             all.push(u);
         }
@@ -438,7 +452,13 @@ impl SceneRenderer {
         for object in &self.objects {
             let material = &self.materials[object.material];
             let [p, t, s] = material.patch.writes();
-            let mut writes = vec![DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms), p, t, s];
+            let mut writes = vec![
+                DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms),
+                p,
+                t,
+                s,
+                material.patch.moments_write(),
+            ];
             writes.extend(shadow.writes());
             if let Some(counts) = counts.filter(|_| self.counting) {
                 writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));

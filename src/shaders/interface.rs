@@ -58,6 +58,11 @@ pub const BINDING_SHADOW_DEPTH: u32 = 10;
 pub const BINDING_TABLE_SAMPLING: u32 = 11;
 pub const BINDING_ENV_SAMPLING: u32 = 12;
 pub const BINDING_ENV_RADIANCE: u32 = 13;
+/// A material's moments against the environment's light (`env_prefilter::Moments`), read by the surface pass.
+pub const BINDING_MOMENTS: u32 = 14;
+/// The moments' grid per axis and texture layers (`env_prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
+pub const MOMENT_GRID: u32 = 32;
+pub const MOMENT_LAYERS: u32 = 8;
 /// The R2 sequence's steps in 32-bit fixed point, 2³²/g and 2³²/g² for the plastic number g (`env_light::r2`).
 pub const R2_STEP_X: u32 = 3242174889;
 pub const R2_STEP_Y: u32 = 2447445413;

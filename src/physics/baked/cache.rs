@@ -34,6 +34,13 @@ fn estimate_plan(hf: &HeightField, plan: &TablePlan) -> PlanBytes {
     p
 }
 
+/// The bytes that identify the table of `plan` (what its cache entry is keyed by): for results computed from it.
+pub fn table_identity(hf: &HeightField, plan: &TablePlan) -> Vec<u8> {
+    let mut p = PlanBytes(table_stamp(hf, plan).plan);
+    p.u64(VERSION);
+    p.0
+}
+
 /// Everything the table of `plan` depends on.
 fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
     let mut p = estimate_plan(hf, plan);
