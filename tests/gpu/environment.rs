@@ -15,6 +15,19 @@ use crate::harness::gpu_test;
 const W: u32 = 64;
 const H: u32 = 32;
 
+/// `scene` rendered at `w`×`h`, one sample per pixel: its linear RGBA.
+fn render_linear(scene: &Scene, w: u32, h: u32) -> Vec<f32> {
+    gpu_test(|ctx| {
+        let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
+        let materials = prepare_materials(scene, &SettingsPatch::default(), &reaches).unwrap();
+        let mut capture = SceneCapture::new(ctx, scene, &materials, w, h, ash::vk::SampleCountFlags::TYPE_1).unwrap();
+        let frame = capture.render(ctx, &SceneView::of(scene));
+        // SAFETY: render waited.
+        unsafe { capture.destroy(ctx) };
+        frame.unwrap().linear().unwrap().to_vec()
+    })
+}
+
 #[test]
 fn the_background_is_the_map_along_each_view_ray() {
     let dir = crate::harness::place::scratch_root().join(format!("environment-{}", std::process::id()));
@@ -50,15 +63,7 @@ samples = 1
     );
     let scene = Scene::parse(&text, "env.toml", &dir).unwrap();
     let (w, h) = (96u32, 64u32);
-    let linear = gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
-        let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, ash::vk::SampleCountFlags::TYPE_1).unwrap();
-        let frame = capture.render(ctx, &SceneView::of(&scene));
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frame.unwrap().linear().unwrap().to_vec()
-    });
+    let linear = render_linear(&scene, w, h);
     let sun = diffract::physics::sky::Sky::new(3.0, scene.light_dir.as_dvec3()).unwrap().sun_xyz().y;
     let scale = intensity / sun;
     let inv = scene.camera.view_projection(w as f32 / h as f32).inverse().as_dmat4();
@@ -128,15 +133,7 @@ samples = 1
 "#;
     let scene = Scene::parse(text, "furnace.toml", &dir).unwrap();
     let (w, h) = (48u32, 48u32);
-    let linear = gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
-        let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, ash::vk::SampleCountFlags::TYPE_1).unwrap();
-        let frame = capture.render(ctx, &SceneView::of(&scene));
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frame.unwrap().linear().unwrap().to_vec()
-    });
+    let linear = render_linear(&scene, w, h);
     let sun = diffract::physics::sky::Sky::new(3.0, scene.light_dir.as_dvec3()).unwrap().sun_xyz().y;
     let l = f64::from(radiance) / sun;
     let inv = scene.camera.view_projection(w as f32 / h as f32).inverse().as_dmat4();
