@@ -211,6 +211,27 @@ impl EnvironmentMap {
         lux
     }
 
+    /// The radiance towards `d` (unit, world) as a linearly filtered sampler reads the map turned by `rotation`
+    /// radians about +y (`create_panorama_sampler`: wrapping in azimuth, clamped at the poles; the shaders' lookup).
+    pub fn bilinear(&self, d: DVec3, rotation: f64) -> DVec3 {
+        let azimuth = d.x.atan2(d.z) - rotation;
+        let elevation = d.y.clamp(-1.0, 1.0).asin();
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let fx = ((azimuth / std::f64::consts::TAU + 0.5).rem_euclid(1.0)) * w - 0.5;
+        let fy = (0.5 - elevation / std::f64::consts::PI) * h - 0.5;
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        let at = |x: f64, y: f64| {
+            let xi = (x as i64).rem_euclid(i64::from(self.width)) as u32;
+            let yi = (y.max(0.0) as u32).min(self.height - 1);
+            let [r, g, b] = self.rgb[(yi * self.width + xi) as usize].map(f64::from);
+            DVec3::new(r, g, b)
+        };
+        let top = at(x0, y0) * (1.0 - tx) + at(x0 + 1.0, y0) * tx;
+        let bottom = at(x0, y0 + 1.0) * (1.0 - tx) + at(x0 + 1.0, y0 + 1.0) * tx;
+        top * (1.0 - ty) + bottom * ty
+    }
+
     /// RGBA f32 (alpha 1), for the image writers.
     pub fn to_rgba(&self) -> Vec<f32> {
         self.rgb.iter().flat_map(|&[r, g, b]| [r, g, b, 1.0]).collect()

@@ -298,6 +298,31 @@ impl Environment {
         }
     }
 
+    /// The map the environment is, with the sun towards `light_dir` in it (`with_sun`, what is drawn behind a
+    /// scene) or without it (what its diffraction reads at the mirror direction: the sun diffracts as the scene's
+    /// light), the factor from its texels to the frame's units and its turn about +y (radians); None while the sun
+    /// is below the horizon. The clear sky is rendered at `sky_width` texels across.
+    pub fn panorama(
+        &self,
+        light_dir: Vec3,
+        with_sun: bool,
+        sky_width: u32,
+    ) -> Result<Option<(std::borrow::Cow<'_, crate::environment::EnvironmentMap>, f64, f64)>> {
+        let Some(sun) = self.sun_luminance(light_dir) else { return Ok(None) };
+        Ok(Some(match self {
+            Environment::Map(m) => (std::borrow::Cow::Borrowed(&m.map), m.intensity / sun, m.rotation_deg.to_radians()),
+            Environment::Sky(sky) => {
+                let model = crate::physics::sky::Sky::new(sky.turbidity, light_dir.as_dvec3())?;
+                let map = if with_sun {
+                    crate::environment::EnvironmentMap::of_sky_and_sun(&model, sky_width, SKY_GROUND_ALBEDO)?
+                } else {
+                    crate::environment::EnvironmentMap::of_sky(&model, sky_width, SKY_GROUND_ALBEDO)?
+                };
+                (std::borrow::Cow::Owned(map), 1.0 / sun, 0.0)
+            }
+        }))
+    }
+
     /// The luminance (cd/m²) of the model's sun towards `light_dir` through [`Self::turbidity`]: the frame's unit,
     /// which an environment's radiance is divided by; None while the sun is below the horizon.
     pub fn sun_luminance(&self, light_dir: Vec3) -> Option<f64> {

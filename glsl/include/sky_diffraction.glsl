@@ -2,11 +2,24 @@
 // as a quadratic form of the direction (frame.sky_quadratic: c₀, c, Q in the world), seen in the patch frame
 // T = (x, y, normal) as L(ω) = Σ_j a_j m_j(ω) over the monomials (1, x, y, z, x², y², xy, xz, yz), integrated
 // against the BRDF by its nine moments M_j(ω_r) (the material's moments texture), plus the specular reflectance
-// times L at the mirror direction. Mirrors `Moments::radiance` with `mirror` = the quadratic's own value there.
+// times the environment's own radiance at the mirror direction (the quadratic's where the view has no map).
+// Mirrors `Moments::radiance`.
 // Requires surface_frame.glsl (frame), params.glsl, brdf.glsl.
 #include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS
 
 layout(set = 0, binding = BINDING_MOMENTS) uniform sampler2DArray env_moments;
+// The environment without its sun (`render::surface::EnvLighting`), equirectangular like the background's map:
+// frame.sky_quadratic[1].w turns its texels into the frame's units, [2].w is its turn about +y, [3].w is 1 where
+// the view has one (else the specular reflection reads the quadratic form).
+layout(set = 0, binding = BINDING_ENV_LIGHT) uniform sampler2D env_light_map;
+
+// The environment's radiance towards the world direction d, in the frame's units.
+vec3 env_light_radiance(vec3 d) {
+    float azimuth = atan(d.x, d.z) - frame.sky_quadratic[2].w;
+    float elevation = asin(clamp(d.y, -1.0, 1.0));
+    vec2 uv = vec2(azimuth / (2.0 * PI) + 0.5, 0.5 - elevation / PI);
+    return textureLod(env_light_map, uv, 0.0).rgb * frame.sky_quadratic[1].w;
+}
 
 // The moments' grid coordinates of a view (`env_prefilter::grid_of_view`): the direction's azimuth at the radius
 // θ_r/(π/2).
@@ -63,7 +76,7 @@ vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     vec2 uv = ((g + 1.0) * 0.5 * float(MOMENT_GRID - 1u) + 0.5) / float(MOMENT_GRID);
     float s[4 * MOMENT_LAYERS];
     for (uint l = 0u; l < MOMENT_LAYERS; ++l) {
-        vec4 v = texture(env_moments, vec3(uv, float(l)));
+        vec4 v = textureLod(env_moments, vec3(uv, float(l)), 0.0);
         s[4u * l] = v.x;
         s[4u * l + 1u] = v.y;
         s[4u * l + 2u] = v.z;
@@ -78,6 +91,8 @@ vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
         at_mirror += a[j] * m[j];
     }
     vec3 specular = vec3(s[27], s[28], s[29]);
+    // The specular disc's light: the environment itself at the mirror direction where the view has it.
+    if (frame.sky_quadratic[3].w > 0.5) at_mirror = env_light_radiance(mat3(x, y, n) * mirror);
     // The grid holds the moments over Schlick's R/R₀ at the mirror direction (`env_prefilter::mirror_fresnel`).
     float fresnel = fresnel_ratio(mirror, omega_r, SKIN_INDEX);
     return fresnel * (max(diffracted, vec3(0.0)) + specular * max(at_mirror, vec3(0.0)));

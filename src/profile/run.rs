@@ -246,6 +246,11 @@ fn scene_pixels(
     // The environment's diffraction, from the materials' moments (the same as the frames': env_prefilter) and
     // the environment's l ≤ 2 radiance as the shaders have it.
     let quadratic = crate::env_prefilter::Quadratic::of_irradiance(&sky);
+    // The environment without its sun, which each pixel reflects at its mirror direction (the surface pass's map).
+    let panorama = match &scene.environment {
+        Some(e) => e.panorama(scene.light_dir, false, crate::render::surface::LIGHTING_SKY_WIDTH)?,
+        None => None,
+    };
     let moments: Vec<Option<crate::env_prefilter::Moments>> = scene
         .materials
         .iter()
@@ -267,8 +272,12 @@ fn scene_pixels(
             let lit = optics::Lit { sun_visible, coated };
             let sky_diffraction =
                 moments[material].as_ref().filter(|_| coated && omega_r.z > 0.0).map_or(DVec3::ZERO, |m| {
-                    let mirror = quadratic.radiance(frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z));
-                    m.radiance(omega_r, &quadratic, frame, mirror.max(DVec3::ZERO), whites[material])
+                    let d = frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
+                    let mirror = match &panorama {
+                        Some((map, scale, rotation)) => map.bilinear(d, *rotation) * *scale,
+                        None => quadratic.radiance(d).max(DVec3::ZERO),
+                    };
+                    m.radiance(omega_r, &quadratic, frame, mirror, whites[material])
                 });
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
                 + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated)

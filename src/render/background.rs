@@ -48,12 +48,69 @@ enum Shown {
     Sky { turbidity: u64, sun: [u32; 3] },
 }
 
+/// An environment's equirectangular map on the GPU (`Environment::panorama`), uploaded again only when another map
+/// or another sun is asked for.
+pub(crate) struct Panorama {
+    texture: Option<(Image, Shown)>,
+    /// Whether the sky's map holds its sun (drawn behind) or not (lighting).
+    with_sun: bool,
+    /// The clear sky's map width.
+    sky_width: u32,
+}
+
+impl Panorama {
+    pub fn new(with_sun: bool, sky_width: u32) -> Self {
+        Self { texture: None, with_sun, sky_width }
+    }
+
+    /// The map for `environment` around the sun towards `light_dir` (uploaded where it is not there yet), its
+    /// factor to the frame's units and its turn (radians); None while the sun is below the horizon. No submitted
+    /// work may still read the old map.
+    pub fn update(&mut self, ctx: &Context, environment: &Environment, light_dir: Vec3) -> Result<Option<(f64, f64)>> {
+        let shown = match environment {
+            Environment::Map(m) => Shown::Map(std::sync::Arc::as_ptr(m) as usize),
+            Environment::Sky(sky) => {
+                Shown::Sky { turbidity: sky.turbidity.to_bits(), sun: light_dir.to_array().map(f32::to_bits) }
+            }
+        };
+        if self.texture.as_ref().map(|t| t.1) == Some(shown) {
+            // The same map: only the unit (the sun's luminance) to give.
+            return Ok(environment.sun_luminance(light_dir).map(|sun| match environment {
+                Environment::Map(m) => (m.intensity / sun, m.rotation_deg.to_radians()),
+                Environment::Sky(_) => (1.0 / sun, 0.0),
+            }));
+        }
+        let Some((map, scale, rotation)) = environment.panorama(light_dir, self.with_sun, self.sky_width)? else {
+            return Ok(None);
+        };
+        let image = Guard::new(ctx, upload(ctx, &map)?);
+        if let Some((old, _)) = self.texture.replace((image.keep(), shown)) {
+            // SAFETY: the caller promises no submitted work still reads the map.
+            unsafe { old.destroy(ctx) };
+        }
+        Ok(Some((scale, rotation)))
+    }
+
+    /// The map on the GPU, once updated.
+    pub fn image(&self) -> Option<&Image> {
+        self.texture.as_ref().map(|t| &t.0)
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        if let Some((image, _)) = self.texture {
+            image.destroy(ctx);
+        }
+    }
+}
+
 /// The pass: its pipeline, the map's texture and the uniforms.
 pub struct BackgroundPass {
     pipeline: Pipeline,
     sampler: Sampler,
     uniforms: Buffer,
-    texture: Option<(Image, Shown)>,
+    panorama: Panorama,
     values: BackgroundUniforms,
 }
 
@@ -91,7 +148,8 @@ impl BackgroundPass {
         let size = std::mem::size_of::<BackgroundUniforms>() as u64;
         let uniforms = ctx.create_buffer(BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER), NAME)?;
         let values = BackgroundUniforms::zeroed();
-        Ok(Self { pipeline: pipeline.keep(), sampler: sampler.keep(), uniforms, texture: None, values })
+        let panorama = Panorama::new(true, SKY_WIDTH);
+        Ok(Self { pipeline: pipeline.keep(), sampler: sampler.keep(), uniforms, panorama, values })
     }
 
     /// Makes the pass show `environment` around the sun towards `light_dir` from `camera` into a target of
@@ -103,36 +161,11 @@ impl BackgroundPass {
         light_dir: Vec3,
         (camera, aspect): (&crate::camera::Camera, f32),
     ) -> Result<()> {
-        let Some(sun) = environment.sun_luminance(light_dir) else {
+        let Some((scale, rotation)) = self.panorama.update(ctx, environment, light_dir)? else {
             // The sun below the horizon: the frame has no unit, the environment shows black.
             self.values.view[0] = 0.0;
             return self.uniforms.write(bytemuck::bytes_of(&self.values));
         };
-        let (shown, scale, rotation) = match environment {
-            Environment::Map(m) => {
-                (Shown::Map(std::sync::Arc::as_ptr(m) as usize), m.intensity / sun, m.rotation_deg.to_radians())
-            }
-            Environment::Sky(sky) => (
-                Shown::Sky { turbidity: sky.turbidity.to_bits(), sun: light_dir.to_array().map(f32::to_bits) },
-                1.0 / sun,
-                0.0,
-            ),
-        };
-        if self.texture.as_ref().map(|t| t.1) != Some(shown) {
-            let map = match environment {
-                Environment::Map(m) => std::borrow::Cow::Borrowed(&m.map),
-                Environment::Sky(sky) => {
-                    let model = crate::physics::sky::Sky::new(sky.turbidity, light_dir.as_dvec3())?;
-                    let albedo = crate::scene::SKY_GROUND_ALBEDO;
-                    std::borrow::Cow::Owned(EnvironmentMap::of_sky_and_sun(&model, SKY_WIDTH, albedo)?)
-                }
-            };
-            let image = Guard::new(ctx, upload(ctx, &map)?);
-            if let Some((old, _)) = self.texture.replace((image.keep(), shown)) {
-                // SAFETY: the caller promises no submitted work still reads the pass.
-                unsafe { old.destroy(ctx) };
-            }
-        }
         self.values.inverse_view_proj = camera.view_projection(aspect).inverse().to_cols_array_2d();
         self.values.camera = camera.position.extend(0.0).to_array();
         self.values.view = [scale as f32, rotation as f32, 0.0, 0.0];
@@ -147,7 +180,7 @@ impl BackgroundPass {
 
     /// Records the draw (inside the scene's rendering, after its objects); nothing before the first update.
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer) {
-        let Some((image, _)) = &self.texture else { return };
+        let Some(image) = self.panorama.image() else { return };
         ctx.begin_label(cmd, NAME);
         let writes = [
             DescriptorWrite::UniformBuffer(BINDING_FRAME, &self.uniforms),
@@ -165,14 +198,12 @@ impl BackgroundPass {
         self.pipeline.destroy(ctx);
         self.sampler.destroy(ctx);
         self.uniforms.destroy(ctx);
-        if let Some((image, _)) = self.texture {
-            image.destroy(ctx);
-        }
+        self.panorama.destroy(ctx);
     }
 }
 
 /// The map as an RGBA32F texture.
-fn upload(ctx: &Context, map: &EnvironmentMap) -> Result<Image> {
+pub(crate) fn upload(ctx: &Context, map: &EnvironmentMap) -> Result<Image> {
     let image =
         Guard::new(ctx, ctx.create_image(ImageDesc::texture(map.width, map.height, super::LINEAR_FORMAT), NAME)?);
     ctx.upload_image(&image, bytemuck::cast_slice(&map.to_rgba()), ImageState::SHADER_READ)?;

@@ -89,6 +89,8 @@ pub struct SceneView {
     pub shadow_casters: Option<Vec<bool>>,
     /// The environment drawn behind the objects (None: the background colour).
     pub behind: Option<crate::scene::Environment>,
+    /// The environment whose light the objects reflect (its specular reflection; None: no environment).
+    pub lighting: Option<crate::scene::Environment>,
     pub background: [f32; 4],
 }
 
@@ -109,6 +111,7 @@ impl SceneView {
             models: scene.objects.iter().map(|o| o.model).collect(),
             shadow_casters: scene.shadows.then(|| scene.objects.iter().map(|o| o.casts_shadow).collect()),
             behind: scene.environment.clone().filter(|_| scene.environment_behind),
+            lighting: scene.environment.clone(),
             background: [r, g, b, 1.0],
         }
     }

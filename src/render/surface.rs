@@ -25,8 +25,8 @@ use crate::shaders;
 use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE};
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, ImageState, Laps,
-    Pipeline, Statistics, VertexAttribute,
+    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageState,
+    Laps, Pipeline, Sampler, Statistics, VertexAttribute,
 };
 
 /// What a frame's recording is measured with (all off by default).
@@ -185,6 +185,40 @@ pub enum SurfaceVariant {
     CountFetches { stride: u32 },
 }
 
+/// The width of the clear sky's map (without its sun) the surface pass reflects: 1.4° texels (the sky is smooth).
+pub const LIGHTING_SKY_WIDTH: u32 = 256;
+
+/// The environment the surface pass reflects at each pixel's mirror direction (`BINDING_ENV_LIGHT`).
+struct EnvLighting {
+    panorama: super::background::Panorama,
+    sampler: Sampler,
+    /// One black texel, bound until a view has an environment.
+    fallback: Image,
+}
+
+impl EnvLighting {
+    fn new(ctx: &Context) -> Result<Self> {
+        let sampler = Guard::new(ctx, ctx.create_panorama_sampler("environment lighting")?);
+        let black = crate::environment::EnvironmentMap { width: 1, height: 1, rgb: vec![[0.0; 3]] };
+        let fallback = super::background::upload(ctx, &black)?;
+        let panorama = super::background::Panorama::new(false, LIGHTING_SKY_WIDTH);
+        Ok(Self { panorama, sampler: sampler.keep(), fallback })
+    }
+
+    fn write(&self) -> DescriptorWrite<'_> {
+        let image = self.panorama.image().unwrap_or(&self.fallback);
+        DescriptorWrite::SampledImage(crate::shaders::interface::BINDING_ENV_LIGHT, image, &self.sampler)
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    unsafe fn destroy(self, ctx: &Context) {
+        self.panorama.destroy(ctx);
+        self.sampler.destroy(ctx);
+        self.fallback.destroy(ctx);
+    }
+}
+
 /// GPU state for drawing a set of objects with their materials.
 pub struct SceneRenderer {
     materials: Vec<MaterialGpu>,
@@ -197,6 +231,10 @@ pub struct SceneRenderer {
     /// The environment drawn behind the objects (made when a view first shows one) and whether this view does.
     background: Option<BackgroundPass>,
     shows_background: bool,
+    /// The environment without its sun, which each pixel reflects at its mirror direction (a black texel where
+    /// the view has none), and the view's factor to the frame's units and turn, with 1 where it has one.
+    lighting: Option<EnvLighting>,
+    lighting_values: [f32; 3],
     /// What the background pass is built for: the targets' format and whether they are display-encoded.
     color_format: vk::Format,
     display_output: bool,
@@ -240,6 +278,8 @@ impl SceneRenderer {
             casters: Vec::new(),
             background: None,
             shows_background: false,
+            lighting: None,
+            lighting_values: [0.0; 3],
             color_format,
             display_output: matches!(variant, SurfaceVariant::Shade { display_output: true }),
             display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
@@ -282,7 +322,13 @@ impl SceneRenderer {
             kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             stages: vk::ShaderStageFlags::FRAGMENT,
         };
-        let mut bindings = vec![frame_binding, p, t, s, moments];
+        let env_light = Binding {
+            binding: crate::shaders::interface::BINDING_ENV_LIGHT,
+            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            stages: vk::ShaderStageFlags::FRAGMENT,
+        };
+        self.lighting = Some(EnvLighting::new(ctx)?);
+        let mut bindings = vec![frame_binding, p, t, s, moments, env_light];
         bindings.extend(ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT));
         self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
@@ -361,6 +407,12 @@ impl SceneRenderer {
                 unsafe { old.destroy(ctx) };
             }
         }
+        self.lighting_values = [0.0; 3];
+        if let (Some(environment), Some(lighting)) = (&view.lighting, &mut self.lighting) {
+            if let Some((scale, rotation)) = lighting.panorama.update(ctx, environment, view.light_dir)? {
+                self.lighting_values = [scale as f32, rotation as f32, 1.0];
+            }
+        }
         let size = self.shadow.as_ref().map_or(1, ShadowMap::size);
         let object_view = ObjectView {
             camera: &view.camera,
@@ -375,8 +427,12 @@ impl SceneRenderer {
         for (object, model) in self.objects.iter_mut().zip(models) {
             let material = &self.materials[object.material];
             let mut u = SurfaceUniforms::new(&object_view, *model, &material.surface, object.material);
-            // The environment diffracts where the material has its moments.
+            // The environment diffracts where the material has its moments, its specular reflection read from the
+            // map where the view has one.
             u.sky_quadratic[0][3] = if material.patch.has_moments { 1.0 } else { 0.0 };
+            for (k, v) in self.lighting_values.into_iter().enumerate() {
+                u.sky_quadratic[k + 1][3] = v;
+            }
             object.uniforms.write(bytemuck::bytes_of(&u))?;
             all.push(u);
         }
@@ -458,6 +514,7 @@ impl SceneRenderer {
                 t,
                 s,
                 material.patch.moments_write(),
+                self.lighting.as_ref().expect("a filled renderer has its lighting").write(),
             ];
             writes.extend(shadow.writes());
             if let Some(counts) = counts.filter(|_| self.counting) {
@@ -499,6 +556,9 @@ impl SceneRenderer {
         }
         if let Some(background) = self.background {
             background.destroy(ctx);
+        }
+        if let Some(lighting) = self.lighting {
+            lighting.destroy(ctx);
         }
         for m in self.materials {
             m.pipeline.destroy(ctx);

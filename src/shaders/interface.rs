@@ -60,6 +60,9 @@ pub const BINDING_ENV_SAMPLING: u32 = 12;
 pub const BINDING_ENV_RADIANCE: u32 = 13;
 /// A material's moments against the environment's light (`env_prefilter::Moments`), read by the surface pass.
 pub const BINDING_MOMENTS: u32 = 14;
+/// The environment without its sun, read by the surface pass at each pixel's mirror direction (its specular
+/// reflection: `render::surface`, `glsl/include/sky_diffraction.glsl`).
+pub const BINDING_ENV_LIGHT: u32 = 15;
 /// The moments' grid per axis and texture layers (`env_prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
 pub const MOMENT_GRID: u32 = 32;
 pub const MOMENT_LAYERS: u32 = 8;

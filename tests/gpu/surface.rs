@@ -37,6 +37,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
         models: vec![glam::Mat4::IDENTITY],
         shadow_casters: None,
         behind: None,
+        lighting: None,
         background: [0.0, 0.0, 0.0, 1.0],
     };
     (mesh, view)
