@@ -37,7 +37,7 @@
 //! the exact BRDF ([`Integrator::pixel`] with `Reference::flss_xyz`): the reference, whose standard error comes
 //! from the samples' own variance.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::environment::{texel_solid_angle, EnvironmentMap};
 use crate::error::{Error, Result};
@@ -361,7 +361,12 @@ pub struct Integrator<'a> {
     pub gain: f64,
     /// The illuminant's white (linear sRGB, Y = 1): the environment's RGB over it tints the diffraction.
     pub white: DVec3,
+    /// The patch frame in the environment's (columns: the patch's x, y and normal; [`MAP_FRAME`] for a BRDF map).
+    pub frame: DMat3,
 }
+
+/// A BRDF map's patch frame in the environment's ([`env_of_patch`]): the zenith is the normal.
+pub const MAP_FRAME: DMat3 = DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y);
 
 impl Integrator<'_> {
     /// The BRDF strategies' densities in (u, v) for the view `omega_r` (patch frame), each times its samples:
@@ -376,7 +381,7 @@ impl Integrator<'_> {
     /// One sample's contribution for light from `omega_i` (patch frame, above the surface), `rho` its colour
     /// (linear sRGB of ρ = XYZ·C·shadowing).
     fn contribution(&self, omega_i: DVec3, omega_r: DVec3, rho: DVec3) -> DVec3 {
-        let (radiance, p_env) = self.env.radiance(env_of_patch(omega_i));
+        let (radiance, p_env) = self.env.radiance(self.frame * omega_i);
         let p_brdf = self.brdf_density(-omega_i.x - omega_r.x, -omega_i.y - omega_r.y, omega_r);
         let denominator = p_brdf * omega_i.z + f64::from(self.n_env) * p_env;
         if denominator <= 0.0 {
@@ -396,7 +401,7 @@ impl Integrator<'_> {
             for k in 0..n {
                 let xi = r2(k, shift);
                 let omega_i = match strategy {
-                    Strategy::Env => Some(patch_of_env(self.env.sample(xi))).filter(|w| w.z > 0.0),
+                    Strategy::Env => Some(self.frame.transpose() * self.env.sample(xi)).filter(|w| w.z > 0.0),
                     Strategy::Floor => {
                         // Uniform over the unit disc of ω_i.xy.
                         let (r, phi) = (xi[0].sqrt(), std::f64::consts::TAU * xi[1]);
@@ -446,11 +451,70 @@ pub const REFERENCE_STEP_NM: f64 = 5.0;
 /// Independent passes the reference's samples are split into (its standard error is their spread's).
 pub const REFERENCE_REPLICATES: u32 = 8;
 
-/// The exact reference of a BRDF map `size` pixels across under `env`: the estimator above with the exact BRDF
-/// (f64, the full coherence window, `REFERENCE_STEP_NM` steps: `Reference::flss_xyz`) at each of `pixels`, `samples`
-/// per pixel (half from the BRDF's strategies, half from the environment's) in [`REFERENCE_REPLICATES`]
-/// independently shifted passes, the table only proposing where to look. Each pixel's estimate carries its
-/// standard error (from the passes' spread).
+/// The exact BRDF integrated over an environment: the estimator above with the exact BRDF (f64, the full coherence
+/// window, [`REFERENCE_STEP_NM`] steps: `Reference::flss_xyz`), in [`REFERENCE_REPLICATES`] independently shifted
+/// passes, a table only proposing where to look. Each estimate carries its standard error (from the passes' spread).
+pub struct ExactEnv {
+    reference: crate::physics::Reference,
+    sampling: crate::physics::spectrum::Sampling,
+    gain: f64,
+    white: DVec3,
+}
+
+impl ExactEnv {
+    /// The reference of `hf` under `settings` (its coherence length and light, in physical units).
+    pub fn new(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> Result<Self> {
+        use crate::physics::exact::{window_gain, Method, Reference};
+        use crate::physics::spectrum::{white_rgb, Sampling};
+        use crate::physics::{HeightStats, TaylorPlan, Window};
+        let (lx, ly) = hf.size_um();
+        let window = Window::new(lx, ly, settings.coherence_um, None)?;
+        let plan = TaylorPlan::new(
+            crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
+            2.0,
+            &HeightStats::of(hf),
+            window_gain(&window, hf),
+            crate::profile::exact_image::REFERENCE_TOLERANCE,
+            None,
+        );
+        let reference = match plan {
+            Ok(plan) if plan.f64_error <= crate::profile::exact_image::MAX_REFERENCE_ROUNDING => {
+                Reference::new(hf, window, Method::Taylor, Some(plan))?
+            }
+            _ => Reference::new(hf, window, Method::Exact, None)?,
+        };
+        let sampling = Sampling::visible_under(REFERENCE_STEP_NM, settings.illuminant);
+        let gain = env_gain(&sampling, settings.coherence_um)?;
+        Ok(Self { reference, sampling, gain, white: white_rgb(settings.illuminant) })
+    }
+
+    /// The radiance towards `omega_r` (patch frame, whose axes in the environment's frame are `frame`'s columns)
+    /// under `env`, from `samples` samples (half from the BRDF's strategies, half from the environment's).
+    pub fn estimate(
+        &self,
+        env: &EnvLight,
+        proposal: &TableProposal,
+        frame: DMat3,
+        omega_r: DVec3,
+        samples: u32,
+        seed: u64,
+    ) -> Estimate {
+        let per_pass = (samples / REFERENCE_REPLICATES).max(2);
+        let n_brdf = per_pass / 2;
+        let integrator =
+            Integrator { env, proposal, n_brdf, n_env: per_pass - n_brdf, gain: self.gain, white: self.white, frame };
+        let rho = |omega_i: DVec3, omega_r: DVec3| {
+            if !(omega_i.z > 0.0 && omega_r.z > 0.0) {
+                return DVec3::ZERO;
+            }
+            crate::physics::spectrum::xyz_to_linear_srgb(self.reference.flss_xyz(omega_i, omega_r, &self.sampling))
+        };
+        integrator.pixel(omega_r, rho, seed, REFERENCE_REPLICATES)
+    }
+}
+
+/// The exact reference of a BRDF map `size` pixels across under `env` ([`ExactEnv`]) at each of `pixels`,
+/// `samples` per pixel.
 pub fn reference_map_pixels(
     hf: &crate::physics::HeightField,
     settings: &crate::settings::Settings,
@@ -460,49 +524,14 @@ pub fn reference_map_pixels(
     pixels: &[(u32, u32)],
     samples: u32,
 ) -> Result<Vec<Option<Estimate>>> {
-    use crate::physics::exact::{window_gain, Method, Reference};
-    use crate::physics::spectrum::{white_rgb, xyz_to_linear_srgb, Sampling};
-    use crate::physics::{HeightStats, TaylorPlan, Window};
     use rayon::prelude::*;
-    let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, settings.coherence_um, None)?;
-    let plan = TaylorPlan::new(
-        crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
-        2.0,
-        &HeightStats::of(hf),
-        window_gain(&window, hf),
-        crate::profile::exact_image::REFERENCE_TOLERANCE,
-        None,
-    );
-    let reference = match plan {
-        Ok(plan) if plan.f64_error <= crate::profile::exact_image::MAX_REFERENCE_ROUNDING => {
-            Reference::new(hf, window, Method::Taylor, Some(plan))?
-        }
-        _ => Reference::new(hf, window, Method::Exact, None)?,
-    };
-    let sampling = Sampling::visible_under(REFERENCE_STEP_NM, settings.illuminant);
-    let per_pass = (samples / REFERENCE_REPLICATES).max(2);
-    let n_brdf = per_pass / 2;
-    let integrator = Integrator {
-        env,
-        proposal,
-        n_brdf,
-        n_env: per_pass - n_brdf,
-        gain: env_gain(&sampling, settings.coherence_um)?,
-        white: white_rgb(settings.illuminant),
-    };
-    let rho = |omega_i: DVec3, omega_r: DVec3| {
-        if !(omega_i.z > 0.0 && omega_r.z > 0.0) {
-            return DVec3::ZERO;
-        }
-        xyz_to_linear_srgb(reference.flss_xyz(omega_i, omega_r, &sampling))
-    };
+    let exact = ExactEnv::new(hf, settings)?;
     Ok(pixels
         .par_iter()
         .map(|&(x, y)| {
             map_view(size, x, y).map(|omega_r| {
                 let seed = 0x5eed_0000_0000 ^ (u64::from(y) << 20) ^ u64::from(x);
-                integrator.pixel(omega_r, rho, seed, REFERENCE_REPLICATES)
+                exact.estimate(env, proposal, MAP_FRAME, omega_r, samples, seed)
             })
         })
         .collect())

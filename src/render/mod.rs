@@ -7,7 +7,7 @@ pub mod background;
 pub mod capture;
 pub mod diffraction;
 pub mod env_map;
-pub(crate) mod gbuffer;
+pub mod gbuffer;
 pub mod preview;
 pub mod profile;
 pub mod shadow;
