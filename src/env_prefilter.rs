@@ -42,15 +42,11 @@ pub struct Quadratic {
     pub q: [[DVec3; 3]; 3],
 }
 
-/// Â_l/π of the irradiance's convolution ([`Irradiance`] stores L_lm·Â_l/π).
-const WEIGHT_OVER_PI: [f64; 3] = [1.0, 2.0 / 3.0, 0.25];
-const BAND: [usize; 9] = [0, 1, 1, 1, 2, 2, 2, 2, 2];
-
 impl Quadratic {
     /// The radiance whose irradiance `irradiance` is, up to l = 2 (its nine coefficients unconvolved), written out
     /// in the basis of `sh::basis`.
     pub fn of_irradiance(irradiance: &Irradiance) -> Self {
-        let l: [DVec3; 9] = std::array::from_fn(|k| irradiance.coefficients[k] / WEIGHT_OVER_PI[BAND[k]]);
+        let l = irradiance.radiance_coefficients();
         // sh::basis: 0.282095; 0.488603·(y, z, x); 1.092548·xy, 1.092548·yz, 0.315392·(3z² − 1), 1.092548·xz,
         // 0.546274·(x² − y²).
         let (a1, a2, a20, a22) = (0.488_603, 1.092_548, 0.315_392, 0.546_274);

@@ -308,19 +308,29 @@ impl Environment {
         with_sun: bool,
         sky_width: u32,
     ) -> Result<Option<(std::borrow::Cow<'_, crate::environment::EnvironmentMap>, f64, f64)>> {
-        let Some(sun) = self.sun_luminance(light_dir) else { return Ok(None) };
-        Ok(Some(match self {
-            Environment::Map(m) => (std::borrow::Cow::Borrowed(&m.map), m.intensity / sun, m.rotation_deg.to_radians()),
+        let Some((scale, rotation)) = self.panorama_units(light_dir) else { return Ok(None) };
+        let map = match self {
+            Environment::Map(m) => std::borrow::Cow::Borrowed(&m.map),
             Environment::Sky(sky) => {
                 let model = crate::physics::sky::Sky::new(sky.turbidity, light_dir.as_dvec3())?;
-                let map = if with_sun {
+                std::borrow::Cow::Owned(if with_sun {
                     crate::environment::EnvironmentMap::of_sky_and_sun(&model, sky_width, SKY_GROUND_ALBEDO)?
                 } else {
                     crate::environment::EnvironmentMap::of_sky(&model, sky_width, SKY_GROUND_ALBEDO)?
-                };
-                (std::borrow::Cow::Owned(map), 1.0 / sun, 0.0)
+                })
             }
-        }))
+        };
+        Ok(Some((map, scale, rotation)))
+    }
+
+    /// [`Self::panorama`]'s factor from the map's texels to the frame's units and its turn (radians), without the
+    /// map; None while the sun is below the horizon.
+    pub fn panorama_units(&self, light_dir: Vec3) -> Option<(f64, f64)> {
+        let sun = self.sun_luminance(light_dir)?;
+        Some(match self {
+            Environment::Map(m) => (m.intensity / sun, m.rotation_deg.to_radians()),
+            Environment::Sky(_) => (1.0 / sun, 0.0),
+        })
     }
 
     /// The luminance (cd/m²) of the model's sun towards `light_dir` through [`Self::turbidity`]: the frame's unit,

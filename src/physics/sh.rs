@@ -77,6 +77,11 @@ impl Irradiance {
         self.coefficients.iter().zip(basis(n)).map(|(c, y)| *c * y).sum::<DVec3>().max(DVec3::ZERO)
     }
 
+    /// The radiance's own coefficients L_lm: [`Self::coefficients`] without the clamped cosine's convolution.
+    pub fn radiance_coefficients(&self) -> [DVec3; 9] {
+        std::array::from_fn(|k| self.coefficients[k] / WEIGHT_OVER_PI[BAND[k]])
+    }
+
     /// The coefficients as the shaders' `vec4`s (RGB, w = 0).
     pub fn to_vec4s(&self) -> [[f32; 4]; 9] {
         self.coefficients.map(|c| [c.x as f32, c.y as f32, c.z as f32, 0.0])

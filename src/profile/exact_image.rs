@@ -96,15 +96,11 @@ pub struct ReferenceJob<'a> {
 impl ReferenceJob<'_> {
     /// The BRDF map's pixels for a light from `light` (unit, patch frame): the disk of `glsl/map.frag.glsl`.
     pub fn map_pixels(size: u32, light: DVec3) -> Vec<Option<PixelQuery>> {
-        let half = 0.5 * f64::from(size);
         (0..size * size)
             .map(|i| {
-                let (px, py) = (f64::from(i % size) + 0.5, f64::from(i / size) + 0.5);
-                let (x, y) = ((px - half) / half, -(py - half) / half);
-                let r2 = x * x + y * y;
-                (r2 < 1.0).then(|| PixelQuery {
+                crate::env_light::map_view(size, i % size, i / size).map(|omega_r| PixelQuery {
                     omega_i: light,
-                    omega_r: DVec3::new(x, y, (1.0 - r2).sqrt()),
+                    omega_r,
                     material: 0,
                     diffracted: 1.0,
                     extra_xyz: DVec3::ZERO,

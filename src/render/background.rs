@@ -75,10 +75,7 @@ impl Panorama {
         };
         if self.texture.as_ref().map(|t| t.1) == Some(shown) {
             // The same map: only the unit (the sun's luminance) to give.
-            return Ok(environment.sun_luminance(light_dir).map(|sun| match environment {
-                Environment::Map(m) => (m.intensity / sun, m.rotation_deg.to_radians()),
-                Environment::Sky(_) => (1.0 / sun, 0.0),
-            }));
+            return Ok(environment.panorama_units(light_dir));
         }
         let Some((map, scale, rotation)) = environment.panorama(light_dir, self.with_sun, self.sky_width)? else {
             return Ok(None);
