@@ -125,13 +125,18 @@ if [ "$quick" = 1 ]; then
 else
   frames=(1920x1080 3840x2160) map_sizes=256,512,1024,2048,4096 map_frames=30 map_warmup=20
 fi
+# The default scene (the snake under the clear sky) and the same snake under the sun alone (what the sky costs).
 for size in "${frames[@]}"; do
   w=${size%x*} h=${size#*x}
-  "$bin" profile "${device_args[@]}" --width "$w" --height "$h" --frames 10 --warmup 2 --no-reference \
-    --sweep samples=1,4 --csv "$out/scene-$size.csv" >"$out/scene-$size.md" 2>"$out/scene-$size.err" \
-    || { echo "FAIL  timing scene $size"; cat "$out/scene-$size.err"; failures=$((failures + 1)); }
-  echo "-- default scene at $size"
-  sed -n '/^| configuration/,$p' "$out/scene-$size.md"
+  for scene in default sun; do
+    name=scene-$size args=()
+    [ "$scene" = sun ] && name=scene-sun-$size args=(assets/scenes/elaphe-snake-sun.toml)
+    "$bin" profile "${args[@]}" "${device_args[@]}" --width "$w" --height "$h" --frames 10 --warmup 2 \
+      --no-reference --sweep samples=1,4 --csv "$out/$name.csv" >"$out/$name.md" 2>"$out/$name.err" \
+      || { echo "FAIL  timing $name"; cat "$out/$name.err"; failures=$((failures + 1)); }
+    echo "-- $scene scene at $size"
+    sed -n '/^| configuration/,$p' "$out/$name.md"
+  done
 done
 "$bin" profile "${device_args[@]}" --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 \
   --height-um 0.375 --tile 10 --exposure 8 --frames "$map_frames" --warmup "$map_warmup" --reference-pixels 2000 \

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The picture of illuminants (docs/usage.md): the default scene at 256² under CIE D65, A (tungsten) and F11 (a
+# The picture of illuminants (docs/usage.md): the snake under the sun alone (elaphe-snake-sun.toml) at 256² under CIE D65, A (tungsten) and F11 (a
 # three-band fluorescent lamp), each from the diffract command its log line names (lavapipe on this project's
 # machine unless extra options, e.g. --device 0, say otherwise); the commands' output lands in
 # docs/profile/illuminants-<tag>.txt:
@@ -10,7 +10,7 @@ source "$(dirname "$0")/lib/readme.sh"
 log=docs/profile/illuminants-$tag.txt
 : >"$log"
 for light in D65 A F11; do
-  run render --illuminant $light --width 256 --height 256 --out "$scratch/$light.png" "$@"
+  run render assets/scenes/elaphe-snake-sun.toml --illuminant $light --width 256 --height 256 --out "$scratch/$light.png" "$@"
 done
 montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'D65 (daylight, the default)' "$scratch/D65.png" \

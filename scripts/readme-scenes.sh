@@ -2,9 +2,10 @@
 # The pictures of scenes (README and docs/usage.md), each from the diffract command its caption names (lavapipe on this project's
 # machine unless extra options, e.g. --device 0, say otherwise); the commands' output lands in
 # docs/profile/scenes-<tag>.txt:
-#   docs/images/snake.png            the default scene at 800² (the README's first image)
+#   docs/images/snake.png            the default scene (the snake under the clear sky) at 800² (the README's first image)
 #   docs/images/snake-annotated.png  the same frame, with the approach named and the material's BRDF map inset
-#   docs/images/scenes.png           the four shipped scenes at 320², their tables built from an empty cache
+#   docs/images/scenes.png           the four shipped scenes in the thesis's relative units (the sun alone) at 320², their
+#                                    tables built from an empty cache
 #   docs/images/light-sweep.png      the default scene at 240² as the light turns through 50° (6 frames)
 #   docs/images/view.png             the viewer's window on the default scene, 480×320 under Xvfb
 # Needs ImageMagick (montage, convert) and the DejaVu fonts to compose them, Xvfb for the viewer.
@@ -27,16 +28,16 @@ convert $img/snake.png \
   -gravity NorthWest -pointsize 22 \
   -annotate +16+14 "baked approach (the default): the spectrum integrated ahead of time" \
   -pointsize 18 \
-  -annotate +16+46 "measured Elaphe guttata AFM scan, tiled 10×, 20 µm coherence" \
+  -annotate +16+46 "measured Elaphe guttata AFM scan, tiled 10×, 20 µm coherence, under a clear sky" \
   -annotate +16+72 "4× multisampling · $gpu ms of GPU time on lavapipe (llvmpipe, 2 cores)" \
   $img/snake-annotated.png
 
-for scene in elaphe-snake xenopeltis-snake blazed-disk elaphe-sphere; do
+for scene in elaphe-snake-sun xenopeltis-snake blazed-disk elaphe-sphere; do
   DIFFRACT_CACHE="$scratch/cache" run render assets/scenes/$scene.toml --out "$scratch/$scene.png" \
     --width 320 --height 320 "$@"
 done
 montage -font $font -pointsize 15 -fill '#e0e0e0' -background '#202020' \
-  -label 'elaphe-snake (measured)' "$scratch/elaphe-snake.png" \
+  -label 'elaphe-snake-sun (measured)' "$scratch/elaphe-snake-sun.png" \
   -label 'xenopeltis-snake (measured)' "$scratch/xenopeltis-snake.png" \
   -label 'blazed-disk' "$scratch/blazed-disk.png" \
   -label 'elaphe-sphere (measured)' "$scratch/elaphe-sphere.png" \

@@ -5,8 +5,8 @@
 #                              (-14 EV) so that their brightness compares
 #   docs/images/environment-map.png  a ball under a map written by gen sky --no-sun, and under the sky
 #   docs/images/snake-ground.png  elaphe-snake-ground.toml at 320×240, with its shadow and with shadows = false
-#   docs/images/snake-sky.png  the default scene (relative units) beside elaphe-snake-sky.toml (the clear sky,
-#                              physical units) at 256², on the device (lavapipe unless extra options say otherwise)
+#   docs/images/snake-sky.png  elaphe-snake-sun.toml (the sun alone, relative units) beside the default scene (the
+#                              clear sky, physical units) at 256², on the device (lavapipe unless options say otherwise)
 # Needs ImageMagick (montage) and the DejaVu fonts to compose them.
 # Usage: scripts/readme-sky.sh [TAG] [extra diffract options]
 source "$(dirname "$0")/lib/readme.sh"
@@ -23,11 +23,11 @@ montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
   -label 'sun 70° high, turbidity 2.5' "$scratch/sky-70-2.5.png" \
   -label 'sun 35° high, turbidity 8 (haze)' "$scratch/sky-35-8.png" \
   -tile 2x2 -geometry +3+3 docs/images/sky.png
-run render --width 256 --height 256 --out "$scratch/default.png" "$@"
-run render assets/scenes/elaphe-snake-sky.toml --width 256 --height 256 --out "$scratch/sky.png" "$@"
+run render assets/scenes/elaphe-snake-sun.toml --width 256 --height 256 --out "$scratch/sun.png" "$@"
+run render --width 256 --height 256 --out "$scratch/sky.png" "$@"
 montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
-  -label 'default scene (relative units)' "$scratch/default.png" \
-  -label 'under the sky (physical units)' "$scratch/sky.png" \
+  -label 'the sun alone (relative units)' "$scratch/sun.png" \
+  -label 'the default: under the sky' "$scratch/sky.png" \
   -tile 2x1 -geometry +3+3 docs/images/snake-sky.png
 # The snake on the ground with the sun's shadow, beside the same scene with `shadows = false` (a copy whose
 # paths point back into assets/).

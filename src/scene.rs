@@ -8,8 +8,9 @@
 //! target = [0.0, 0.0, 0.0]
 //! fov_y_deg = 30.0
 //!
-//! [light]                       # a directional light
+//! [light]                       # a directional light: the sun
 //! direction = [0.3, 1.0, 0.5]   # towards the light
+//! # environment = "sky"         # the default: the clear sky around it; "none": the sun alone; or "sky.exr"
 //!
 //! [[object]]
 //! mesh = "meshes/snake.obj"     # or: shape = "plane" | "disk" | "sphere" | "cylinder" | "cube" | "snake"
@@ -37,8 +38,8 @@ use crate::physics::illuminant::Illuminant;
 use crate::physics::{HeightField, PngScale};
 use crate::shading::{Approach, Settings, SettingsPatch};
 
-/// The scene `diffract render` draws when given none: the Elaphe snake on the measured scan (built in, with the
-/// files it names, so it works from any folder).
+/// The scene `diffract render` draws when given none: the snake with the measured Elaphe scan under the clear
+/// sky (built in, with the files it names, so it works from any folder).
 pub const DEFAULT_SCENE: &str = include_str!("../assets/scenes/elaphe-snake.toml");
 /// Where the built-in scene's relative paths start: `assets/scenes` inside the binary.
 const BUILT_IN_BASE: &str = "<built-in>/scenes";
@@ -115,8 +116,8 @@ struct LightDef {
     /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
     #[serde(default)]
     ambient: Option<Spanned<f32>>,
-    /// "sky": the clear-sky model around the light's sun lights the pigment; "FILE.exr" or "FILE.hdr": an HDR
-    /// map of the sky around it; "none" (the default): no environment.
+    /// "sky" (the default, unless `ambient` is given): the clear-sky model around the light's sun; "FILE.exr" or
+    /// "FILE.hdr": an HDR map of the sky around it; "none": no environment (the sun alone, relative units).
     environment: Option<Spanned<String>>,
     /// The sky's turbidity (environment = "sky").
     turbidity: Option<Spanned<f64>>,
@@ -414,11 +415,20 @@ fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3
             return Err(loc.at(key.span(), "rotation_deg and intensity belong to environment = \"FILE.exr\" (a map)"));
         }
     }
-    if let Some(t) = light.turbidity.as_ref().filter(|_| !named("sky")) {
+    let sky = named("sky") || (kind.is_none() && light.ambient.is_none());
+    if let Some(t) = light.turbidity.as_ref().filter(|_| !sky) {
         return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
     }
     let none = named("none");
-    let Some((k, span)) = kind.filter(|_| !none) else { return Ok(None) };
+    // A scene that names no environment is outdoors, under the clear sky, unless it lights its pigment by the
+    // thesis's uniform grey sky (`ambient`, relative units): then the sun alone, as `environment = "none"`.
+    let implicit = kind.is_none();
+    if implicit && light.ambient.is_some() {
+        return Ok(None);
+    }
+    let Some((k, span)) = kind.or_else(|| Some(("sky".to_string(), light.direction.span()))).filter(|_| !none) else {
+        return Ok(None);
+    };
     if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
         return Err(loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one")));
     }
@@ -429,7 +439,13 @@ fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3
     let turbidity = light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
     crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
         let at = light.turbidity.as_ref().map_or(span, |t| t.span());
-        loc.at(at, format!("environment = \"sky\": {e}"))
+        if implicit {
+            let hint = "the scene names no [light] environment, so it is under the clear sky; environment = \"none\" \
+                        lights it by the sun alone";
+            loc.at(at, format!("{e} ({hint})"))
+        } else {
+            loc.at(at, format!("environment = \"sky\": {e}"))
+        }
     })?;
     Ok(Some(Environment::Sky(SkyLight { turbidity })))
 }
@@ -810,7 +826,7 @@ fov_y_deg = 30.0
 [light]
 direction = [0.3, 1.0, 0.5]
 illuminant = "D65"
-
+environment = "none"
 [[object]]
 shape = "sphere"
 material = "blaze"
@@ -867,7 +883,7 @@ tile = [2, 3]
         let [x, y, z] = light_dir.to_array();
         let text = GOOD.replace("direction = [0.3, 1.0, 0.5]", &format!("direction = [{x}, {y}, {z}]"));
         assert!(text.contains(&format!("direction = [{x}")), "GOOD's light moved");
-        let with = |light: &str| text.replace("illuminant = \"D65\"", light);
+        let with = |light: &str| text.replace("illuminant = \"D65\"\nenvironment = \"none\"", light);
         let map = Scene::parse(&with("environment = \"around.exr\""), "s.toml", &dir).unwrap();
         let sky = Scene::parse(&with("environment = \"sky\""), "s.toml", &dir).unwrap();
         assert!(matches!(map.environment, Some(Environment::Map(_))));
@@ -903,7 +919,8 @@ tile = [2, 3]
     /// sky, a sun below the horizon, an unknown environment.
     #[test]
     fn a_sky_lights_the_scene_in_physical_units() {
-        let sky = GOOD.replace("illuminant = \"D65\"", "environment = \"sky\"\nturbidity = 2.5");
+        let sky =
+            GOOD.replace("illuminant = \"D65\"\nenvironment = \"none\"", "environment = \"sky\"\nturbidity = 2.5");
         let s = Scene::parse(&sky, "s.toml", Path::new(".")).unwrap();
         assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 2.5 })));
         let elevation = (f64::from(s.light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
@@ -924,6 +941,27 @@ tile = [2, 3]
         assert!(error_of(&sky.replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]")).contains("below the horizon"));
         let moon = error_of(&sky.replace("\"sky\"", "\"moon\""));
         assert!(moon.starts_with("s.toml:9: ") && moon.contains("\"moon\""), "{moon}");
+    }
+
+    /// A scene that names no environment is outdoors: under the clear sky (turbidity 3 unless it names one), in
+    /// physical units; one that lights its pigment by the thesis's grey `ambient` sky keeps the sun alone; a sun
+    /// below the horizon is refused with the way out.
+    #[test]
+    fn a_scene_without_an_environment_is_under_the_clear_sky() {
+        let outdoors = GOOD.replace("\nenvironment = \"none\"", "");
+        let s = Scene::parse(&outdoors, "s.toml", Path::new(".")).unwrap();
+        assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 3.0 })));
+        assert!(s.illuminant.physical && s.environment_behind);
+        let hazy = Scene::parse(&outdoors.replace("illuminant = \"D65\"", "turbidity = 6.0"), "s.toml", Path::new("."));
+        assert_eq!(hazy.unwrap().environment, Some(Environment::Sky(SkyLight { turbidity: 6.0 })));
+        let grey = Scene::parse(&outdoors.replace("illuminant = \"D65\"", "ambient = 0.01"), "s.toml", Path::new("."));
+        let grey = grey.unwrap();
+        assert!(grey.environment.is_none() && !grey.illuminant.physical && grey.ambient == 0.01);
+        assert!(error_of(&outdoors.replace("illuminant = \"D65\"", "ambient = 0.01\nturbidity = 3.0"))
+            .contains("turbidity belongs"));
+        let night = error_of(&outdoors.replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]"));
+        assert!(night.starts_with("s.toml:8: ") && night.contains("below the horizon"), "{night}");
+        assert!(night.contains("environment = \"none\" lights it by the sun alone"), "{night}");
     }
 
     #[test]
@@ -992,5 +1030,11 @@ tile = [2, 3]
     fn the_default_scene_loads() {
         let s = Scene::default_scene().unwrap();
         assert!(!s.objects.is_empty() && !s.materials.is_empty());
+        // Outdoors, in physical units, with the sky drawn behind; its sun-only twin in the thesis's units.
+        assert!(matches!(s.environment, Some(Environment::Sky(_))) && s.illuminant.physical && s.environment_behind);
+        let sun = Scene::load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/elaphe-snake-sun.toml")));
+        let sun = sun.unwrap();
+        assert!(sun.environment.is_none() && !sun.illuminant.physical && sun.ambient > 0.0);
+        assert_eq!((sun.camera, sun.light_dir), (s.camera, s.light_dir));
     }
 }

@@ -424,7 +424,7 @@ settings! {
     strict_table: switch<bool> = false, check any,
         flag "strict-table", flag_aliases ["strict"];
     /// The light's spectrum: D65, D50, D55, D75 (`D<N>`: N·100 K daylight), A, E, F1 … F12, or a CSV of nm,relative
-    /// power, for every material
+    /// power, for every material (a scene under the clear sky, the default, takes its sun's unless one is named)
     illuminant: value<Illuminant> = Illuminant::d65(), check any,
         flag "illuminant", value_name "NAME|FILE.csv", set_in "[light]";
 }

@@ -369,7 +369,7 @@ fn a_reference_at_random_pixels_estimates_the_whole_image() {
 /// matches the exact reference pixel by pixel: the reference applies the same BRDF scale, weighting and sky term.
 #[test]
 fn a_sky_lit_scene_matches_its_reference_in_physical_units() {
-    let table = profile_scene("elaphe-snake-sky.toml", (24, 24), 1, "flss", "sky.csv");
+    let table = profile_scene("elaphe-snake.toml", (24, 24), 1, "flss", "sky.csv");
     assert_eq!(table.rows.len(), 1);
     assert!(table.rows[0]["illuminant"].contains("physical units"), "{:?}", table.rows[0]);
     assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);

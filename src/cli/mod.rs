@@ -19,7 +19,7 @@ use crate::vk::{self, ContextDesc, DeviceSelector};
 const EXAMPLES: &str = "\
 Examples:
   diffract devices                                   list Vulkan devices
-  diffract render --out frame.png                    render the default scene (512x512)
+  diffract render --out frame.png                    the default scene (under a clear sky), 512x512
   diffract render --out small.png --width 128 --height 128 --validation
   diffract render --device llvmpipe --out cpu.png    force lavapipe (the CPU driver)
   diffract brdf --heightfield grating.gsf --light-theta 0 --view-theta 0:60:0.5 --lambda 550
@@ -61,7 +61,7 @@ impl GpuArgs {
 pub enum Command {
     /// List every Vulkan device with its index, name, type, Vulkan version and driver
     Devices,
-    /// Render a scene (default: the Elaphe snake) headless to PNG and EXR, one frame or a sequence
+    /// Render a scene (default: the Elaphe snake under a clear sky) headless to PNG and EXR, one frame or a sequence
     #[command(after_help = RENDER_HELP, allow_negative_numbers = true)]
     Render(render::RenderArgs),
     /// Evaluate the diffraction BRDF on the CPU (exact reference or Taylor sum) and print CSV
@@ -102,7 +102,8 @@ Examples:
 
 const RENDER_HELP: &str = "\
 Examples:
-  diffract render --out snake.png                            the built-in Elaphe snake, 512x512
+  diffract render --out snake.png                            the built-in Elaphe snake under a clear sky, 512x512
+  diffract render assets/scenes/elaphe-snake-sun.toml --out sun.png   the same under the sun alone (relative units)
   diffract render assets/scenes/xenopeltis-snake.toml --out x.png --exr x.exr --approach nmm
   diffract render assets/scenes/blazed-disk.toml --out turn.png --frames 36 --orbit
   diffract render my-scene.toml --out quick.png --preview      lit without diffraction, to frame the camera";

@@ -119,6 +119,11 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     for config in &configs {
         subject.check_map_shader(config.shader)?;
     }
+    if let Subject::Scene { scene, .. } = &subject {
+        if let Some(environment) = &scene.environment {
+            eprintln!("{}", environment.describe());
+        }
+    }
     // The reference covers each pixel as the frames' multisampling does (its sample count's square root per axis).
     let reference = (!args.no_reference).then(|| ReferenceOptions {
         samples: args.reference_samples.unwrap_or_else(|| (f64::from(frame_samples).sqrt().ceil() as u32).max(1)),
@@ -179,9 +184,6 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
         Some(path) => Scene::load(path)?,
         None => Scene::default_scene()?,
     };
-    if let Some(environment) = &scene.environment {
-        eprintln!("{}", environment.describe());
-    }
     let name = args.scene.as_ref().map_or(crate::scene::DEFAULT_SCENE_NAME.to_string(), |p| p.display().to_string());
     let aspect = match args.height {
         Some(h) => f64::from(h) / f64::from(args.width),

@@ -19,7 +19,7 @@ use crate::scene::Scene;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Scene file (TOML); default: the built-in Elaphe snake
+    /// Scene file (TOML); default: the built-in Elaphe snake under a clear sky
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
     /// Output PNG (8-bit sRGB after the exposure); sequences number it: NAME_0001.png

@@ -18,7 +18,7 @@ pub enum OnOff {
 
 #[derive(Args, Debug)]
 pub struct ViewArgs {
-    /// Scene file (TOML); default: the built-in Elaphe snake
+    /// Scene file (TOML); default: the built-in Elaphe snake under a clear sky
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
     /// Window width in pixels

@@ -20,6 +20,16 @@ const MATTE_REACH: Reach =
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
 pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach]) -> Result<Vec<Material>> {
+    prepare(scene, overrides, reaches, true)
+}
+
+/// Every material of `scene` for any view under `overrides`, without the environment's diffraction (its moments
+/// take seconds to tabulate the first time): what the viewer draws while the real materials are prepared.
+pub fn prepare_stand_ins(scene: &Scene, overrides: &SettingsPatch) -> Result<Vec<Material>> {
+    prepare(scene, overrides, &[Reach::ANY], false)
+}
+
+fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments: bool) -> Result<Vec<Material>> {
     if reaches.is_empty() || (reaches.len() != 1 && reaches.len() != scene.materials.len()) {
         return Err(Error::Invalid(format!("{} reaches for {} materials", reaches.len(), scene.materials.len())));
     }
@@ -33,7 +43,7 @@ pub fn prepare_materials(scene: &Scene, overrides: &SettingsPatch, reaches: &[Re
             let mut material = Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
                 .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))?;
             // Under an environment the grating diffracts it too (env_prefilter), by its BRDF's moments.
-            if scene.environment.is_some() && !m.matte {
+            if moments && scene.environment.is_some() && !m.matte {
                 material.prepare_moments(&m.heightfield).map_err(|e| {
                     Error::Invalid(format!("material {:?}: the environment's diffraction: {e}", m.name))
                 })?;

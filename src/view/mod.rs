@@ -285,7 +285,7 @@ fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -
         Ok(materials) => Ok((Gpu::with_materials(ctx, scene, live, target, materials?)?, None)),
         Err(RecvTimeoutError::Timeout) => {
             let stand_in = SettingsPatch { approach: Some(STAND_IN), ..overrides };
-            let materials = prepare_materials(scene, &stand_in, &[Reach::ANY])?;
+            let materials = crate::render::capture::prepare_stand_ins(scene, &stand_in)?;
             println!(
                 "view: preparing the materials (a baked table that is not in the cache yet takes a while); {} stands \
                  in until they are ready",

@@ -285,7 +285,7 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
     use diffract::render::gbuffer::GBuffer;
     use diffract::shading::SettingsPatch;
-    let path = crate::harness::place::assets().join("scenes/elaphe-snake-sky.toml");
+    let path = crate::harness::place::assets().join("scenes/elaphe-snake.toml");
     let scene = diffract::scene::Scene::load(&path).unwrap();
     let (w, h) = (64u32, 64u32);
     let (frame_rgba, gbuffer) = gpu_test(|ctx| {

@@ -51,7 +51,7 @@ samples = 1
 fn scene(shadows: bool) -> Scene {
     let head = format!(
         "[camera]\nposition = [3.0, 6.0, 7.0]\ntarget = [-1.2, 0.4, 0.0]\nfov_y_deg = 40.0\n\n[light]\n\
-         direction = [1.0, 1.1, 0.35]\nshadows = {shadows}\n"
+         direction = [1.0, 1.1, 0.35]\nenvironment = \"none\"\nshadows = {shadows}\n"
     );
     ball_scene(&head, BALL)
 }
@@ -179,7 +179,7 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
     let centre = ball - light * (ball.y / light.y);
     let head = format!(
         "[camera]\nposition = [{x}, 8.0, {z1}]\ntarget = [{x}, 0.0, {z}]\nfov_y_deg = 25.0\n\n[light]\n\
-         direction = [0.3, 1.0, 0.2]\n",
+         direction = [0.3, 1.0, 0.2]\nenvironment = \"none\"\n",
         x = centre.x,
         z = centre.z,
         z1 = centre.z + 0.001
