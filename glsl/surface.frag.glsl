@@ -104,7 +104,7 @@ void main() {
     if (coated) {
         // The environment's own diffraction (no shadow: like the sky's light on the pigment, it is not occluded).
         vec3 x = normalize(patch_axis.xyz - normal * dot(normal, patch_axis.xyz));
-        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal) / params.light_white.rgb;
+        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal);
     }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();

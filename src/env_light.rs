@@ -29,13 +29,15 @@
 //!
 //! the BRDF's density in (u, v) and the environment's per steradian (p_uv = p_ω / cos θ_i), multiplied through
 //! by cos θ_i so that grazing light stays finite. The environment's radiance is each texel's own (constant over
-//! it: the map's texels are the mean radiance of their patch of sky). Its RGB tints the diffraction computed under
-//! the material's illuminant channel by channel (L / the illuminant's white): exact for a grey environment, an
-//! approximation of the dispersion of coloured light (stated in model.md §3.10).
+//! it: the map's texels are the mean radiance of their patch of sky). ρ is a colour matrix from the light's RGB
+//! to the reflected RGB.
 //!
-//! The same estimator runs on the GPU with the baked table as ρ (`glsl/map_env.comp.glsl`) and on the CPU with
-//! the exact BRDF ([`Integrator::pixel`] with `Reference::flss_xyz`): the reference, whose standard error comes
-//! from the samples' own variance.
+//! The same estimator runs on the GPU with the baked table as ρ (`glsl/map_env.comp.glsl`), whose one table is
+//! baked under the material's illuminant: there the environment's RGB tints the diffraction channel by channel
+//! (ρ = diag(rgb / the illuminant's white)), exact for light of the illuminant's colour, an approximation of the
+//! dispersion of coloured light; and on the CPU with the exact BRDF ([`ExactEnv`], `Reference::flss_xyz_bands`),
+//! the light upsampled to spectra in the basis frames use (`env_prefilter::basis`: ρ from the BRDF under each of
+//! its three bands): the reference, whose standard error comes from the samples' own variance (model.md §3.10).
 
 use glam::{DMat3, DVec3};
 
@@ -357,10 +359,6 @@ pub struct Integrator<'a> {
     /// Samples per pixel from the BRDF's strategy and from the environment's.
     pub n_brdf: u32,
     pub n_env: u32,
-    /// [`env_gain`].
-    pub gain: f64,
-    /// The illuminant's white (linear sRGB, Y = 1): the environment's RGB over it tints the diffraction.
-    pub white: DVec3,
     /// The patch frame in the environment's (columns: the patch's x, y and normal; [`MAP_FRAME`] for a BRDF map).
     pub frame: DMat3,
 }
@@ -378,21 +376,21 @@ impl Integrator<'_> {
         f64::from(self.n_brdf - floor) * self.proposal.density(u, v) + f64::from(floor) * disc
     }
 
-    /// One sample's contribution for light from `omega_i` (patch frame, above the surface), `rho` its colour
-    /// (linear sRGB of ρ = XYZ·C·shadowing).
-    fn contribution(&self, omega_i: DVec3, omega_r: DVec3, rho: DVec3) -> DVec3 {
+    /// One sample's contribution for light from `omega_i` (patch frame, above the surface), `rho` the BRDF there
+    /// as a colour matrix (the environment's linear sRGB radiance → the reflected linear sRGB, the gain K in it).
+    fn contribution(&self, omega_i: DVec3, omega_r: DVec3, rho: DMat3) -> DVec3 {
         let (radiance, p_env) = self.env.radiance(self.frame * omega_i);
         let p_brdf = self.brdf_density(-omega_i.x - omega_r.x, -omega_i.y - omega_r.y, omega_r);
         let denominator = p_brdf * omega_i.z + f64::from(self.n_env) * p_env;
         if denominator <= 0.0 {
             return DVec3::ZERO;
         }
-        rho * self.gain * radiance / self.white / denominator
+        rho * radiance / denominator
     }
 
-    /// The radiance towards `omega_r` (patch frame), `rho(ω_i, ω_r)` the BRDF's colour: each strategy's samples
-    /// are its R2 points shifted by `shifts` (the GPU's pass, which draws its shifts per pixel).
-    pub fn pass(&self, omega_r: DVec3, rho: &impl Fn(DVec3, DVec3) -> DVec3, shifts: [[u32; 2]; 3]) -> DVec3 {
+    /// The radiance towards `omega_r` (patch frame), `rho(ω_i, ω_r)` the BRDF's colour matrix: each strategy's
+    /// samples are its R2 points shifted by `shifts` (the GPU's pass, which draws its shifts per pixel).
+    pub fn pass(&self, omega_r: DVec3, rho: &impl Fn(DVec3, DVec3) -> DMat3, shifts: [[u32; 2]; 3]) -> DVec3 {
         let floor = floor_samples(self.n_brdf);
         let mut total = DVec3::ZERO;
         let strategies =
@@ -422,7 +420,7 @@ impl Integrator<'_> {
 
     /// [`Self::pass`] repeated with `replicates` independent shifts drawn from `seed` (randomised quasi-Monte
     /// Carlo): their mean, and its standard error from their spread.
-    pub fn pixel(&self, omega_r: DVec3, rho: impl Fn(DVec3, DVec3) -> DVec3, seed: u64, replicates: u32) -> Estimate {
+    pub fn pixel(&self, omega_r: DVec3, rho: impl Fn(DVec3, DVec3) -> DMat3, seed: u64, replicates: u32) -> Estimate {
         let mut rng = SplitMix(seed);
         let mut word = || (rng.uniform() * 4_294_967_296.0) as u32;
         let passes: Vec<DVec3> = (0..replicates.max(2))
@@ -456,16 +454,18 @@ pub const REFERENCE_REPLICATES: u32 = 8;
 /// passes, a table only proposing where to look. Each estimate carries its standard error (from the passes' spread).
 pub struct ExactEnv {
     reference: crate::physics::Reference,
-    sampling: crate::physics::spectrum::Sampling,
-    gain: f64,
-    white: DVec3,
+    /// The spectral basis' samplings (`env_prefilter::basis`), each with its gain (`env_gain`).
+    bands: [(crate::physics::spectrum::Sampling, f64); 3],
+    /// A⁻¹: the environment's RGB → the basis' coefficients (`env_prefilter::basis_colours`).
+    to_light: DMat3,
 }
 
 impl ExactEnv {
-    /// The reference of `hf` under `settings` (its coherence length and light, in physical units).
+    /// The reference of `hf` under `settings`' coherence length; the environment's light is upsampled to spectra
+    /// in the basis frames use (`env_prefilter::basis`, in physical units), whatever light `settings` names.
     pub fn new(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> Result<Self> {
         use crate::physics::exact::{window_gain, Method, Reference};
-        use crate::physics::spectrum::{white_rgb, Sampling};
+        use crate::physics::spectrum::Sampling;
         use crate::physics::{HeightStats, TaylorPlan, Window};
         let (lx, ly) = hf.size_um();
         let window = Window::new(lx, ly, settings.coherence_um, None)?;
@@ -483,9 +483,13 @@ impl ExactEnv {
             }
             _ => Reference::new(hf, window, Method::Exact, None)?,
         };
-        let sampling = Sampling::visible_under(REFERENCE_STEP_NM, settings.illuminant);
-        let gain = env_gain(&sampling, settings.coherence_um)?;
-        Ok(Self { reference, sampling, gain, white: white_rgb(settings.illuminant) })
+        let mut bands = Vec::new();
+        for illuminant in crate::env_prefilter::basis() {
+            let sampling = Sampling::visible_under(REFERENCE_STEP_NM, illuminant);
+            bands.push((sampling, env_gain(&sampling, settings.coherence_um)?));
+        }
+        let to_light = crate::env_prefilter::basis_colours().inverse();
+        Ok(Self { reference, bands: [bands[0], bands[1], bands[2]], to_light })
     }
 
     /// The radiance towards `omega_r` (patch frame, whose axes in the environment's frame are `frame`'s columns)
@@ -501,13 +505,16 @@ impl ExactEnv {
     ) -> Estimate {
         let per_pass = (samples / REFERENCE_REPLICATES).max(2);
         let n_brdf = per_pass / 2;
-        let integrator =
-            Integrator { env, proposal, n_brdf, n_env: per_pass - n_brdf, gain: self.gain, white: self.white, frame };
+        let integrator = Integrator { env, proposal, n_brdf, n_env: per_pass - n_brdf, frame };
+        let samplings = self.bands.map(|(sampling, _)| sampling);
         let rho = |omega_i: DVec3, omega_r: DVec3| {
             if !(omega_i.z > 0.0 && omega_r.z > 0.0) {
-                return DVec3::ZERO;
+                return DMat3::ZERO;
             }
-            crate::physics::spectrum::xyz_to_linear_srgb(self.reference.flss_xyz(omega_i, omega_r, &self.sampling))
+            let xyz = self.reference.flss_xyz_bands(omega_i, omega_r, &samplings);
+            let rgb: [DVec3; 3] =
+                std::array::from_fn(|k| crate::physics::spectrum::xyz_to_linear_srgb(xyz[k]) * self.bands[k].1);
+            DMat3::from_cols(rgb[0], rgb[1], rgb[2]) * self.to_light
         };
         integrator.pixel(omega_r, rho, seed, REFERENCE_REPLICATES)
     }

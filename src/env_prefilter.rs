@@ -14,6 +14,13 @@
 //! a_j from c₀, Tᵀc and TᵀQT ([`Quadratic::coefficients`]). [`Moments`] tabulates M_j over a grid of ω_r.xy from a
 //! baked table (every pair of directions, coarse: the moments integrate it against smooth functions), and a
 //! frame's shader needs nine table reads and a 3×3 sandwich per pixel.
+//!
+//! The environment is RGB; its light is upsampled to spectra linearly, in the basis of [`basis`]: three smooth,
+//! positive bands of D65 (blue, green, red; `Illuminant::d65_band`) that sum to D65. An RGB radiance ℓ is the
+//! spectrum Σ_k c_k B_k with c = A⁻¹ℓ, A's columns being the bands' own colours, so that its colour is ℓ again
+//! and a D65-coloured light is D65 itself. Each band has its own coarse table, baked once, and a moment is a 3×3
+//! colour matrix N_j = [M_j(B_0) M_j(B_1) M_j(B_2)]·A⁻¹ from light RGB to reflected RGB: the environment's
+//! diffraction is spectral (within the upsampling) and does not depend on the sun's illuminant.
 
 use glam::{DMat3, DVec3};
 
@@ -24,7 +31,8 @@ use crate::physics::sh::Irradiance;
 pub const MOMENT_GRID: usize = crate::shaders::interface::MOMENT_GRID as usize;
 /// The nine monomials' count.
 pub const MONOMIALS: usize = 9;
-/// RGBA layers of the moments' texture: the nine moments' RGB, then the specular reflectance's (30 scalars).
+/// RGBA layers of the moments' texture: the nine moments' colour matrices, then the specular reflectance's (90
+/// scalars).
 pub const MOMENT_LAYERS: usize = crate::shaders::interface::MOMENT_LAYERS as usize;
 
 /// The monomials m_j of a direction in the patch frame, in the order of [`Moments`].
@@ -112,32 +120,67 @@ impl Quadratic {
     }
 }
 
-/// The moments of `hf`'s BRDF under `settings` (light in physical units): from a baked table for every pair of
-/// directions with texels of [`MOMENT_TEXEL`] (built, or read from the cache), on a [`MOMENT_GRID`]² grid.
+/// The spectral basis an RGB environment's light is upsampled into (see the module's note), in physical units.
+pub fn basis() -> [crate::physics::illuminant::Illuminant; 3] {
+    std::array::from_fn(|k| crate::physics::illuminant::Illuminant::d65_band(k).physical())
+}
+
+/// A: its columns are the basis lights' colours (linear sRGB of a mirror under each, `spectrum::white_rgb`), so
+/// that the light Σ c_k B_k has the colour A·c.
+pub fn basis_colours() -> DMat3 {
+    let [b0, b1, b2] = basis().map(crate::physics::spectrum::white_rgb);
+    DMat3::from_cols(b0, b1, b2)
+}
+
+/// The moments of `hf`'s BRDF under `settings`' coherence length and table tolerance (their light is the basis',
+/// whatever `settings` names): from a baked table per band of the basis, for every pair of directions with texels
+/// of [`MOMENT_TEXEL`] and spectral sums at [`MOMENT_LAMBDA_STEP_NM`] (built, or read from the cache), on a
+/// [`MOMENT_GRID`]² grid.
 pub fn moments_of(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> crate::Result<Moments> {
-    use crate::shading::{Approach, Material, Reach};
-    let settings = crate::settings::Settings { approach: Approach::Baked, ..*settings };
-    let coarse = Material::prepare(hf, settings, &Reach::Hemisphere { footprint: MOMENT_TEXEL })?;
-    let table = coarse.table.as_ref().ok_or_else(|| crate::Error::Invalid("a baked material has a table".into()))?;
-    let gain = crate::env_light::env_gain(&coarse.sampling, settings.coherence_um)?;
-    // Cached beside the table (a couple of seconds for a dense scan): keyed by the table and everything below.
-    let stamp = coarse.table_plan.as_ref().map(|plan| {
-        let mut p = crate::cache::PlanBytes(crate::physics::baked::cache::table_identity(hf, plan));
-        p.f64(gain).u64(MOMENT_GRID as u64).f64(MOMENT_TEXEL).f64(SPECULAR_RADIUS).u64(FACTOR_SUBSAMPLES as u64);
-        crate::cache::Stamp { kind: "moments", what: "environment moments", version: MOMENTS_VERSION, plan: p.0 }
-    });
+    use crate::physics::baked::{load_or_build, TablePlan};
+    use crate::shading::Reach;
+    // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
+    let request = Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request();
+    let mut bands = Vec::new();
+    for illuminant in basis() {
+        let mut plan = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, illuminant)?;
+        plan.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
+        let sampling = crate::physics::spectrum::Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
+        let gain = crate::env_light::env_gain(&sampling, settings.coherence_um)?;
+        bands.push((plan, gain));
+    }
+    // Cached beside the tables: keyed by their plans and everything below.
+    let mut p = crate::cache::PlanBytes::default();
+    for (plan, gain) in &bands {
+        p.0.extend(crate::physics::baked::cache::table_identity(hf, plan));
+        p.f64(*gain);
+    }
+    p.u64(MOMENT_GRID as u64).f64(MOMENT_TEXEL).f64(SPECULAR_RADIUS).u64(FACTOR_SUBSAMPLES as u64);
+    let stamp =
+        crate::cache::Stamp { kind: "moments", what: "environment moments", version: MOMENTS_VERSION, plan: p.0 };
     let dir = crate::cache::default_dir();
-    let cached = stamp.as_ref().zip(dir.as_deref()).and_then(|(stamp, dir)| {
-        let bytes = crate::cache::load(dir, stamp, (MOMENT_GRID * MOMENT_GRID * 30 * 8 + 8) as u64)?;
+    let cached = dir.as_deref().and_then(|dir| {
+        let bytes = crate::cache::load(dir, &stamp, (MOMENT_GRID * MOMENT_GRID * 90 * 8 + 8) as u64)?;
         Moments::from_bytes(&bytes).filter(|m| m.grid == MOMENT_GRID)
     });
     if let Some(moments) = cached {
         return Ok(moments);
     }
-    let moments = Moments::new(table, gain, MOMENT_GRID);
-    if let Some((stamp, dir)) = stamp.as_ref().zip(dir.as_deref()) {
+    let bar = crate::progress::Progress::new("the environment's moments: baking the spectral bands", bands.len());
+    let mut tables = Vec::new();
+    for (plan, gain) in &bands {
+        tables.push((load_or_build(hf, plan, None)?.0, *gain));
+        bar.step();
+    }
+    bar.finish();
+    let moments = Moments::new(
+        &[(&tables[0].0, tables[0].1), (&tables[1].0, tables[1].1), (&tables[2].0, tables[2].1)],
+        MOMENT_GRID,
+    );
+    if let Some(dir) = dir.as_deref() {
         // A cache that cannot be written costs time, not correctness.
-        if let Err(e) = std::fs::create_dir_all(dir).and_then(|()| crate::cache::store(dir, stamp, &moments.to_bytes()))
+        if let Err(e) =
+            std::fs::create_dir_all(dir).and_then(|()| crate::cache::store(dir, &stamp, &moments.to_bytes()))
         {
             eprintln!("warning: could not cache the environment moments in {}: {e}", dir.display());
         }
@@ -145,8 +188,12 @@ pub fn moments_of(hf: &crate::physics::HeightField, settings: &crate::settings::
     Ok(moments)
 }
 
+/// The wavelength step of the moments' tables, nm: the moments integrate each table over the whole hemisphere,
+/// where each wavelength's lobes only need their mass (the exact references sum at the same step).
+pub const MOMENT_LAMBDA_STEP_NM: f64 = 5.0;
+
 /// Bumped whenever the moments' definition changes: cached moments of other versions are recomputed.
-const MOMENTS_VERSION: u64 = 1;
+const MOMENTS_VERSION: u64 = 2;
 
 /// The shaders' `sky_quadratic` (off) for an environment whose irradiance is `sky_sh` (`SurfaceUniforms::sky_sh`):
 /// all zero where it is (no environment).
@@ -155,8 +202,9 @@ pub fn sky_quadratic(sky_sh: &[[f32; 4]; 9]) -> [[f32; 4]; 10] {
     Quadratic::of_irradiance(&Irradiance { coefficients }).to_vec4s(false)
 }
 
-/// The moments M_j(ω_r) of a material's BRDF on a grid of views, each the linear sRGB of ∫ ρ·K·m_j dω_i over
-/// the hemisphere (the environment's units per unit of its coefficients).
+/// The moments M_j(ω_r) of a material's BRDF on a grid of views, each a colour matrix N_j (light RGB → reflected
+/// linear sRGB) of ∫ ρ·K·m_j dω_i over the hemisphere, the light upsampled in the spectral [`basis`] (the
+/// environment's units per unit of its coefficients).
 ///
 /// The grid is square over p ∈ [−1, 1]², p = (ω_r.xy/|ω_r.xy|)·θ_r/(π/2): uniform in the angle from the normal, so
 /// that the rim, where Fresnel's rise and the horizon change the moments fastest, gets as many points as the
@@ -168,39 +216,46 @@ pub struct Moments {
     // (Values and specular are stored over [`mirror_fresnel`] at their view, which [`Moments::at`] multiplies
     // back: Fresnel's rise towards grazing is steeper than a grid of 5.8° can interpolate, 4.8 % off at 70°.)
     /// Row-major (x fastest), each point's nine moments of the light that leaves the specular disc.
-    pub values: Vec<[DVec3; MONOMIALS]>,
+    pub values: Vec<[DMat3; MONOMIALS]>,
     /// Each point's specular reflectance: ∫ ρ·K dω_i over the texels within [`SPECULAR_RADIUS`] of (u, v) = 0, the
     /// light the environment sends from (within a degree of) the mirror direction, which a frame reads from the
     /// environment itself rather than from its l ≤ 2 projection.
-    pub specular: Vec<DVec3>,
+    pub specular: Vec<DMat3>,
 }
 
 impl Moments {
-    /// The moments of `table` (built for every pair of directions) with the gain `gain` (K, sr⁻¹:
-    /// `env_light::env_gain`), integrated over a level of the table whose texels are about [`MOMENT_TEXEL`] wide.
-    pub fn new(table: &BakedTable, gain: f64, grid: usize) -> Self {
+    /// The moments of the basis' `tables` (each built for every pair of directions, under band k of [`basis`],
+    /// with its gain K, sr⁻¹: `env_light::env_gain`), integrated over a level of each table whose texels are
+    /// about [`MOMENT_TEXEL`] wide.
+    pub fn new(tables: &[(&BakedTable, f64); 3], grid: usize) -> Self {
         use rayon::prelude::*;
-        let bright = bright_texels(table);
+        let bright = tables.map(|(table, _)| bright_texels(table));
+        let to_light = basis_colours().inverse();
         let (values, specular) = (0..grid * grid)
             .into_par_iter()
             .map(|i| {
                 let at = |k: usize| -1.0 + 2.0 * k as f64 / (grid - 1) as f64;
                 let omega_r = view_of_grid(at(i % grid), at(i / grid));
-                let (values, specular) = moment(table, gain, omega_r, &bright);
+                let bands: [_; 3] = std::array::from_fn(|k| moment(tables[k].0, tables[k].1, omega_r, &bright[k]));
                 let f = 1.0 / mirror_fresnel(omega_r);
-                (values.map(|v| v * f), specular * f)
+                let matrix = |col: &dyn Fn(usize) -> DVec3| DMat3::from_cols(col(0), col(1), col(2)) * to_light * f;
+                let values = std::array::from_fn(|j| matrix(&|k| bands[k].0[j]));
+                (values, matrix(&|k| bands[k].1))
             })
             .unzip();
         Self { grid, values, specular }
     }
 
-    /// The cache's payload: the grid, then every point's moments and specular reflectance (f64, little-endian).
+    /// The cache's payload: the grid, then every point's moments and specular reflectance, each matrix column by
+    /// column (f64, little-endian).
     fn to_bytes(&self) -> Vec<u8> {
         let mut p = crate::cache::PlanBytes::default();
         p.u64(self.grid as u64);
         for (values, specular) in self.values.iter().zip(&self.specular) {
-            for v in values.iter().chain(std::iter::once(specular)) {
-                p.f64(v.x).f64(v.y).f64(v.z);
+            for m in values.iter().chain(std::iter::once(specular)) {
+                m.to_cols_array().iter().for_each(|&v| {
+                    p.f64(v);
+                });
             }
         }
         p.0
@@ -210,29 +265,35 @@ impl Moments {
     fn from_bytes(bytes: &[u8]) -> Option<Self> {
         let mut r = crate::cache::Reader::new(bytes);
         let grid = usize::try_from(r.u64()?).ok().filter(|&g| (2..=1024).contains(&g))?;
-        let mut vec = || Some(DVec3::new(r.f64()?, r.f64()?, r.f64()?)).filter(|v| v.is_finite());
+        let mut matrix = || {
+            let mut cols = [0.0; 9];
+            for v in &mut cols {
+                *v = r.f64().filter(|v| v.is_finite())?;
+            }
+            Some(DMat3::from_cols_array(&cols))
+        };
         let mut values = Vec::with_capacity(grid * grid);
         let mut specular = Vec::with_capacity(grid * grid);
         for _ in 0..grid * grid {
-            let mut point = [DVec3::ZERO; MONOMIALS];
-            for v in &mut point {
-                *v = vec()?;
+            let mut point = [DMat3::ZERO; MONOMIALS];
+            for m in &mut point {
+                *m = matrix()?;
             }
             values.push(point);
-            specular.push(vec()?);
+            specular.push(matrix()?);
         }
         r.finished().then_some(Self { grid, values, specular })
     }
 
     /// The moments at `omega_r` (patch frame), bilinear between grid points, then the specular reflectance.
-    pub fn at(&self, omega_r: DVec3) -> ([DVec3; MONOMIALS], DVec3) {
+    pub fn at(&self, omega_r: DVec3) -> ([DMat3; MONOMIALS], DMat3) {
         let g = (self.grid - 1) as f64;
         let p = grid_of_view(omega_r);
         let fx = ((p.0 + 1.0) / 2.0 * g).clamp(0.0, g);
         let fy = ((p.1 + 1.0) / 2.0 * g).clamp(0.0, g);
         let (x0, y0) = ((fx.floor() as usize).min(self.grid - 2), (fy.floor() as usize).min(self.grid - 2));
         let (tx, ty) = (fx - x0 as f64, fy - y0 as f64);
-        let lerp = |v: &dyn Fn(usize, usize) -> DVec3| {
+        let lerp = |v: &dyn Fn(usize, usize) -> DMat3| {
             let top = v(x0, y0) * (1.0 - tx) + v(x0 + 1, y0) * tx;
             let bottom = v(x0, y0 + 1) * (1.0 - tx) + v(x0 + 1, y0 + 1) * tx;
             top * (1.0 - ty) + bottom * ty
@@ -243,15 +304,16 @@ impl Moments {
     }
 
     /// The texture the shaders read (`glsl/include/sky_diffraction.glsl`): `MOMENT_LAYERS` RGBA layers of grid²
-    /// texels, scalar 3j + c of a point being moment j's channel c (j = 9: the specular reflectance).
+    /// texels, scalar 9j + 3c + r of a point being row r of column c (the reflection of the light's channel c) of
+    /// moment j's matrix (j = 9: the specular reflectance).
     pub fn gpu_texels(&self) -> Vec<f32> {
         let n = self.grid * self.grid;
         let mut out = vec![0.0f32; MOMENT_LAYERS * n * 4];
         for i in 0..n {
             for j in 0..=MONOMIALS {
-                let v = if j < MONOMIALS { self.values[i][j] } else { self.specular[i] };
-                for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
-                    let s = 3 * j + c;
+                let m = if j < MONOMIALS { self.values[i][j] } else { self.specular[i] };
+                for (e, x) in m.to_cols_array().into_iter().enumerate() {
+                    let s = 9 * j + e;
                     out[((s / 4) * n + i) * 4 + s % 4] = x as f32;
                 }
             }
@@ -260,12 +322,11 @@ impl Moments {
     }
 
     /// The radiance towards `omega_r` (patch frame) under `light` seen in `frame` (columns: the patch's axes in
-    /// the world), with `mirror` the environment's own radiance from the mirror direction, tinted by the light over
-    /// the illuminant's `white`.
-    pub fn radiance(&self, omega_r: DVec3, light: &Quadratic, frame: DMat3, mirror: DVec3, white: DVec3) -> DVec3 {
+    /// the world), with `mirror` the environment's own radiance from the mirror direction.
+    pub fn radiance(&self, omega_r: DVec3, light: &Quadratic, frame: DMat3, mirror: DVec3) -> DVec3 {
         let a = light.coefficients(frame);
         let (m, specular) = self.at(omega_r);
-        ((0..MONOMIALS).map(|j| a[j] * m[j]).sum::<DVec3>().max(DVec3::ZERO) + specular * mirror) / white
+        (0..MONOMIALS).map(|j| m[j] * a[j]).sum::<DVec3>().max(DVec3::ZERO) + specular * mirror
     }
 }
 
@@ -433,9 +494,11 @@ mod tests {
     fn moments_survive_the_cache_and_a_damaged_payload_is_refused() {
         let grid = 3;
         let values = (0..grid * grid)
-            .map(|i| std::array::from_fn(|j| DVec3::new(i as f64, j as f64, 0.5 + i as f64 * 1e-3)))
+            .map(|i| {
+                std::array::from_fn(|j| DMat3::from_cols_array(&std::array::from_fn(|e| (i * 100 + j * 10 + e) as f64)))
+            })
             .collect();
-        let specular = (0..grid * grid).map(|i| DVec3::splat(i as f64 * 0.25)).collect();
+        let specular = (0..grid * grid).map(|i| DMat3::from_diagonal(DVec3::splat(i as f64 * 0.25))).collect();
         let m = Moments { grid, values, specular };
         let bytes = m.to_bytes();
         assert_eq!(Moments::from_bytes(&bytes), Some(m.clone()));
@@ -444,6 +507,32 @@ mod tests {
         nan[16..24].copy_from_slice(&f64::NAN.to_le_bytes());
         assert_eq!(Moments::from_bytes(&nan), None, "a NaN moment");
         assert_eq!(Moments::from_bytes(&[bytes.clone(), vec![0; 8]].concat()), None, "trailing bytes");
+    }
+
+    /// The basis' bands sum to D65: a D65-coloured light is the three bands in D65's own proportions (each band's
+    /// share of its luminance: the tables are per unit luminance of their band), whatever its luminance; the
+    /// bands' colours are far enough apart that A⁻¹ amplifies a colour's error by little (its condition number).
+    #[test]
+    fn the_spectral_basis_gives_back_d65_and_is_well_conditioned() {
+        use crate::physics::illuminant::Illuminant;
+        use crate::physics::spectrum::{white_rgb, Sampling};
+        let a = basis_colours();
+        let c = a.inverse() * (white_rgb(Illuminant::d65()) * 0.37);
+        let bands = [0, 1, 2].map(Illuminant::d65_band);
+        let luminance = |i: Illuminant| Sampling::visible_under(1.0, i).y_norm();
+        let share = DVec3::from(bands.map(luminance)) / luminance(Illuminant::d65());
+        assert!((c - share * 0.37).abs().max_element() < 1e-9, "{c} against {}", share * 0.37);
+        // Each band positive, and the three D65 again, at every row of the table.
+        for (i, d) in Illuminant::d65().spd.iter().enumerate() {
+            assert!(bands.iter().all(|b| b.spd[i] > 0.0));
+            assert!((bands.iter().map(|b| b.spd[i]).sum::<f64>() - d).abs() < 1e-9 * d);
+        }
+        // Frobenius norms, the columns made unit vectors (their scale is each band's luminance, a choice of units):
+        // an upper bound of the 2-norm condition number.
+        let unit = DMat3::from_cols(a.x_axis.normalize(), a.y_axis.normalize(), a.z_axis.normalize());
+        let norm = |m: DMat3| m.to_cols_array().iter().map(|v| v * v).sum::<f64>().sqrt();
+        let condition = norm(unit) * norm(unit.inverse());
+        assert!(condition < 5.0, "condition number ≤ {condition}: {a}");
     }
 
     #[test]

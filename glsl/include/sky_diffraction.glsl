@@ -1,8 +1,9 @@
 // The environment's diffraction, prefiltered (`env_prefilter`, model.md §3.11): the environment's radiance to l = 2
 // as a quadratic form of the direction (frame.sky_quadratic: c₀, c, Q in the world), seen in the patch frame
 // T = (x, y, normal) as L(ω) = Σ_j a_j m_j(ω) over the monomials (1, x, y, z, x², y², xy, xz, yz), integrated
-// against the BRDF by its nine moments M_j(ω_r) (the material's moments texture), plus the specular reflectance
-// times the environment's own radiance at the mirror direction (the quadratic's where the view has no map).
+// against the BRDF by its nine moments M_j(ω_r) (the material's moments texture: each a colour matrix from the
+// light's RGB, upsampled in the spectral basis, to the reflected RGB), plus the specular reflectance times the
+// environment's own radiance at the mirror direction (the quadratic's where the view has no map).
 // Mirrors `Moments::radiance`.
 // Requires surface_frame.glsl (frame), params.glsl, brdf.glsl.
 #include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS
@@ -27,6 +28,12 @@ vec2 moment_grid_of_view(vec3 omega_r) {
     float s = length(omega_r.xy);
     if (s <= 0.0) return vec2(0.0);
     return omega_r.xy / s * (atan(s, omega_r.z) / (0.5 * PI));
+}
+
+// Moment j's colour matrix from the texture's scalars s (`Moments::gpu_texels`: 9j + 3c + r is row r of column c).
+mat3 moment_matrix(float s[4 * MOMENT_LAYERS], int j) {
+    int o = 9 * j;
+    return mat3(s[o], s[o + 1], s[o + 2], s[o + 3], s[o + 4], s[o + 5], s[o + 6], s[o + 7], s[o + 8]);
 }
 
 // The quadratic's coefficients a_j in the patch frame whose world axes are x, y, n (`Quadratic::coefficients`).
@@ -66,7 +73,7 @@ void sky_coefficients(vec3 x, vec3 y, vec3 n, out vec3 a[9]) {
 }
 
 // The environment's diffracted radiance towards omega_r (patch frame) from the patch whose world axes are x, y and
-// n, before the illuminant's white: linear RGB in the environment's units; 0 where the frame does not diffract it.
+// n: linear RGB in the environment's units; 0 where the frame does not diffract it.
 vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     if (frame.sky_quadratic[0].w < 0.5 || omega_r.z <= 0.0) return vec3(0.0);
     vec3 a[9];
@@ -87,10 +94,10 @@ vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
                           mirror.x * mirror.y, mirror.x * mirror.z, mirror.y * mirror.z);
     vec3 diffracted = vec3(0.0), at_mirror = vec3(0.0);
     for (int j = 0; j < 9; ++j) {
-        diffracted += a[j] * vec3(s[3 * j], s[3 * j + 1], s[3 * j + 2]);
+        diffracted += moment_matrix(s, j) * a[j];
         at_mirror += a[j] * m[j];
     }
-    vec3 specular = vec3(s[27], s[28], s[29]);
+    mat3 specular = moment_matrix(s, 9);
     // The specular disc's light: the environment itself at the mirror direction where the view has it.
     if (frame.sky_quadratic[3].w > 0.5) at_mirror = env_light_radiance(mat3(x, y, n) * mirror);
     // The grid holds the moments over Schlick's R/R₀ at the mirror direction (`env_prefilter::mirror_fresnel`).

@@ -198,18 +198,46 @@ impl Reference {
             * optics::shadow_mask(omega_i, omega_r)
     }
 
+    /// [`Self::flss_xyz`] under each of `samplings` (one wavelength grid, several lights), the spectrum computed
+    /// once.
+    pub fn flss_xyz_bands<const N: usize>(
+        &self,
+        omega_i: DVec3,
+        omega_r: DVec3,
+        samplings: &[super::spectrum::Sampling; N],
+    ) -> [DVec3; N] {
+        if omega_i.z <= 0.0 || omega_r.z <= 0.0 || N == 0 {
+            return [DVec3::ZERO; N];
+        }
+        let uvw = optics::uvw(omega_i, omega_r);
+        let spectrum: Vec<f64> = samplings[0].wavelengths().map(|l| self.intensity(uvw, l)).collect();
+        let factor = optics::gain_factor(omega_i, omega_r) * optics::shadow_mask(omega_i, omega_r);
+        std::array::from_fn(|k| {
+            let sampling = &samplings[k];
+            debug_assert!(sampling.step_nm == samplings[0].step_nm && sampling.count == samplings[0].count);
+            let mut xyz = DVec3::ZERO;
+            for (l, intensity) in sampling.wavelengths().zip(&spectrum) {
+                let s = sampling.weights_at(l);
+                xyz += DVec3::new(s[0], s[1], s[2]) * (intensity * s[3] * sampling.step_nm);
+            }
+            xyz / sampling.y_norm() * factor
+        })
+    }
+
+    /// |P(u/λ, v/λ; k·w)|² at one wavelength (nm), 0 outside the band the patch resolves.
+    fn intensity(&self, uvw: DVec3, lambda_nm: f64) -> f64 {
+        let lambda_um = lambda_nm * 1e-3;
+        let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
+        if !at.in_band(self.nx, self.ny) {
+            return 0.0;
+        }
+        self.amplitude(at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
+    }
+
     /// Σ_λ |P(u/λ, v/λ; k·w)|² weighted into XYZ relative to a D65 mirror, before the gain and the shadowing:
     /// the quantity the baked table stores (`BakedTable::xyz`), at any (u, v, w).
     pub fn spectral_xyz(&self, uvw: DVec3, sampling: &super::spectrum::Sampling) -> DVec3 {
-        let intensity = |lambda_nm: f64| {
-            let lambda_um = lambda_nm * 1e-3;
-            let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
-            if !at.in_band(self.nx, self.ny) {
-                return 0.0;
-            }
-            self.amplitude(at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
-        };
-        super::spectrum::reflectance_to_xyz(sampling, intensity)
+        super::spectrum::reflectance_to_xyz(sampling, |lambda_nm| self.intensity(uvw, lambda_nm))
     }
 
     fn sample(&self, q: &Query) -> Sample {

@@ -87,6 +87,10 @@ fn normalised(mut table: Table) -> Result<Table> {
 /// The names [`Illuminant::named`] takes, for messages.
 pub const NAMES: &str = "D65, D50, D55, D75 (or D<N>: N·100 K daylight, N from 40 to 250), A, E, F1 … F12, sun:E \
                          or sun:E:T (the sun E° high through turbidity T), or a CSV file of nm,relative power";
+/// The steps between the spectral basis' bands ([`Illuminant::d65_band`]): blue to green, green to red, nm.
+pub const BAND_EDGES_NM: [f64; 2] = [490.0, 590.0];
+/// The steps' width (the logistic's scale), nm.
+pub const BAND_WIDTH_NM: f64 = 15.0;
 /// The turbidity of `sun:E` (a clear day).
 pub const SUN_TURBIDITY: f64 = 3.0;
 
@@ -280,6 +284,26 @@ impl Illuminant {
         let i = (x.floor() as usize).min(TABLE_ROWS - 2);
         let t = x - i as f64;
         self.spd[i] + (self.spd[i + 1] - self.spd[i]) * t
+    }
+
+    /// Band `band` (0 blue, 1 green, 2 red) of the smooth spectral basis an RGB environment's light is upsampled
+    /// into (`env_prefilter::basis`): D65 times a partition of unity of two logistic steps,
+    /// b_blue = 1/(1 + e^((λ − 490)/15)), b_red = 1/(1 + e^(−(λ − 590)/15)), b_green = 1 − b_blue − b_red, so the
+    /// three sum to D65 and a D65-coloured light is D65 itself. Each is smooth and positive everywhere.
+    pub fn d65_band(band: usize) -> Self {
+        const NAMES: [&str; 3] = ["D65 × blue band", "D65 × green band", "D65 × red band"];
+        let band = band.min(2);
+        let mut map = INTERNED.lock().unwrap_or_else(|e| e.into_inner());
+        *map.entry(format!("band:{band}")).or_insert_with(|| {
+            let table: Table = std::array::from_fn(|i| {
+                let lambda = TABLE_LAMBDA_MIN_NM + i as f64;
+                let blue = 1.0 / (1.0 + ((lambda - BAND_EDGES_NM[0]) / BAND_WIDTH_NM).exp());
+                let red = 1.0 / (1.0 + (-(lambda - BAND_EDGES_NM[1]) / BAND_WIDTH_NM).exp());
+                D65[i] * [blue, 1.0 - blue - red, red][band]
+            });
+            let spd: &'static Table = Box::leak(Box::new(table));
+            Illuminant { name: NAMES[band], spd, white: spd, physical: false }
+        })
     }
 
     /// Feeds the table into a cache key.

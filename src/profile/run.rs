@@ -277,7 +277,7 @@ fn scene_pixels(
                         Some((map, scale, rotation)) => map.bilinear(d, *rotation) * *scale,
                         None => quadratic.radiance(d).max(DVec3::ZERO),
                     };
-                    m.radiance(omega_r, &quadratic, frame, mirror, whites[material])
+                    m.radiance(omega_r, &quadratic, frame, mirror)
                 });
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
                 + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated)

@@ -65,7 +65,7 @@ pub const BINDING_MOMENTS: u32 = 14;
 pub const BINDING_ENV_LIGHT: u32 = 15;
 /// The moments' grid per axis and texture layers (`env_prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
 pub const MOMENT_GRID: u32 = 32;
-pub const MOMENT_LAYERS: u32 = 8;
+pub const MOMENT_LAYERS: u32 = 23;
 /// The R2 sequence's steps in 32-bit fixed point, 2³²/g and 2³²/g² for the plastic number g (`env_light::r2`).
 pub const R2_STEP_X: u32 = 3242174889;
 pub const R2_STEP_Y: u32 = 2447445413;

@@ -177,7 +177,7 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
 /// quadrature and grid alone) and under the sky itself (adding what l = 2 leaves out).
 #[test]
 fn the_prefiltered_sky_matches_the_sampled_one() {
-    use diffract::env_prefilter::{Moments, Quadratic, MOMENT_GRID};
+    use diffract::env_prefilter::{Quadratic, MOMENT_GRID};
     let hf = blazed(50, 26, 4, 0.05, 0.25);
     let size = 32;
     let material = any_view(&hf);
@@ -195,13 +195,12 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
             })
             .collect(),
     };
-    let gain = diffract::env_light::env_gain(&material.sampling, material.settings.coherence_um).unwrap();
     let start = std::time::Instant::now();
-    let moments = Moments::new(material.table.as_ref().unwrap(), gain, MOMENT_GRID);
+    let moments = diffract::env_prefilter::moments_of(&hf, &material.settings).unwrap();
+    assert_eq!(moments.grid, MOMENT_GRID);
     eprintln!("moments: {:.1} s", start.elapsed().as_secs_f64());
     // The map's frame: patch x, y, z are the environment's x, −z, y (env_light::env_of_patch).
     let frame = glam::DMat3::from_cols(DVec3::X, -DVec3::Z, DVec3::Y);
-    let white = white_rgb(material.settings.illuminant);
     let mut means = Vec::new();
     // Frames light the specular disc by the sky itself at the mirror direction ("as frames"); with the l ≤ 2 light
     // there too it would read worse ("quadratic at the mirror").
@@ -221,7 +220,7 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
                     } else {
                         quadratic.radiance(mirror).max(DVec3::ZERO)
                     };
-                    let rgb = moments.radiance(omega_r, &quadratic, frame, at_mirror, white);
+                    let rgb = moments.radiance(omega_r, &quadratic, frame, at_mirror);
                     let i = ((y * size + x) * 4) as usize;
                     prefiltered.rgba[i..i + 3].copy_from_slice(&rgb.as_vec3().to_array());
                 }
@@ -239,11 +238,15 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
 }
 
 /// A mirror's moments against a constant light are its Fresnel reflectance: the specular disc holds it all, at
-/// every view (the grid stores them over Schlick's factor, which the lookup multiplies back).
+/// every view (the grid stores them over Schlick's factor, which the lookup multiplies back), for every colour of
+/// light (the spectral basis' three tables and its matrix A⁻¹ agree); and they are the environment's, whatever
+/// illuminant the scene's sun has.
 #[test]
 fn the_moments_of_a_mirror_are_its_reflectance() {
     let hf = HeightField::new(64, 64, 0.1, 0.1, vec![0.1; 64 * 64]).unwrap();
     let m = diffract::env_prefilter::moments_of(&hf, &physical()).unwrap();
+    let tungsten = Settings { illuminant: Illuminant::named("A").unwrap().physical(), ..physical() };
+    assert!(diffract::env_prefilter::moments_of(&hf, &tungsten).unwrap() == m, "the sun's illuminant changed them");
     // (Up to 70°: beyond, the narrow-lobe limit R(θ) itself is off by percents, model.md §1.5.)
     for theta in [0.0f64, 20.0, 45.0, 60.0, 70.0] {
         for phi in [0.0f64, 30.0, 45.0, 90.0, 200.0] {
@@ -251,8 +254,10 @@ fn the_moments_of_a_mirror_are_its_reflectance() {
             let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
             let r = normal_reflectance(SKIN_INDEX) * fresnel_ratio(mirror, omega_r, SKIN_INDEX);
             let (moments, specular) = m.at(omega_r);
-            let total = (moments[0] + specular) / r;
-            assert!((total - DVec3::ONE).abs().max_element() < 2e-3, "θ {theta} φ {phi}: {total}");
+            // A colour matrix: every colour of light comes back as itself, times R.
+            let total = (moments[0] + specular) * (1.0 / r);
+            let off = (total - glam::DMat3::IDENTITY).to_cols_array().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!(off < 2e-3, "θ {theta} φ {phi}: {total}");
         }
     }
 }
@@ -270,8 +275,14 @@ fn the_elaphe_scans_moments_conserve_energy() {
         let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
         let r = normal_reflectance(SKIN_INDEX) * fresnel_ratio(mirror, omega_r, SKIN_INDEX);
         let (moments, specular) = m.at(omega_r);
-        let albedo = (moments[0] + specular).y;
-        eprintln!("θ_r {theta}°: hemispherical reflectance {albedo:.4} (specular {:.4}), Fresnel {r:.4}", specular.y);
+        // Under a white (D65) light of unit luminance.
+        let white = white_rgb(diffract::physics::illuminant::Illuminant::d65());
+        let y = |rgb: DVec3| diffract::physics::spectrum::linear_srgb_to_xyz(rgb).y;
+        let albedo = y((moments[0] + specular) * white);
+        eprintln!(
+            "θ_r {theta}°: hemispherical reflectance {albedo:.4} (specular {:.4}), Fresnel {r:.4}",
+            y(specular * white)
+        );
         assert!(albedo <= r * 1.01 && albedo >= 0.85 * r, "θ_r {theta}: {albedo} against {r}");
     }
 }
@@ -317,7 +328,6 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     .unwrap();
     let proposal = TableProposal::new(table.table.as_ref().unwrap()).unwrap();
     let exact = ExactEnv::new(&material.heightfield, &settings).unwrap();
-    let white = white_rgb(settings.illuminant);
     let (ev, _) = diffract::exposure::measure(&frame_rgba, "the frame");
     let mut rng = SplitMix(9);
     let mut errors = Vec::new();
@@ -331,7 +341,7 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
         }
         let mirror = seen.frame * DVec3::new(-seen.omega_r.x, -seen.omega_r.y, seen.omega_r.z);
         let prefiltered =
-            moments.radiance(seen.omega_r, &quadratic, seen.frame, lit.bilinear(mirror, rotation) * scale, white);
+            moments.radiance(seen.omega_r, &quadratic, seen.frame, lit.bilinear(mirror, rotation) * scale);
         let e = exact.estimate(&env, &proposal, seen.frame, seen.omega_r, 512, i as u64);
         let shown = DVec3::new(frame_rgba[4 * i].into(), frame_rgba[4 * i + 1].into(), frame_rgba[4 * i + 2].into());
         let error = delta_e(xyz(shown), xyz(shown - prefiltered + e.rgb), ev);

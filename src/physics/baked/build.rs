@@ -26,7 +26,7 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use super::{degree, BakedTable, Grid, TablePlan, INVISIBLE, TABLE_LAMBDA_STEP_NM};
+use super::{degree, BakedTable, Grid, TablePlan, INVISIBLE};
 use crate::error::Result;
 use crate::physics::chebyshev;
 use crate::physics::heightfield::HeightField;
@@ -446,7 +446,7 @@ impl Pass<'_> {
 }
 
 impl<'a> Pass<'a> {
-    /// The pass that builds `plan`'s table: its grid, its nodes in w, 1 nm steps.
+    /// The pass that builds `plan`'s table: its grid, its nodes in w, its wavelength step.
     fn new(hf: &HeightField, plan: &TablePlan, cell: &'a Cell) -> Self {
         let (grid, point) = (plan.grid, plan.point);
         let (lx, ly) = hf.size_um();
@@ -464,7 +464,7 @@ impl<'a> Pass<'a> {
         Self {
             grid,
             nodes: plan.nodes.count,
-            spectral: Spectral::new(TABLE_LAMBDA_STEP_NM, &plan.illuminant),
+            spectral: Spectral::new(plan.lambda_step_nm, &plan.illuminant),
             cell,
             ax: axis(grid.u0, grid.nu, lx, w.sigma_x, hf.nx, cell.tx, w.radius_x),
             ay: axis(grid.v0, grid.nv, ly, w.sigma_y, hf.ny, cell.ty, w.radius_y),

@@ -50,6 +50,10 @@ fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
         p.f64(v);
     }
     p.u64(g.nu as u64).u64(g.nv as u64);
+    // (Only where it is not the default, so that the default tables keep their keys.)
+    if plan.lambda_step_nm != super::TABLE_LAMBDA_STEP_NM {
+        p.f64(plan.lambda_step_nm);
+    }
     Stamp { kind: "baked", what: "baked table", version: VERSION, plan: p.0 }
 }
 

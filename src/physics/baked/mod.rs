@@ -209,6 +209,9 @@ pub struct TablePlan {
     pub coherence_um: f64,
     /// The light's spectrum the table integrates under (its colours are XYZ relative to that white mirror).
     pub illuminant: Illuminant,
+    /// The wavelength step of the build's spectral sums, nm: [`TABLE_LAMBDA_STEP_NM`] unless a table that is only
+    /// integrated further (the environment's moments) asks for a coarser one.
+    pub lambda_step_nm: f64,
 }
 
 /// Tiling strides (in window widths σ) beyond which neighbouring lobes no longer interfere: their cross term
@@ -266,6 +269,7 @@ impl TablePlan {
             window,
             coherence_um,
             illuminant,
+            lambda_step_nm: TABLE_LAMBDA_STEP_NM,
         };
         plan.estimate = cache::estimate(hf, &plan, || degree::estimate(hf, &plan));
         plan.terms = plan.estimate.terms;
@@ -378,9 +382,9 @@ impl TablePlan {
     }
 }
 
-/// The table `plan` describes: from the cache folder ([`crate::cache::default_dir`]) when an earlier run built
-/// it, else built (and stored there). Returns the table and whether it came from the cache.
-pub(crate) fn load_or_build(
+/// The table `plan` describes: from the cache folder (`$DIFFRACT_CACHE`, else the user's) when an earlier run
+/// built it, else built (and stored there). Returns the table and whether it came from the cache.
+pub fn load_or_build(
     hf: &HeightField,
     plan: &TablePlan,
     progress: Option<build::Progress<'_>>,
