@@ -8,6 +8,9 @@
 // Requires surface_frame.glsl (frame), params.glsl, brdf.glsl.
 #include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS
 
+// 1 where the material has moments (`render::surface`); 0 compiles the term out.
+layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = 0;
+
 layout(set = 0, binding = BINDING_MOMENTS) uniform sampler2DArray env_moments;
 // The environment without its sun (`render::surface::EnvLighting`), equirectangular like the background's map:
 // frame.sky_quadratic[1].w turns its texels into the frame's units, [2].w is its turn about +y, [3].w is 1 where
@@ -75,7 +78,7 @@ void sky_coefficients(vec3 x, vec3 y, vec3 n, out vec3 a[9]) {
 // The environment's diffracted radiance towards omega_r (patch frame) from the patch whose world axes are x, y and
 // n: linear RGB in the environment's units; 0 where the frame does not diffract it.
 vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
-    if (frame.sky_quadratic[0].w < 0.5 || omega_r.z <= 0.0) return vec3(0.0);
+    if (SKY_DIFFRACTION == 0u || frame.sky_quadratic[0].w < 0.5 || omega_r.z <= 0.0) return vec3(0.0);
     vec3 a[9];
     sky_coefficients(x, y, n, a);
     // Texel centres at the grid's points.

@@ -22,7 +22,7 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
-use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE};
+use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE, SPEC_SKY_DIFFRACTION};
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageState,
@@ -338,14 +338,15 @@ impl SceneRenderer {
         for input in materials {
             let patch = Guard::new(ctx, PatchResources::new(ctx, input.material)?);
             let baked = input.material.table.is_some();
+            let sky = u32::from(input.material.moments.is_some());
             let (fragment, specialization) = match variant {
                 SurfaceVariant::Shade { display_output } => (
                     if baked { shaders::SURFACE_BAKED_FRAG } else { shaders::SURFACE_FRAG },
-                    input.material.spec_constants(display_output),
+                    input.material.spec_constants(display_output).u32(SPEC_SKY_DIFFRACTION, sky),
                 ),
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
-                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride),
+                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride).u32(SPEC_SKY_DIFFRACTION, sky),
                 ),
             };
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {

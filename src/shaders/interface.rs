@@ -21,6 +21,9 @@ pub const SPEC_COUNT_STRIDE: u32 = 5;
 pub const SPEC_FOOTPRINT: u32 = 8;
 /// `map.comp`'s workgroup side (`render::diffraction::map_workgroup`): side² invocations, one per pixel.
 pub const SPEC_MAP_LOCAL_SIZE: u32 = 9;
+/// 1: the surface pass diffracts the environment (the material has its moments); 0: the code is compiled out
+/// (a CPU device runs both sides of a branch, so a uniform switch alone would still cost every pixel).
+pub const SPEC_SKY_DIFFRACTION: u32 = 10;
 
 // Specialization constants of single shaders.
 /// Which part of the G-buffer `gbuffer.frag` writes.
