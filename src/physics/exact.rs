@@ -210,17 +210,14 @@ impl Reference {
             return [DVec3::ZERO; N];
         }
         let uvw = optics::uvw(omega_i, omega_r);
-        let spectrum: Vec<f64> = samplings[0].wavelengths().map(|l| self.intensity(uvw, l)).collect();
+        let first = &samplings[0];
+        let spectrum: Vec<f64> = first.wavelengths().map(|l| self.intensity(uvw, l)).collect();
         let factor = optics::gain_factor(omega_i, omega_r) * optics::shadow_mask(omega_i, omega_r);
         std::array::from_fn(|k| {
             let sampling = &samplings[k];
-            debug_assert!(sampling.step_nm == samplings[0].step_nm && sampling.count == samplings[0].count);
-            let mut xyz = DVec3::ZERO;
-            for (l, intensity) in sampling.wavelengths().zip(&spectrum) {
-                let s = sampling.weights_at(l);
-                xyz += DVec3::new(s[0], s[1], s[2]) * (intensity * s[3] * sampling.step_nm);
-            }
-            xyz / sampling.y_norm() * factor
+            debug_assert!(sampling.step_nm == first.step_nm && sampling.count == first.count);
+            let at = |l: f64| spectrum[((l - first.lambda_min_nm) / first.step_nm).round() as usize];
+            super::spectrum::reflectance_to_xyz(sampling, at) * factor
         })
     }
 

@@ -342,13 +342,14 @@ impl SceneRenderer {
             let (fragment, specialization) = match variant {
                 SurfaceVariant::Shade { display_output } => (
                     if baked { shaders::SURFACE_BAKED_FRAG } else { shaders::SURFACE_FRAG },
-                    input.material.spec_constants(display_output).u32(SPEC_SKY_DIFFRACTION, sky),
+                    input.material.spec_constants(display_output),
                 ),
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
-                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride).u32(SPEC_SKY_DIFFRACTION, sky),
+                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride),
                 ),
             };
+            let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
                 vertex: shaders::SURFACE_VERT,
