@@ -450,7 +450,7 @@ pub const REFERENCE_STEP_NM: f64 = 5.0;
 pub const REFERENCE_REPLICATES: u32 = 8;
 
 /// The exact BRDF integrated over an environment: the estimator above with the exact BRDF (f64, the full coherence
-/// window, [`REFERENCE_STEP_NM`] steps: `Reference::flss_xyz`), in [`REFERENCE_REPLICATES`] independently shifted
+/// window, [`REFERENCE_STEP_NM`] steps: `Reference::flss_xyz_bands`), in [`REFERENCE_REPLICATES`] independently shifted
 /// passes, a table only proposing where to look. Each estimate carries its standard error (from the passes' spread).
 pub struct ExactEnv {
     reference: crate::physics::Reference,
@@ -464,25 +464,9 @@ impl ExactEnv {
     /// The reference of `hf` under `settings`' coherence length; the environment's light is upsampled to spectra
     /// in the basis frames use (`env_prefilter::basis`, in physical units), whatever light `settings` names.
     pub fn new(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> Result<Self> {
-        use crate::physics::exact::{window_gain, Method, Reference};
         use crate::physics::spectrum::Sampling;
-        use crate::physics::{HeightStats, TaylorPlan, Window};
-        let (lx, ly) = hf.size_um();
-        let window = Window::new(lx, ly, settings.coherence_um, None)?;
-        let plan = TaylorPlan::new(
-            crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
-            2.0,
-            &HeightStats::of(hf),
-            window_gain(&window, hf),
-            crate::profile::exact_image::REFERENCE_TOLERANCE,
-            None,
-        );
-        let reference = match plan {
-            Ok(plan) if plan.f64_error <= crate::profile::exact_image::MAX_REFERENCE_ROUNDING => {
-                Reference::new(hf, window, Method::Taylor, Some(plan))?
-            }
-            _ => Reference::new(hf, window, Method::Exact, None)?,
-        };
+        // Every view of the hemisphere: |w| up to 2.
+        let (reference, _) = crate::profile::exact_image::exact_reference(hf, settings.coherence_um, 2.0)?;
         let mut bands = Vec::new();
         for illuminant in crate::env_prefilter::basis() {
             let sampling = Sampling::visible_under(REFERENCE_STEP_NM, illuminant);

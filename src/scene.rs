@@ -398,7 +398,13 @@ impl SkyLight {
 /// light is below the horizon, where a uniform `ambient` sky would light the pigment twice, for a turbidity outside
 /// the model's range, a map that cannot be used, or keys that belong to another kind.
 fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3) -> Result<Option<Environment>> {
-    let kind = light.environment.as_ref().map(|e| (e.get_ref().trim().to_string(), e.span()));
+    // A scene that names no environment is outdoors, under the clear sky, unless it lights its pigment by the
+    // thesis's uniform grey sky (`ambient`, relative units): then the sun alone, as `environment = "none"`.
+    let implicit = light.environment.is_none();
+    let kind = match &light.environment {
+        Some(e) => Some((e.get_ref().trim().to_string(), e.span())),
+        None => light.ambient.is_none().then(|| ("sky".to_string(), light.direction.span())),
+    };
     let named = |name: &str| kind.as_ref().is_some_and(|(k, _)| k.eq_ignore_ascii_case(name));
     let is_file = |k: &str| {
         let lower = k.to_ascii_lowercase();
@@ -415,20 +421,11 @@ fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3
             return Err(loc.at(key.span(), "rotation_deg and intensity belong to environment = \"FILE.exr\" (a map)"));
         }
     }
-    let sky = named("sky") || (kind.is_none() && light.ambient.is_none());
-    if let Some(t) = light.turbidity.as_ref().filter(|_| !sky) {
+    if let Some(t) = light.turbidity.as_ref().filter(|_| !named("sky")) {
         return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
     }
     let none = named("none");
-    // A scene that names no environment is outdoors, under the clear sky, unless it lights its pigment by the
-    // thesis's uniform grey sky (`ambient`, relative units): then the sun alone, as `environment = "none"`.
-    let implicit = kind.is_none();
-    if implicit && light.ambient.is_some() {
-        return Ok(None);
-    }
-    let Some((k, span)) = kind.or_else(|| Some(("sky".to_string(), light.direction.span()))).filter(|_| !none) else {
-        return Ok(None);
-    };
+    let Some((k, span)) = kind.filter(|_| !none) else { return Ok(None) };
     if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
         return Err(loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one")));
     }

@@ -228,13 +228,10 @@ impl ReferenceJob<'_> {
         Ok(image)
     }
 
-    /// The exact reference of material `i` for the views its pixels need, and how it is computed: an f64
-    /// Taylor sum where its rounding is small enough, the exact sum of exp(i·k·w·h) elsewhere.
+    /// The exact reference of material `i` for the views its pixels need, and how it is computed
+    /// ([`exact_reference`]).
     fn material_reference(&self, i: usize) -> Result<(Reference, String)> {
         let m = &self.materials[i];
-        let hf = m.heightfield;
-        let (lx, ly) = hf.size_um();
-        let window = Window::new(lx, ly, m.coherence_um, None)?;
         let w_max = self
             .pixels
             .iter()
@@ -242,40 +239,49 @@ impl ReferenceJob<'_> {
             .filter(|q| q.material == i)
             .map(|q| (q.omega_i.z + q.omega_r.z).abs())
             .fold(0.0, f64::max);
-        let plan = TaylorPlan::new(
-            crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
-            w_max.max(1e-3),
-            &HeightStats::of(hf),
-            window_gain(&window, hf),
-            REFERENCE_TOLERANCE,
-            None,
-        );
-        let taps =
-            format!("full window {}×{} taps (weights ≥ 1e-17)", 2 * window.radius_x + 1, 2 * window.radius_y + 1);
-        // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too
-        // would lose the digits the comparison needs, or need more terms than a plan allows. There the
-        // reference sums exp(i·k·w·h) itself (the exact method: no series, slower by about the patch's pixel
-        // count over the terms' texel reads).
-        let plan = match plan {
-            Ok(plan) if plan.f64_error <= MAX_REFERENCE_ROUNDING => plan,
-            deep => {
-                let why = match deep {
-                    Ok(plan) => format!(
+        exact_reference(m.heightfield, m.coherence_um, w_max)
+    }
+}
+
+/// The exact reference of `hf` under `coherence_um` for views up to |w| = `w_max`, and how it is computed: an f64
+/// Taylor sum where its rounding is small enough, the exact sum of exp(i·k·w·h) elsewhere (the full window).
+pub fn exact_reference(hf: &HeightField, coherence_um: f64, w_max: f64) -> Result<(Reference, String)> {
+    let (lx, ly) = hf.size_um();
+    let window = Window::new(lx, ly, coherence_um, None)?;
+    let plan = TaylorPlan::new(
+        crate::physics::spectrum::VISIBLE_MIN_NM * 1e-3,
+        w_max.max(1e-3),
+        &HeightStats::of(hf),
+        window_gain(&window, hf),
+        REFERENCE_TOLERANCE,
+        None,
+    );
+    let taps = format!("full window {}×{} taps (weights ≥ 1e-17)", 2 * window.radius_x + 1, 2 * window.radius_y + 1);
+    // The f64 sum cancels like the GPU's f32 one, 2⁻²⁹ less: for deep structures (k·w·h of tens) it too would lose
+    // the digits the comparison needs, or need more terms than a plan allows. There the reference sums
+    // exp(i·k·w·h) itself (the exact method: no series, slower by about the patch's pixel count over the terms'
+    // texel reads).
+    let plan = match plan {
+        Ok(plan) if plan.f64_error <= MAX_REFERENCE_ROUNDING => plan,
+        deep => {
+            let why = match deep {
+                Ok(plan) => {
+                    format!(
                         "an f64 Taylor sum would round by about {:.0e} at x_max = {:.1}",
                         plan.f64_error, plan.x_max
-                    ),
-                    Err(e) => e.to_string(),
-                };
-                let description = format!("exact DFT of exp(i·k·w·h) (no series: {why}), {taps}");
-                return Ok((Reference::new(hf, window, Method::Exact, None)?, description));
-            }
-        };
-        let description = format!(
-            "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), {taps}",
-            plan.order, REFERENCE_TOLERANCE, plan.f64_error
-        );
-        Ok((Reference::new(hf, window, Method::Taylor, Some(plan))?, description))
-    }
+                    )
+                }
+                Err(e) => e.to_string(),
+            };
+            let description = format!("exact DFT of exp(i·k·w·h) (no series: {why}), {taps}");
+            return Ok((Reference::new(hf, window, Method::Exact, None)?, description));
+        }
+    };
+    let description = format!(
+        "f64 Taylor N = {} (|P − P_N| ≤ {:.0e}, f64 rounding about {:.0e}), {taps}",
+        plan.order, REFERENCE_TOLERANCE, plan.f64_error
+    );
+    Ok((Reference::new(hf, window, Method::Taylor, Some(plan))?, description))
 }
 
 impl ReferenceImage {
