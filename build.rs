@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 
 /// Further builds of a shader with macros defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macros
 /// separated by spaces). `BAKED` makes the diffraction shaders read the baked colour table instead of the Taylor
-/// terms, `COUNT_FETCHES` makes them count their texel fetches and shadings per pixel.
+/// terms, `COUNT_FETCHES` makes them count their texel fetches and shadings per pixel; `SKY_DIFFRACTION_AT_VERTEX` makes
+/// the surface's vertex shader evaluate the environment's diffraction (sky_diffraction.glsl).
 const VARIANTS: &[(&str, &str, &str)] = &[
     ("map.frag", "map_count.frag", "COUNT_FETCHES"),
     ("map.frag", "map_baked.frag", "BAKED"),
@@ -22,6 +23,7 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface.frag", "surface_count.frag", "COUNT_FETCHES"),
     ("surface.frag", "surface_baked.frag", "BAKED"),
     ("surface.frag", "surface_baked_count.frag", "BAKED COUNT_FETCHES"),
+    ("surface.vert", "surface_sky.vert", "SKY_DIFFRACTION_AT_VERTEX"),
 ];
 
 /// The uniform blocks whose GLSL is generated from their Rust structs (std140): (source file, struct, descriptor

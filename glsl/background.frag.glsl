@@ -15,7 +15,6 @@ layout(set = 0, binding = BINDING_ENVIRONMENT) uniform sampler2D environment_map
 layout(location = 0) in vec2 ndc;
 layout(location = 0) out vec4 out_color;
 
-const float PI = 3.14159265358979;
 
 void main() {
     vec4 far = background.inverse_view_proj * vec4(ndc, 1.0, 1.0);

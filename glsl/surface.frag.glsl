@@ -25,6 +25,7 @@ layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
 layout(location = 5) in vec4 patch_axis;
+layout(location = 6) in vec3 sky_diffracted_at_vertex;
 layout(location = 0) out vec4 out_color;
 
 // SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
@@ -104,7 +105,7 @@ void main() {
     if (coated) {
         // The environment's own diffraction (no shadow: like the sky's light on the pigment, it is not occluded).
         vec3 x = normalize(patch_axis.xyz - normal * dot(normal, patch_axis.xyz));
-        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal);
+        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal, sky_diffracted_at_vertex);
     }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();

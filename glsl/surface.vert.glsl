@@ -20,6 +20,14 @@ layout(location = 4) out vec3 shadow_coord;
 // The patch's x axis in the world and the frame's handedness w (its y is w·(normal × x)): how the environment is
 // seen from the patch (sky_diffraction.glsl).
 layout(location = 5) out vec4 patch_axis;
+// The environment's light diffracted towards the view at this vertex (sky_diffraction.glsl's `sky_diffracted`) in
+// the variant built with SKY_DIFFRACTION_AT_VERTEX (`surface_sky.vert`); zero in the others.
+layout(location = 6) out vec3 sky_diffracted_at_vertex;
+
+#ifdef SKY_DIFFRACTION_AT_VERTEX
+#include "brdf.glsl"
+#include "sky_diffraction.glsl"
+#endif
 
 void main() {
     // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
@@ -43,6 +51,11 @@ void main() {
     world_normal = n;
     patch_axis = vec4(t, in_tangent.w < 0.0 ? -1.0 : 1.0);
     tint = in_pigment;
+#ifdef SKY_DIFFRACTION_AT_VERTEX
+    sky_diffracted_at_vertex = sky_diffracted(normalize(patch_view), t, b, n);
+#else
+    sky_diffracted_at_vertex = vec3(0.0);
+#endif
     float cos_l = dot(n, l);
     float growth = min(1.0 / max(abs(cos_l), 1e-3), SHADOW_MAX_OFFSET_GROWTH);
     vec3 lifted = p.xyz + (cos_l >= 0.0 ? n : -n) * (frame.shadow.y * growth);

@@ -21,11 +21,46 @@
 //! and a D65-coloured light is D65 itself. Each band has its own coarse table, baked once, and a moment is a 3×3
 //! colour matrix N_j = [M_j(B_0) M_j(B_1) M_j(B_2)]·A⁻¹ from light RGB to reflected RGB: the environment's
 //! diffraction is spectral (within the upsampling) and does not depend on the sun's illuminant.
+//!
+//! Where a frame evaluates it is [`SkyAt`]: the nine diffraction moments against a quadratic light give a broad
+//! term that changes slowly with the view and the patch's frame, so by default it is evaluated at the mesh's
+//! vertices and interpolated (21 of the 23 layers' reads leave the pixels); the specular moment (the structure's
+//! coherent reflectance, whose colour changes quickly with the angle) and the environment's own light at the
+//! mirror direction stay per pixel.
 
 use glam::{DMat3, DVec3};
 
 use crate::physics::baked::BakedTable;
 use crate::physics::sh::Irradiance;
+
+/// Where a frame evaluates the environment's diffraction (the `sky_at` setting).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SkyAt {
+    /// The diffracted part at the mesh's vertices, interpolated across each triangle; the specular part per pixel.
+    Vertex,
+    /// All of it per pixel: the prefiltered model exactly as [`Moments::radiance`] states it.
+    Pixel,
+}
+
+impl SkyAt {
+    pub const ALL: [SkyAt; 2] = [SkyAt::Vertex, SkyAt::Pixel];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SkyAt::Vertex => "vertex",
+            SkyAt::Pixel => "pixel",
+        }
+    }
+
+    /// The value of the `SKY_DIFFRACTION` specialization constant for a material with moments.
+    pub fn spec(self) -> u32 {
+        match self {
+            SkyAt::Vertex => crate::shaders::interface::SKY_DIFFRACTION_VERTEX,
+            SkyAt::Pixel => crate::shaders::interface::SKY_DIFFRACTION_PIXEL,
+        }
+    }
+}
 
 /// Points of the moments' grid per axis of ω_r.xy ∈ [−1, 1]².
 pub const MOMENT_GRID: usize = crate::shaders::interface::MOMENT_GRID as usize;

@@ -17,6 +17,7 @@
 //! An entry with `set_in "[light]"` is the light's, not a material's: a scene sets it once, in that table, for
 //! every material, so a material table does not take its key.
 
+use crate::env_prefilter::SkyAt;
 use crate::error::{Error, Result};
 use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
 use crate::physics::illuminant::Illuminant;
@@ -71,6 +72,18 @@ impl SettingValue for Approach {
             .into_iter()
             .find(|a| a.name() == text.trim())
             .ok_or_else(|| format!("{text:?}: the approaches are {}", Approach::ALL.map(Approach::name).join(", ")))
+    }
+    fn show(&self) -> String {
+        self.name().to_string()
+    }
+}
+
+impl SettingValue for SkyAt {
+    fn parse(text: &str) -> std::result::Result<Self, String> {
+        SkyAt::ALL
+            .into_iter()
+            .find(|a| a.name() == text.trim())
+            .ok_or_else(|| format!("{text:?}: the choices are {}", SkyAt::ALL.map(SkyAt::name).join(", ")))
     }
     fn show(&self) -> String {
         self.name().to_string()
@@ -427,6 +440,10 @@ settings! {
     /// power, for every material (a scene under the clear sky, the default, takes its sun's unless one is named)
     illuminant: value<Illuminant> = Illuminant::d65(), check any,
         flag "illuminant", value_name "NAME|FILE.csv", set_in "[light]";
+    /// Where a frame evaluates the environment's diffraction: vertex (its broad, diffracted part at the mesh's
+    /// vertices, interpolated; the specular part per pixel) or pixel (all of it per pixel)
+    sky_at: value<SkyAt> = SkyAt::Vertex, check any,
+        flag "sky-at", value_name "WHERE";
 }
 
 /// A flag's help: the setting's doc on one line and its default.

@@ -372,6 +372,12 @@ fn hostile_flags() {
         render("unknown device", &["--device", "no-such-gpu"], "no-such-gpu"),
         render("window radius 4e9", &["--window-radius", "4000000000"], "window radius"),
         render("unknown approach", &["--approach", "magic"], "magic"),
+        render("sky at nowhere", &["--sky-at", "sideways"], "vertex, pixel"),
+        case(
+            "map: sky at",
+            &["map", "--heightfield", "good.gsf", "--light-theta", "0", "--out", "OUT/keep.png", "--sky-at", "pixel"],
+            "--sky-at has no effect",
+        ),
         brdf("coherence 1e-9 µm", &["--coherence-um", "1e-9"], "coherence"),
         brdf("coherence 1e300 µm", &["--coherence-um", "1e300"], "coherence"),
         brdf("brdf window radius 4e9", &["--window-radius", "4000000000"], "window radius"),

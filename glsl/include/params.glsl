@@ -45,4 +45,3 @@ layout(set = 0, binding = BINDING_TABLE) uniform sampler2DArray taylor_terms;
 // (x̄, ȳ, z̄, D65/100) per nm from 380 to 780 nm.
 layout(std430, set = 0, binding = BINDING_SPECTRUM) readonly buffer SpectrumTable { vec4 spectrum_table[]; };
 
-const float PI = 3.14159265358979;

@@ -4,26 +4,17 @@
 // against the BRDF by its nine moments M_j(ω_r) (the material's moments texture: each a colour matrix from the
 // light's RGB, upsampled in the spectral basis, to the reflected RGB), plus the specular reflectance times the
 // environment's own radiance at the mirror direction (the quadratic's where the view has no map).
-// Mirrors `Moments::radiance`.
-// Requires surface_frame.glsl (frame), params.glsl, brdf.glsl.
-#include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS
+// Mirrors `Moments::radiance`. With SKY_DIFFRACTION_VERTEX the diffracted part (nine of the ten moments, 21 of the
+// 23 layers) is evaluated at the vertices (surface.vert built with SKY_DIFFRACTION_AT_VERTEX) and interpolated:
+// against a quadratic light it is broad and changes slowly with the view. The specular part stays per pixel: the
+// structure's coherent reflectance changes colour quickly with the angle, and a map's light is sharp.
+// Requires surface_frame.glsl (frame) and brdf.glsl.
+#include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS, PI, SKY_DIFFRACTION_*
 
-// 1 where the material has moments (`render::surface`); 0 compiles the term out.
-layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = 0;
+// Where the material's moments are read (`render::surface`): SKY_DIFFRACTION_NONE compiles the term out.
+layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = SKY_DIFFRACTION_NONE;
 
 layout(set = 0, binding = BINDING_MOMENTS) uniform sampler2DArray env_moments;
-// The environment without its sun (`render::surface::EnvLighting`), equirectangular like the background's map:
-// frame.sky_quadratic[1].w turns its texels into the frame's units, [2].w is its turn about +y, [3].w is 1 where
-// the view has one (else the specular reflection reads the quadratic form).
-layout(set = 0, binding = BINDING_ENV_LIGHT) uniform sampler2D env_light_map;
-
-// The environment's radiance towards the world direction d, in the frame's units.
-vec3 env_light_radiance(vec3 d) {
-    float azimuth = atan(d.x, d.z) - frame.sky_quadratic[2].w;
-    float elevation = asin(clamp(d.y, -1.0, 1.0));
-    vec2 uv = vec2(azimuth / (2.0 * PI) + 0.5, 0.5 - elevation / PI);
-    return textureLod(env_light_map, uv, 0.0).rgb * frame.sky_quadratic[1].w;
-}
 
 // The moments' grid coordinates of a view (`env_prefilter::grid_of_view`): the direction's azimuth at the radius
 // θ_r/(π/2).
@@ -33,11 +24,33 @@ vec2 moment_grid_of_view(vec3 omega_r) {
     return omega_r.xy / s * (atan(s, omega_r.z) / (0.5 * PI));
 }
 
-// Moment j's colour matrix from the texture's scalars s (`Moments::gpu_texels`: 9j + 3c + r is row r of column c).
-mat3 moment_matrix(float s[4 * MOMENT_LAYERS], int j) {
-    int o = 9 * j;
-    return mat3(s[o], s[o + 1], s[o + 2], s[o + 3], s[o + 4], s[o + 5], s[o + 6], s[o + 7], s[o + 8]);
+// The moments texture's coordinates of a view: texel centres at the grid's points.
+vec2 moment_uv(vec3 omega_r) {
+    vec2 g = moment_grid_of_view(omega_r);
+    return ((g + 1.0) * 0.5 * float(MOMENT_GRID - 1u) + 0.5) / float(MOMENT_GRID);
 }
+
+// The moments' scalars of layers first .. first + N/4 − 1 at uv, in order.
+#define FETCH_MOMENT_LAYERS(s, uv, first, count)                                  \
+    for (uint l = 0u; l < (count); ++l) {                                         \
+        vec4 v = textureLod(env_moments, vec3(uv, float((first) + l)), 0.0);      \
+        s[4u * l] = v.x;                                                           \
+        s[4u * l + 1u] = v.y;                                                      \
+        s[4u * l + 2u] = v.z;                                                      \
+        s[4u * l + 3u] = v.w;                                                      \
+    }
+
+// Moment j's colour matrix from the texture's scalars (`Moments::gpu_texels`: 9j + 3c + r is row r of column c),
+// where s starts at scalar `first`.
+#define MOMENT_MATRIX(s, j, first)                                                                           \
+    mat3(s[9 * (j) - (first)], s[9 * (j) + 1 - (first)], s[9 * (j) + 2 - (first)], s[9 * (j) + 3 - (first)],     \
+         s[9 * (j) + 4 - (first)], s[9 * (j) + 5 - (first)], s[9 * (j) + 6 - (first)], s[9 * (j) + 7 - (first)], \
+         s[9 * (j) + 8 - (first)])
+
+// Layers holding the nine diffraction moments (scalars 0..80), and those holding the specular one (81..89).
+const uint DIFFRACTED_LAYERS = 21u;
+const uint SPECULAR_FIRST_LAYER = 20u;
+const uint SPECULAR_LAYERS = MOMENT_LAYERS - SPECULAR_FIRST_LAYER;
 
 // The quadratic's coefficients a_j in the patch frame whose world axes are x, y, n (`Quadratic::coefficients`).
 void sky_coefficients(vec3 x, vec3 y, vec3 n, out vec3 a[9]) {
@@ -75,35 +88,72 @@ void sky_coefficients(vec3 x, vec3 y, vec3 n, out vec3 a[9]) {
     a[8] = 2.0 * qp[1][2];
 }
 
-// The environment's diffracted radiance towards omega_r (patch frame) from the patch whose world axes are x, y and
-// n: linear RGB in the environment's units; 0 where the frame does not diffract it.
-vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
-    if (SKY_DIFFRACTION == 0u || frame.sky_quadratic[0].w < 0.5 || omega_r.z <= 0.0) return vec3(0.0);
+// Whether the frame diffracts the environment towards omega_r at all.
+bool sky_diffracts(vec3 omega_r) {
+    return frame.sky_quadratic[0].w > 0.5 && omega_r.z > 0.0;
+}
+
+// The environment's light diffracted away from the mirror direction towards omega_r (patch frame) from the patch
+// whose world axes are x, y and n: Σ_j N_j(ω_r) a_j over the nine moments, times Schlick's R/R₀ at the mirror
+// (the grid holds the moments over it: `env_prefilter::mirror_fresnel`); linear RGB in the environment's units.
+vec3 sky_diffracted(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
+    if (!sky_diffracts(omega_r)) return vec3(0.0);
     vec3 a[9];
     sky_coefficients(x, y, n, a);
-    // Texel centres at the grid's points.
-    vec2 g = moment_grid_of_view(omega_r);
-    vec2 uv = ((g + 1.0) * 0.5 * float(MOMENT_GRID - 1u) + 0.5) / float(MOMENT_GRID);
-    float s[4 * MOMENT_LAYERS];
-    for (uint l = 0u; l < MOMENT_LAYERS; ++l) {
-        vec4 v = textureLod(env_moments, vec3(uv, float(l)), 0.0);
-        s[4u * l] = v.x;
-        s[4u * l + 1u] = v.y;
-        s[4u * l + 2u] = v.z;
-        s[4u * l + 3u] = v.w;
-    }
+    vec2 uv = moment_uv(omega_r);
+    float s[4 * DIFFRACTED_LAYERS];
+    FETCH_MOMENT_LAYERS(s, uv, 0u, DIFFRACTED_LAYERS)
+    // Written out: constant indices keep the scalars in registers (an indexed array is an indirect access).
+    vec3 diffracted = MOMENT_MATRIX(s, 0, 0) * a[0] + MOMENT_MATRIX(s, 1, 0) * a[1] + MOMENT_MATRIX(s, 2, 0) * a[2]
+        + MOMENT_MATRIX(s, 3, 0) * a[3] + MOMENT_MATRIX(s, 4, 0) * a[4] + MOMENT_MATRIX(s, 5, 0) * a[5]
+        + MOMENT_MATRIX(s, 6, 0) * a[6] + MOMENT_MATRIX(s, 7, 0) * a[7] + MOMENT_MATRIX(s, 8, 0) * a[8];
     vec3 mirror = vec3(-omega_r.xy, omega_r.z);
-    float m[9] = float[9](1.0, mirror.x, mirror.y, mirror.z, mirror.x * mirror.x, mirror.y * mirror.y,
-                          mirror.x * mirror.y, mirror.x * mirror.z, mirror.y * mirror.z);
-    vec3 diffracted = vec3(0.0), at_mirror = vec3(0.0);
-    for (int j = 0; j < 9; ++j) {
-        diffracted += moment_matrix(s, j) * a[j];
-        at_mirror += a[j] * m[j];
-    }
-    mat3 specular = moment_matrix(s, 9);
-    // The specular disc's light: the environment itself at the mirror direction where the view has it.
-    if (frame.sky_quadratic[3].w > 0.5) at_mirror = env_light_radiance(mat3(x, y, n) * mirror);
-    // The grid holds the moments over Schlick's R/R₀ at the mirror direction (`env_prefilter::mirror_fresnel`).
-    float fresnel = fresnel_ratio(mirror, omega_r, SKIN_INDEX);
-    return fresnel * (max(diffracted, vec3(0.0)) + specular * max(at_mirror, vec3(0.0)));
+    return fresnel_ratio(mirror, omega_r, SKIN_INDEX) * max(diffracted, vec3(0.0));
 }
+
+#ifndef SKY_DIFFRACTION_AT_VERTEX
+// The environment without its sun (`render::surface::EnvLighting`), equirectangular like the background's map:
+// frame.sky_quadratic[1].w turns its texels into the frame's units, [2].w is its turn about +y, [3].w is 1 where
+// the view has one (else the specular reflection reads the quadratic form).
+layout(set = 0, binding = BINDING_ENV_LIGHT) uniform sampler2D env_light_map;
+
+// The environment's radiance towards the world direction d, in the frame's units: its map where the view has one,
+// else its quadratic form (`Quadratic::radiance`).
+vec3 env_light_radiance(vec3 d) {
+    if (frame.sky_quadratic[3].w > 0.5) {
+        float azimuth = atan(d.x, d.z) - frame.sky_quadratic[2].w;
+        float elevation = asin(clamp(d.y, -1.0, 1.0));
+        vec2 uv = vec2(azimuth / (2.0 * PI) + 0.5, 0.5 - elevation / PI);
+        return textureLod(env_light_map, uv, 0.0).rgb * frame.sky_quadratic[1].w;
+    }
+    vec3 q = frame.sky_quadratic[4].rgb * (d.x * d.x) + frame.sky_quadratic[5].rgb * (d.y * d.y)
+        + frame.sky_quadratic[6].rgb * (d.z * d.z)
+        + 2.0 * (frame.sky_quadratic[7].rgb * (d.x * d.y) + frame.sky_quadratic[8].rgb * (d.x * d.z)
+                 + frame.sky_quadratic[9].rgb * (d.y * d.z));
+    return frame.sky_quadratic[0].rgb + frame.sky_quadratic[1].rgb * d.x + frame.sky_quadratic[2].rgb * d.y
+        + frame.sky_quadratic[3].rgb * d.z + q;
+}
+
+// The specular disc's light towards omega_r: the specular moment (a colour matrix) times the environment itself
+// at the mirror direction, times Schlick's R/R₀ there.
+vec3 sky_specular(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
+    vec2 uv = moment_uv(omega_r);
+    // Scalars 81..89: the last three of layer 20, all of 21, the first two of 22.
+    vec4 l20 = textureLod(env_moments, vec3(uv, 20.0), 0.0);
+    vec4 l21 = textureLod(env_moments, vec3(uv, 21.0), 0.0);
+    vec4 l22 = textureLod(env_moments, vec3(uv, 22.0), 0.0);
+    mat3 specular = mat3(l20.yzw, l21.xyz, vec3(l21.w, l22.xy));
+    vec3 mirror = vec3(-omega_r.xy, omega_r.z);
+    vec3 at_mirror = max(env_light_radiance(mat3(x, y, n) * mirror), vec3(0.0));
+    return fresnel_ratio(mirror, omega_r, SKIN_INDEX) * (specular * at_mirror);
+}
+
+// The environment's diffracted radiance towards omega_r (patch frame) from the patch whose world axes are x, y and
+// n: linear RGB in the environment's units; 0 where the frame does not diffract it. With SKY_DIFFRACTION_VERTEX
+// the diffracted part comes interpolated from the vertices (`vertex_diffracted`).
+vec3 sky_diffraction(vec3 omega_r, vec3 x, vec3 y, vec3 n, vec3 vertex_diffracted) {
+    if (SKY_DIFFRACTION == SKY_DIFFRACTION_NONE || !sky_diffracts(omega_r)) return vec3(0.0);
+    vec3 diffracted = SKY_DIFFRACTION == SKY_DIFFRACTION_PIXEL ? sky_diffracted(omega_r, x, y, n) : vertex_diffracted;
+    return diffracted + sky_specular(omega_r, x, y, n);
+}
+#endif

@@ -68,6 +68,9 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if let Some(exr) = &args.exr {
         crate::output::check_exr_path(exr)?;
     }
+    if args.material.patch.sky_at.is_some() {
+        anyhow::bail!("--sky-at has no effect on `diffract map` (a map's pixels are views of one patch, not a mesh's)");
+    }
     if let Some(path) = &args.environment {
         return environment_map(gpu, args, path);
     }

@@ -22,7 +22,10 @@ use crate::camera::Camera;
 use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
-use crate::shaders::interface::{BINDING_FETCH_COUNTS, BINDING_FRAME, SPEC_COUNT_STRIDE, SPEC_SKY_DIFFRACTION};
+use crate::shaders::interface::{
+    BINDING_FETCH_COUNTS, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE,
+    SPEC_SKY_DIFFRACTION,
+};
 use crate::shading::Material;
 use crate::vk::{
     Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageState,
@@ -320,7 +323,7 @@ impl SceneRenderer {
         let moments = Binding {
             binding: crate::shaders::interface::BINDING_MOMENTS,
             kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            stages: vk::ShaderStageFlags::FRAGMENT,
+            stages,
         };
         let env_light = Binding {
             binding: crate::shaders::interface::BINDING_ENV_LIGHT,
@@ -338,7 +341,10 @@ impl SceneRenderer {
         for input in materials {
             let patch = Guard::new(ctx, PatchResources::new(ctx, input.material)?);
             let baked = input.material.table.is_some();
-            let sky = u32::from(input.material.moments.is_some());
+            let sky = match input.material.moments {
+                None => SKY_DIFFRACTION_NONE,
+                Some(_) => input.material.settings.sky_at.spec(),
+            };
             let (fragment, specialization) = match variant {
                 SurfaceVariant::Shade { display_output } => (
                     if baked { shaders::SURFACE_BAKED_FRAG } else { shaders::SURFACE_FRAG },
@@ -352,7 +358,7 @@ impl SceneRenderer {
             let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);
             let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
-                vertex: shaders::SURFACE_VERT,
+                vertex: if sky == SKY_DIFFRACTION_VERTEX { shaders::SURFACE_SKY_VERT } else { shaders::SURFACE_VERT },
                 fragment: Some(fragment),
                 specialization,
                 bindings: &bindings,

@@ -21,9 +21,17 @@ pub const SPEC_COUNT_STRIDE: u32 = 5;
 pub const SPEC_FOOTPRINT: u32 = 8;
 /// `map.comp`'s workgroup side (`render::diffraction::map_workgroup`): side² invocations, one per pixel.
 pub const SPEC_MAP_LOCAL_SIZE: u32 = 9;
-/// 1: the surface pass diffracts the environment (the material has its moments); 0: the code is compiled out
-/// (a CPU device runs both sides of a branch, so a uniform switch alone would still cost every pixel).
+/// Where the surface pass diffracts the environment (the material has its moments): `SKY_DIFFRACTION_*`. With
+/// `SKY_DIFFRACTION_NONE` the code is compiled out (a CPU device runs both sides of a branch, so a uniform switch
+/// alone would still cost every pixel).
 pub const SPEC_SKY_DIFFRACTION: u32 = 10;
+/// No environment's diffraction (the material has no moments).
+pub const SKY_DIFFRACTION_NONE: u32 = 0;
+/// The smooth part at the vertices (the `surface_sky.vert` variant reads the moments), interpolated; the
+/// specular reflection of the environment's map per pixel.
+pub const SKY_DIFFRACTION_VERTEX: u32 = 1;
+/// All of it per pixel (the fragment shader reads the moments).
+pub const SKY_DIFFRACTION_PIXEL: u32 = 2;
 
 // Specialization constants of single shaders.
 /// Which part of the G-buffer `gbuffer.frag` writes.
@@ -88,6 +96,9 @@ pub const APPROACH_GEM: u32 = 3;
 pub const APPROACH_BAKED: u32 = 4;
 
 // Physical constants (f64 on the CPU, float literals in the shaders).
+/// π, for the shaders (Rust code uses `std::f64::consts::PI`).
+#[allow(clippy::approx_constant, dead_code)]
+pub const PI: f64 = 3.141_592_653_589_793;
 /// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds").
 pub const SKIN_INDEX: f64 = 1.5;
 /// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
