@@ -1,6 +1,9 @@
 // The sun's shadow map (`render::shadow`): how much of the sun's disc reaches a point, 0 (umbra) to 1 (lit).
 // Requires surface_frame.glsl (frame.shadow, frame.shadow_penumbra) and interface.glsl.
 
+// 0 where the view casts no shadows (`render::surface`): the lookups compile out.
+layout(constant_id = SPEC_SHADOWS) const uint SHADOWS = 1;
+
 layout(set = 0, binding = BINDING_SHADOW) uniform sampler2DShadow shadow_map;
 layout(set = 0, binding = BINDING_SHADOW_DEPTH) uniform sampler2D shadow_depths;
 
@@ -30,7 +33,7 @@ const float WIDE_TEXELS = 2.0;
 // own edges anti-aliased). `coord` is the point in the map's clip space (surface.vert's shadow_coord); outside
 // the map the samplers' border passes (lit). 1 where the scene has no shadow map.
 float sun_visibility(vec3 coord) {
-    if (frame.shadow.x < 0.5) return 1.0;
+    if (SHADOWS == 0u || frame.shadow.x < 0.5) return 1.0;
     vec2 uv = coord.xy * 0.5 + 0.5;
     float z = min(coord.z, 1.0);
     float texel = frame.shadow.z;

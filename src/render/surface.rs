@@ -23,7 +23,7 @@ use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::{
-    BINDING_FETCH_COUNTS, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE,
+    BINDING_FETCH_COUNTS, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE, SPEC_SHADOWS,
     SPEC_SKY_DIFFRACTION,
 };
 use crate::shading::Material;
@@ -164,7 +164,12 @@ pub struct MaterialInput<'a> {
 }
 
 struct MaterialGpu {
-    pipeline: Pipeline,
+    /// The shading pipeline for a view without shadows ([0]) and with ([1]), each built the first time a view
+    /// needs it (`SPEC_SHADOWS`).
+    pipelines: [Option<Pipeline>; 2],
+    /// What those pipelines are built from: the vertex and fragment shaders and the specialization constants
+    /// (all but `SPEC_SHADOWS`).
+    recipe: (&'static [u8], &'static [u8], crate::vk::SpecConstants),
     patch: PatchResources,
     params: crate::shading::DiffractionParams,
     surface: SurfaceMaterial,
@@ -246,6 +251,11 @@ pub struct SceneRenderer {
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
+    /// The shading pipelines' bindings and face culling.
+    bindings: Vec<Binding>,
+    cull_back_faces: bool,
+    /// Whether the current view casts shadows (which of each material's pipelines draws).
+    shadows: bool,
 }
 
 impl SceneRenderer {
@@ -288,6 +298,9 @@ impl SceneRenderer {
             display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
             counting: false,
             samples,
+            bindings: Vec::new(),
+            cull_back_faces: false,
+            shadows: false,
         };
         let mut made = Guard::new(ctx, empty);
         made.fill(ctx, materials, objects, color_format, variant)?;
@@ -356,27 +369,17 @@ impl SceneRenderer {
                 ),
             };
             let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);
-            let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-                name: Self::NAME,
-                vertex: if sky == SKY_DIFFRACTION_VERTEX { shaders::SURFACE_SKY_VERT } else { shaders::SURFACE_VERT },
-                fragment: Some(fragment),
-                specialization,
-                bindings: &bindings,
-                push_constant_size: 0,
-                vertex_stride: std::mem::size_of::<Vertex>() as u32,
-                vertex_attributes: &VERTEX_ATTRIBUTES,
-                color_format,
-                depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
-                cull_back_faces,
-                samples: self.samples,
-            })?;
+            let vertex = if sky == SKY_DIFFRACTION_VERTEX { shaders::SURFACE_SKY_VERT } else { shaders::SURFACE_VERT };
             self.materials.push(MaterialGpu {
-                pipeline,
+                pipelines: [None, None],
+                recipe: (vertex, fragment, specialization),
                 patch: patch.keep(),
                 params: input.material.params,
                 surface: input.surface,
             });
         }
+        self.bindings = bindings;
+        self.cull_back_faces = cull_back_faces;
         for (i, &(mesh, material)) in objects.iter().enumerate() {
             if material >= self.materials.len() {
                 return Err(crate::Error::Invalid(format!(
@@ -408,6 +411,8 @@ impl SceneRenderer {
                 .collect();
             ShadowFrame::of_objects(view.light_dir, &placed)
         });
+        self.shadows = frame.is_some();
+        self.build_pipelines(ctx)?;
         if frame.is_some() && self.shadow.as_ref().is_some_and(|s| s.size() != SHADOW_SIZE) {
             let full = ShadowMap::new(ctx, self.objects.len(), SHADOW_SIZE)?;
             if let Some(old) = self.shadow.replace(full) {
@@ -457,6 +462,33 @@ impl SceneRenderer {
             }
             let background = self.background.as_mut().expect("made above");
             background.update(ctx, environment, view.light_dir, (&view.camera, aspect))?;
+        }
+        Ok(())
+    }
+
+    /// Builds each material's shading pipeline for the current view's shadows where it has none yet.
+    fn build_pipelines(&mut self, ctx: &Context) -> Result<()> {
+        let shadows = self.shadows;
+        for m in &mut self.materials {
+            let slot = &mut m.pipelines[usize::from(shadows)];
+            if slot.is_some() {
+                continue;
+            }
+            let (vertex, fragment, specialization) = &m.recipe;
+            *slot = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: Self::NAME,
+                vertex,
+                fragment: Some(fragment),
+                specialization: specialization.clone().u32(SPEC_SHADOWS, u32::from(shadows)),
+                bindings: &self.bindings,
+                push_constant_size: 0,
+                vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                vertex_attributes: &VERTEX_ATTRIBUTES,
+                color_format: self.color_format,
+                depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
+                cull_back_faces: self.cull_back_faces,
+                samples: self.samples,
+            })?);
         }
         Ok(())
     }
@@ -528,7 +560,13 @@ impl SceneRenderer {
             if let Some(counts) = counts.filter(|_| self.counting) {
                 writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
             }
-            ctx.bind(cmd, &material.pipeline, &writes, &[]);
+            let pipeline = material.pipelines[usize::from(self.shadows)].as_ref();
+            ctx.bind(
+                cmd,
+                pipeline.expect("update builds the view's pipelines before a frame is recorded"),
+                &writes,
+                &[],
+            );
             object.mesh.draw(ctx, cmd);
         }
         ctx.end_label(cmd);
@@ -569,7 +607,9 @@ impl SceneRenderer {
             lighting.destroy(ctx);
         }
         for m in self.materials {
-            m.pipeline.destroy(ctx);
+            for p in m.pipelines.into_iter().flatten() {
+                p.destroy(ctx);
+            }
             m.patch.destroy(ctx);
         }
         for o in self.objects {

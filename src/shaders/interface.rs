@@ -32,6 +32,9 @@ pub const SKY_DIFFRACTION_NONE: u32 = 0;
 pub const SKY_DIFFRACTION_VERTEX: u32 = 1;
 /// All of it per pixel (the fragment shader reads the moments).
 pub const SKY_DIFFRACTION_PIXEL: u32 = 2;
+/// 1: the surface pass looks up the sun's shadow map (the view casts shadows); 0 compiles the lookups out (a
+/// CPU device would run the soft shadows' loops for nothing).
+pub const SPEC_SHADOWS: u32 = 11;
 
 // Specialization constants of single shaders.
 /// Which part of the G-buffer `gbuffer.frag` writes.

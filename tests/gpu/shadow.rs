@@ -152,6 +152,34 @@ fn a_ball_shadows_the_ground_where_its_rays_are_blocked_and_nowhere_else() {
     assert!(compared > 10_000 && dark_unshadowed * 2 < dark, "compared {compared}, unlit {dark_unshadowed}");
 }
 
+/// One renderer draws views with and without shadows (each with its own pipeline: `SPEC_SHADOWS` compiles the
+/// lookups out of the second), switching both ways, and each frame is the one a renderer made for it draws.
+#[test]
+fn a_renderer_switches_between_views_with_and_without_shadows() {
+    let scene = scene(true);
+    let (w, h) = (64, 48);
+    let frames = gpu_test(|ctx| {
+        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
+        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
+        let one = ash::vk::SampleCountFlags::TYPE_1;
+        let with = SceneView::of(&scene);
+        let without = SceneView { shadow_casters: None, ..SceneView::of(&scene) };
+        let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, one).unwrap();
+        let frames: Vec<Vec<f32>> = [&with, &without, &with, &without]
+            .into_iter()
+            .map(|view| capture.render(ctx, view).unwrap().linear().unwrap().to_vec())
+            .collect();
+        // SAFETY: render waited.
+        unsafe { capture.destroy(ctx) };
+        frames
+    });
+    assert_eq!(frames[0], frames[2], "shadows again");
+    assert_eq!(frames[1], frames[3], "no shadows again");
+    assert_ne!(frames[0], frames[1], "the ball's shadow");
+    assert_eq!(frames[0], render(&scene, (w, h)), "a renderer that only drew shadows");
+    assert_eq!(frames[1], render(&self::scene(false), (w, h)), "a renderer that never drew shadows");
+}
+
 /// The fraction of the sun's disc (angular radius `a`) that a sphere of angular radius `b`, its centre `c` away
 /// from the sun's, leaves visible: one minus the two discs' overlap over the sun's (small angles: plane circles).
 fn visible_share(a: f64, b: f64, c: f64) -> f64 {
