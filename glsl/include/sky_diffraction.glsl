@@ -30,27 +30,14 @@ vec2 moment_uv(vec3 omega_r) {
     return ((g + 1.0) * 0.5 * float(MOMENT_GRID - 1u) + 0.5) / float(MOMENT_GRID);
 }
 
-// The moments' scalars of layers first .. first + N/4 − 1 at uv, in order.
-#define FETCH_MOMENT_LAYERS(s, uv, first, count)                                  \
-    for (uint l = 0u; l < (count); ++l) {                                         \
-        vec4 v = textureLod(env_moments, vec3(uv, float((first) + l)), 0.0);      \
-        s[4u * l] = v.x;                                                           \
-        s[4u * l + 1u] = v.y;                                                      \
-        s[4u * l + 2u] = v.z;                                                      \
-        s[4u * l + 3u] = v.w;                                                      \
-    }
-
-// Moment j's colour matrix from the texture's scalars (`Moments::gpu_texels`: 9j + 3c + r is row r of column c),
-// where s starts at scalar `first`.
-#define MOMENT_MATRIX(s, j, first)                                                                           \
-    mat3(s[9 * (j) - (first)], s[9 * (j) + 1 - (first)], s[9 * (j) + 2 - (first)], s[9 * (j) + 3 - (first)],     \
-         s[9 * (j) + 4 - (first)], s[9 * (j) + 5 - (first)], s[9 * (j) + 6 - (first)], s[9 * (j) + 7 - (first)], \
-         s[9 * (j) + 8 - (first)])
-
-// Layers holding the nine diffraction moments (scalars 0..80), and those holding the specular one (81..89).
+// Layers holding the nine diffraction moments (scalars 0..80); the specular one's (81..89) are layers 20..22.
 const uint DIFFRACTED_LAYERS = 21u;
-const uint SPECULAR_FIRST_LAYER = 20u;
-const uint SPECULAR_LAYERS = MOMENT_LAYERS - SPECULAR_FIRST_LAYER;
+
+// Moment j's colour matrix from the texture's scalars s (`Moments::gpu_texels`: 9j + 3c + r is row r of column c).
+mat3 moment_matrix(float s[4 * DIFFRACTED_LAYERS], int j) {
+    int o = 9 * j;
+    return mat3(s[o], s[o + 1], s[o + 2], s[o + 3], s[o + 4], s[o + 5], s[o + 6], s[o + 7], s[o + 8]);
+}
 
 // The quadratic's coefficients a_j in the patch frame whose world axes are x, y, n (`Quadratic::coefficients`).
 void sky_coefficients(vec3 x, vec3 y, vec3 n, out vec3 a[9]) {
@@ -102,11 +89,15 @@ vec3 sky_diffracted(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     sky_coefficients(x, y, n, a);
     vec2 uv = moment_uv(omega_r);
     float s[4 * DIFFRACTED_LAYERS];
-    FETCH_MOMENT_LAYERS(s, uv, 0u, DIFFRACTED_LAYERS)
-    // Written out: constant indices keep the scalars in registers (an indexed array is an indirect access).
-    vec3 diffracted = MOMENT_MATRIX(s, 0, 0) * a[0] + MOMENT_MATRIX(s, 1, 0) * a[1] + MOMENT_MATRIX(s, 2, 0) * a[2]
-        + MOMENT_MATRIX(s, 3, 0) * a[3] + MOMENT_MATRIX(s, 4, 0) * a[4] + MOMENT_MATRIX(s, 5, 0) * a[5]
-        + MOMENT_MATRIX(s, 6, 0) * a[6] + MOMENT_MATRIX(s, 7, 0) * a[7] + MOMENT_MATRIX(s, 8, 0) * a[8];
+    for (uint l = 0u; l < DIFFRACTED_LAYERS; ++l) {
+        vec4 v = textureLod(env_moments, vec3(uv, float(l)), 0.0);
+        s[4u * l] = v.x;
+        s[4u * l + 1u] = v.y;
+        s[4u * l + 2u] = v.z;
+        s[4u * l + 3u] = v.w;
+    }
+    vec3 diffracted = vec3(0.0);
+    for (int j = 0; j < 9; ++j) diffracted += moment_matrix(s, j) * a[j];
     vec3 mirror = vec3(-omega_r.xy, omega_r.z);
     return fresnel_ratio(mirror, omega_r, SKIN_INDEX) * max(diffracted, vec3(0.0));
 }
