@@ -66,12 +66,17 @@ pub trait SettingValue: Copy + Send + Sync + 'static {
     fn show(&self) -> String;
 }
 
+/// The one of `all` whose name is `text`, or why none is (`what`: what they are called).
+fn parse_named<T: Copy>(text: &str, all: &[T], name: fn(T) -> &'static str, what: &str) -> Result<T, String> {
+    all.iter().copied().find(|a| name(*a) == text.trim()).ok_or_else(|| {
+        let names: Vec<&str> = all.iter().map(|a| name(*a)).collect();
+        format!("{text:?}: the {what} are {}", names.join(", "))
+    })
+}
+
 impl SettingValue for Approach {
     fn parse(text: &str) -> std::result::Result<Self, String> {
-        Approach::ALL
-            .into_iter()
-            .find(|a| a.name() == text.trim())
-            .ok_or_else(|| format!("{text:?}: the approaches are {}", Approach::ALL.map(Approach::name).join(", ")))
+        parse_named(text, &Approach::ALL, Approach::name, "approaches")
     }
     fn show(&self) -> String {
         self.name().to_string()
@@ -80,10 +85,7 @@ impl SettingValue for Approach {
 
 impl SettingValue for SkyAt {
     fn parse(text: &str) -> std::result::Result<Self, String> {
-        SkyAt::ALL
-            .into_iter()
-            .find(|a| a.name() == text.trim())
-            .ok_or_else(|| format!("{text:?}: the choices are {}", SkyAt::ALL.map(SkyAt::name).join(", ")))
+        parse_named(text, &SkyAt::ALL, SkyAt::name, "choices")
     }
     fn show(&self) -> String {
         self.name().to_string()
