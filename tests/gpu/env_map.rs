@@ -305,7 +305,7 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     let (frames, gbuffer) = gpu_test(|ctx| {
         let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
         let render = |sky_at: Option<SkyAt>| {
-            let overrides = SettingsPatch { sky_at: sky_at.or(Some(SkyAt::Vertex)), ..SettingsPatch::default() };
+            let overrides = SettingsPatch { sky_at, ..SettingsPatch::default() };
             let mut materials = prepare_materials(&scene, &overrides, &reaches).unwrap();
             if sky_at.is_none() {
                 materials.iter_mut().for_each(|m| m.moments = None);
