@@ -256,6 +256,25 @@ fn a_scene_is_profiled_against_a_reference_from_its_own_fragments() {
     }
 }
 
+/// On a CPU device a multisampled frame's counts leave out the hidden fragments that llvmpipe shades anyway: the
+/// report says so where a configuration multisamples, and only there.
+#[test]
+fn multisampled_counts_on_a_cpu_device_say_what_they_leave_out() {
+    let scene = common::place::scene("blazed-disk.toml");
+    let run = |samples: &str| {
+        let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "1", "--warmup", "0"];
+        let o = diffract(&[&args[..], &["--no-reference", "--validation", "--sweep", samples]].concat());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let (single, multi) = (run("samples=1"), run("samples=1,4"));
+    let note = "- multisampling: on a CPU device";
+    assert!(!single.contains(note), "{single}");
+    // The tests run on lavapipe unless DIFFRACT_TEST_DEVICE picks another device.
+    let on_cpu = multi.lines().any(|l| l.starts_with("- device: llvmpipe"));
+    assert_eq!(multi.contains(note), on_cpu, "{multi}");
+}
+
 /// A 16-pixel BRDF map of the grating at 4 µm coherence and +4 EV, one frame per configuration, profiled with
 /// `extra` flags (a `--sweep` among them) into the CSV `name`, which is returned parsed.
 fn profile_grating_map(name: &str, extra: &[&str]) -> Csv {

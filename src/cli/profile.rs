@@ -201,6 +201,15 @@ fn roofline(ctx: &Context, frames: u32) -> anyhow::Result<Option<ProbeResult>> {
     Ok(p)
 }
 
+/// What the counts of a multisampled frame leave out on a CPU device: llvmpipe tests each sample's depth without
+/// skipping the shader where all of a block's samples failed, so the fragments that the depth pre-pass hides are
+/// shaded too, with their results (and the counting shaders' atomics) masked (docs/performance.md, "Why four
+/// samples cost three times one on lavapipe").
+const CPU_MSAA_COUNTS: &str =
+    "multisampling: on a CPU device a multisampled frame also runs the fragment shader where \
+                               the depth pre-pass hides the surface; fetches/px and shaded per pixel count only what \
+                               is seen";
+
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.
 fn print_report(
     ctx: &Context,
@@ -226,6 +235,9 @@ fn print_report(
             None => "delta_e: none (no reference)".to_string(),
         },
     ];
+    if ctx.info.kind == ash::vk::PhysicalDeviceType::CPU && rows.iter().any(|r| r.samples > 1) {
+        comments.push(CPU_MSAA_COUNTS.to_string());
+    }
     for (size, description) in &report.references {
         comments.push(format!("reference {}x{}: {description}", size.0, size.1));
     }

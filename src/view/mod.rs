@@ -55,12 +55,13 @@ pub struct ViewOptions {
     pub samples: Option<u32>,
 }
 
-/// Why the viewer does not multisample on a CPU implementation unless asked: lavapipe's multisampled fragment path
-/// costs about three times a single-sampled one per fragment, so 4× multisampling costs about 3.3× the frame
-/// (`diffract profile --width 800 --sweep samples=1,4 --no-reference` on the default scene: 21.4 → 70–76 ms;
-/// docs/performance.md).
-pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 3× the frame time: \
-                                 edges are not anti-aliased (--samples 4 turns it on)";
+/// Why the viewer does not multisample on a CPU implementation unless asked: multisampled, lavapipe runs the
+/// fragment shader also where the depth pre-pass hides the surface (the snake's overlapping scales, ~2.4 layers
+/// per visible pixel), so 4× multisampling costs about 3× the frame (`diffract profile --width 800 --sweep
+/// samples=1,4 --no-reference` on the default scene: 40.7 → 128 ms; docs/performance.md).
+pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 3× the frame time (it \
+                                 also shades what the depth pre-pass hides): edges are not anti-aliased (--samples 4 \
+                                 turns it on)";
 
 /// Frames between the soak's resizes and approach switches.
 pub const SOAK_PERIOD: u32 = 50;
