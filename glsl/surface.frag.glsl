@@ -15,8 +15,9 @@
 #include "shadow.glsl"
 #include "sky_diffraction.glsl"
 
-// After a depth pre-pass only the visible surface passes the EQUAL test: testing before the shader runs (which the
-// counting variant's atomics would otherwise forbid) shades each pixel once.
+// After a depth pre-pass only the visible surface passes the EQUAL test; without one (meshes drawn front first,
+// `Mesh::front_first`) a fragment that a surface drawn before it hides fails LESS. Testing before the shader runs
+// (which the counting variant's atomics would otherwise forbid) shades each pixel once, or about once.
 layout(early_fragment_tests) in;
 
 layout(location = 0) in vec3 patch_light;

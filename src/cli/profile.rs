@@ -202,11 +202,11 @@ fn roofline(ctx: &Context, frames: u32) -> anyhow::Result<Option<ProbeResult>> {
 }
 
 /// What the counts of a multisampled frame leave out on a CPU device: llvmpipe tests each sample's depth without
-/// skipping the shader where all of a block's samples failed, so the fragments that the depth pre-pass hides are
-/// shaded too, with their results (and the counting shaders' atomics) masked (docs/performance.md, "Why four
-/// samples cost three times one on lavapipe").
+/// skipping the shader where all of a block's samples failed, so hidden fragments (under the depth pre-pass's
+/// surface, or under a surface drawn before them) are shaded too, with their results (and the counting shaders'
+/// atomics) masked (docs/performance.md, "Why four samples cost three times one on lavapipe").
 const CPU_MSAA_COUNTS: &str = "multisampling: on a CPU device a multisampled frame also runs the fragment shader \
-                               where the depth pre-pass hides the surface; fetches/px and shaded per pixel count \
+                               where a nearer surface hides it; fetches/px and shaded per pixel count \
                                only what is seen";
 
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.

@@ -50,6 +50,13 @@ pub struct Mesh {
     /// (a closed surface): the renderer may cull back faces, which on lavapipe saves a fifth of the default
     /// snake's frame. False for loaded meshes, whose winding is not known.
     pub one_sided: bool,
+    /// Its triangles come in an order in which none is hidden by one drawn after it, from wherever the renderer
+    /// may look (with back faces culled where [`Self::one_sided`]): a flat or convex shape, or the snake, whose
+    /// eyes come before the head they lie on and whose rows of scales come before the rows they overlap. Drawn with
+    /// the depth test alone, hidden fragments then fail it before they are shaded, and the renderer leaves out its
+    /// depth pre-pass (the snake's S-curve can still hide a few, which are shaded and then covered). False for
+    /// loaded meshes.
+    pub front_first: bool,
 }
 
 impl Mesh {
@@ -82,7 +89,7 @@ impl Mesh {
                 indices.extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
             }
         }
-        Self { vertices, indices, one_sided: true }
+        Self { vertices, indices, one_sided: true, front_first: true }
     }
 }
 
@@ -100,6 +107,7 @@ impl Mesh {
             vertices: vec![corner(-1.0, -1.0), corner(1.0, -1.0), corner(1.0, 1.0), corner(-1.0, 1.0)],
             indices: vec![0, 1, 2, 0, 2, 3],
             one_sided: false,
+            front_first: true,
         }
     }
 }

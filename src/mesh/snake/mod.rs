@@ -259,8 +259,10 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
     let (rows, around, outline) = (spec.scale_rows, spec.scales_around, spec.scale_outline.max(3));
     let row = 1.0 / rows as f32;
     let tilt = spec.scale_tilt_deg.to_radians().tan();
-    // The body's scales, up to the head.
+    // The body's scales, up to the head, each row's triangles apart.
+    let mut scale_rows: Vec<Vec<u32>> = Vec::new();
     for i in 0..rows {
+        let row_start = m.indices.len();
         let t_centre = (i as f32 + 0.5) * row;
         if t_centre >= HEAD_START {
             break;
@@ -296,13 +298,22 @@ fn scaled(spec: &SnakeSpec) -> Mesh {
                 m.indices.extend_from_slice(&[base, base + 1 + k, base + 1 + (k + 1) % outline]);
             }
         }
+        scale_rows.push(m.indices.split_off(row_start));
     }
     // The head's large, smooth plates (from under the last row of scales to the snout), then its two eyes.
     let start = HEAD_START - REACH_BACK * row;
     smooth_part(spec, &mut m, (start, 1.0), HEAD_GRID, Some(&pattern));
+    let head = std::mem::take(&mut m.indices);
     for side in [-1.0, 1.0] {
         eye(spec, &mut m, &pattern, side);
     }
+    let eyes = std::mem::take(&mut m.indices);
+    // Front first (`Mesh::front_first`): each row of scales lies over the row behind it (towards the tail), so the
+    // rows go from the head backwards; then the eyes, then the head they lie on (whose start the last row covers).
+    m.indices.extend(scale_rows.into_iter().rev().flatten());
+    m.indices.extend(eyes);
+    m.indices.extend(head);
+    m.front_first = true;
     m
 }
 
