@@ -1,11 +1,11 @@
 #version 460
 // The environment behind a scene (`render::background`): each pixel's view ray looked up in the equirectangular
-// map (the layout of `environment::direction_at`: x the azimuth from −180° to 180°, 0 along +z and 90° along +x;
-// y the elevation from +90° at the top), in the frame's units, and display-encoded like the surface pass's output
-// where the target is the display's.
+// map (panorama.glsl), in the frame's units, and display-encoded like the surface pass's output where the target
+// is the display's.
 #include "interface.glsl"
 #include "background_uniforms.glsl"
 #include "display.glsl"
+#include "panorama.glsl"
 
 // The depth test first: the samples an object covers never run this shader.
 layout(early_fragment_tests) in;
@@ -19,10 +19,7 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far = background.inverse_view_proj * vec4(ndc, 1.0, 1.0);
     vec3 d = normalize(far.xyz / far.w - background.camera.xyz);
-    // The map turned by rotation about +y: the texel at azimuth φ shows at φ + rotation.
-    float azimuth = atan(d.x, d.z) - background.view.y;
-    float elevation = asin(clamp(d.y, -1.0, 1.0));
-    vec2 uv = vec2(azimuth / (2.0 * PI) + 0.5, 0.5 - elevation / PI);
-    vec3 rgb = texture(environment_map, uv).rgb * background.view.x;
+    // The map turned by its rotation about +y.
+    vec3 rgb = texture(environment_map, panorama_uv(d, background.view.y)).rgb * background.view.x;
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, background.display.x) : rgb, 1.0);
 }

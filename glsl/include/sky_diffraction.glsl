@@ -10,6 +10,7 @@
 // structure's coherent reflectance changes colour quickly with the angle, and a map's light is sharp.
 // Requires surface_frame.glsl (frame) and brdf.glsl.
 #include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS, PI, SKY_DIFFRACTION_*
+#include "panorama.glsl"  // panorama_uv
 
 // Where the material's moments are read (`render::surface`): SKY_DIFFRACTION_NONE compiles the term out.
 layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = SKY_DIFFRACTION_NONE;
@@ -112,10 +113,7 @@ layout(set = 0, binding = BINDING_ENV_LIGHT) uniform sampler2D env_light_map;
 // else its quadratic form (`Quadratic::radiance`).
 vec3 env_light_radiance(vec3 d) {
     if (frame.sky_quadratic[3].w > 0.5) {
-        float azimuth = atan(d.x, d.z) - frame.sky_quadratic[2].w;
-        float elevation = asin(clamp(d.y, -1.0, 1.0));
-        vec2 uv = vec2(azimuth / (2.0 * PI) + 0.5, 0.5 - elevation / PI);
-        return textureLod(env_light_map, uv, 0.0).rgb * frame.sky_quadratic[1].w;
+        return textureLod(env_light_map, panorama_uv(d, frame.sky_quadratic[2].w), 0.0).rgb * frame.sky_quadratic[1].w;
     }
     vec3 q = frame.sky_quadratic[4].rgb * (d.x * d.x) + frame.sky_quadratic[5].rgb * (d.y * d.y)
         + frame.sky_quadratic[6].rgb * (d.z * d.z)
