@@ -250,3 +250,47 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
     assert!(mean < 0.03 && bias.abs() < 0.01, "penumbra: mean |error| {mean:.4}, mean error {bias:.4}");
     assert!(worst < 0.1, "the worst pixel is {worst:.3} of the sun's light off the disc's visible share");
 }
+
+/// The map depends on the sun and the objects, not on the camera: one renderer keeps its map while only the
+/// camera moves and draws it again when the sun or an object moves, and each frame is the one a renderer made for
+/// its view alone draws.
+#[test]
+fn the_shadow_map_is_drawn_again_when_the_sun_or_an_object_moves() {
+    let head = |camera: &str, sun: &str| {
+        format!(
+            "[camera]\nposition = {camera}\ntarget = [-1.2, 0.4, 0.0]\nfov_y_deg = 40.0\n\n[light]\n\
+             direction = {sun}\nenvironment = \"none\"\n"
+        )
+    };
+    let scenes = [
+        ball_scene(&head("[3.0, 6.0, 7.0]", "[1.0, 1.1, 0.35]"), BALL),
+        // The camera moves: the same map.
+        ball_scene(&head("[-4.0, 5.0, 6.0]", "[1.0, 1.1, 0.35]"), BALL),
+        // The sun moves.
+        ball_scene(&head("[-4.0, 5.0, 6.0]", "[-0.6, 1.0, 0.5]"), BALL),
+        // The ball moves.
+        ball_scene(&head("[-4.0, 5.0, 6.0]", "[-0.6, 1.0, 0.5]"), BALL + DVec3::new(0.8, 0.0, -0.5)),
+        // And back: the first view again.
+        ball_scene(&head("[3.0, 6.0, 7.0]", "[1.0, 1.1, 0.35]"), BALL),
+    ];
+    let (w, h) = (64, 48);
+    let frames = gpu_test(|ctx| {
+        let first = &scenes[0];
+        let reaches = scene_reaches(ctx, first, &[(first.camera, first.light_dir)], w, h).unwrap();
+        let materials = prepare_materials(first, &SettingsPatch::default(), &reaches).unwrap();
+        let one = ash::vk::SampleCountFlags::TYPE_1;
+        let mut capture = SceneCapture::new(ctx, first, &materials, w, h, one).unwrap();
+        let frames: Vec<Vec<f32>> = scenes
+            .iter()
+            .map(|scene| capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec())
+            .collect();
+        // SAFETY: render waited.
+        unsafe { capture.destroy(ctx) };
+        frames
+    });
+    for (i, scene) in scenes.iter().enumerate() {
+        assert_eq!(frames[i], render(scene, (w, h)), "view {i}: a renderer that only drew it");
+    }
+    assert_eq!(frames[0], frames[4]);
+    assert!(frames.windows(2).all(|f| f[0] != f[1]), "every view differs from the one before");
+}
