@@ -302,7 +302,7 @@ impl MapPass {
         if let Some(counts) = counts.filter(|_| self.counting) {
             writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
         }
-        begin_rendering(ctx, cmd, target, [0.0, 0.0, 0.0, 1.0], area);
+        begin_rendering(ctx, cmd, target, Some([0.0, 0.0, 0.0, 1.0]), area);
         ctx.bind(cmd, &self.pipeline, &writes, bytemuck::bytes_of(&push));
         // SAFETY: recording inside the rendering scope with the pipeline bound.
         unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };

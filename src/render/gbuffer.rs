@@ -210,7 +210,7 @@ impl GBuffer {
                     shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
                 }
                 target.begin(ctx, cmd);
-                begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
+                begin_rendering(ctx, cmd, &target.view(), Some([0.0; 4]), None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
                     let [compare, depths] = shadow.writes();
                     let writes = [DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms), compare, depths];

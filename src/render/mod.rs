@@ -258,20 +258,21 @@ impl OffscreenTarget {
 }
 
 /// Begins dynamic rendering into `target` within `area` (the whole target when `None`), clearing colour to
-/// `clear` and depth to 1 there; the viewport covers the whole target.
+/// `clear` and depth to 1 there; the viewport covers the whole target. With `clear` None the colour is left as it
+/// comes (undefined): the passes must draw every sample, as a background behind the objects does.
 pub(crate) fn begin_rendering(
     ctx: &Context,
     cmd: vk::CommandBuffer,
     target: &TargetView,
-    clear: [f32; 4],
+    clear: Option<[f32; 4]>,
     area: Option<vk::Rect2D>,
 ) {
     let mut color = vk::RenderingAttachmentInfo::default()
         .image_view(target.color)
         .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .load_op(if clear.is_some() { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE })
         .store_op(vk::AttachmentStoreOp::STORE)
-        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } });
+        .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear.unwrap_or_default() } });
     if let Some(resolve) = target.resolve {
         // The samples are averaged into the resolve image; they themselves need not be kept.
         color = color

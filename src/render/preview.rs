@@ -123,7 +123,7 @@ impl PreviewPass {
 
     /// Records the pass into `target`, which must be in attachment layouts.
     pub fn record(&self, ctx: &Context, cmd: vk::CommandBuffer, target: &TargetView, background: [f32; 4]) {
-        begin_rendering(ctx, cmd, target, background, None);
+        begin_rendering(ctx, cmd, target, Some(background), None);
         ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, &self.uniforms)], &[]);
         self.mesh.draw(ctx, cmd);
         end_rendering(ctx, cmd);

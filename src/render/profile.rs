@@ -268,7 +268,7 @@ fn probe_frames(
     for i in 0..=frames {
         let ms = ctx.one_shot_timed(PROBE_NAME, |cmd| {
             target.begin(ctx, cmd);
-            super::begin_rendering(ctx, cmd, &target.view(), [0.0; 4], None);
+            super::begin_rendering(ctx, cmd, &target.view(), Some([0.0; 4]), None);
             ctx.bind(cmd, pipeline, writes, &[]);
             // SAFETY: recording inside the rendering scope with the pipeline bound.
             unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };

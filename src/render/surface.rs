@@ -542,7 +542,10 @@ impl SceneRenderer {
             cmd,
             self.objects.iter().enumerate().map(|(i, o)| (&o.mesh, self.casters.get(i) == Some(&true))),
         );
-        begin_rendering(ctx, cmd, target, background, None);
+        // Where the environment is drawn behind the objects, every sample is drawn: the colour needs no clear
+        // (on a GPU, clearing a multisampled float target is much of what its samples cost).
+        let covered = self.shows_background && self.background.is_some();
+        begin_rendering(ctx, cmd, target, (!covered).then_some(background), None);
         if let Some(depth) = &self.depth {
             ctx.begin_label(cmd, pass::DEPTH);
             for object in &self.objects {
