@@ -58,7 +58,7 @@ pub struct ViewOptions {
 /// Why the viewer does not multisample on a CPU implementation unless asked: multisampled, lavapipe runs the
 /// fragment shader also where a nearer surface hides the fragment (the snake's overlapping scales, ~2.4 layers
 /// per visible pixel), so 4× multisampling costs about 3× the frame (`diffract profile --width 800 --sweep
-/// samples=1,4 --no-reference` on the default scene: 45.7 → 142 ms; docs/performance.md).
+/// samples=1,4 --no-reference` on the default scene: 41.5 → 135 ms; docs/performance.md).
 pub const CPU_MSAA_NOTE: &str = "is a CPU implementation, where multisampling costs about 3× the frame time (it \
                                  also shades what nearer surfaces hide): edges are not anti-aliased (--samples 4 \
                                  turns it on)";
