@@ -202,13 +202,12 @@ impl GBuffer {
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
         let mut out: [Vec<f32>; PARTS as usize] = Default::default();
-        for (part, (pipeline, out)) in parts.pipelines.iter().zip(&mut out).enumerate() {
+        for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
             ctx.one_shot("g-buffer", |cmd| {
-                // The map is drawn once, with the first part; it stays in the sampled layout for the others.
-                if part == 0 {
-                    let casts = scene.objects.iter().map(|o| o.casts_shadow);
-                    shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
-                }
+                // The map is drawn with the first part; the others find it drawn for the same sun and objects
+                // (`ShadowMap::record`) and read it as it is.
+                let casts = scene.objects.iter().map(|o| o.casts_shadow);
+                shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), Some([0.0; 4]), None);
                 for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
