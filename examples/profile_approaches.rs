@@ -28,6 +28,7 @@ fn main() -> diffract::Result<()> {
             size: 64,
             samples: None,
             shader: None,
+            target: None,
         })
         .to_vec();
     let ctx = Context::new(&ContextDesc::new(DeviceSelector::Auto, false))?;

@@ -126,12 +126,14 @@ else
   frames=(1920x1080 3840x2160) map_sizes=256,512,1024,2048,4096 map_frames=30 map_warmup=20
 fi
 # The default scene (the snake under the clear sky; its diffraction at the vertices and per pixel) and the same
-# snake under the sun alone (what the sky costs).
+# snake under the sun alone (what the sky costs), each also as the viewer draws it (8-bit sRGB frames, timed
+# without a window: target=display).
 for size in "${frames[@]}"; do
   w=${size%x*} h=${size#*x}
   for scene in default sun; do
-    name=scene-$size args=() sweep=(samples=1,4 sky_at=vertex,pixel)
-    [ "$scene" = sun ] && name=scene-sun-$size args=(assets/scenes/elaphe-snake-sun.toml) sweep=(samples=1,4)
+    name=scene-$size args=() sweep=(samples=1,4 sky_at=vertex,pixel --sweep samples=1,4 target=display)
+    [ "$scene" = sun ] && name=scene-sun-$size args=(assets/scenes/elaphe-snake-sun.toml) \
+      sweep=(samples=1,4 target=linear,display)
     "$bin" profile "${args[@]}" "${device_args[@]}" --width "$w" --height "$h" --frames 10 --warmup 2 \
       --no-reference --sweep "${sweep[@]}" --csv "$out/$name.csv" >"$out/$name.md" 2>"$out/$name.err" \
       || { echo "FAIL  timing $name"; cat "$out/$name.err"; failures=$((failures + 1)); }

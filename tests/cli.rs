@@ -81,9 +81,13 @@ fn unwritable_output_is_one_line() {
 }
 
 #[test]
-fn a_map_shader_asked_of_a_scene_is_refused_before_any_work() {
+fn a_map_shader_asked_of_a_scene_and_a_frame_target_asked_of_a_map_are_refused_before_any_work() {
     let o = diffract(&["profile", "--width", "32", "--frames", "1", "--no-reference", "--sweep", "shader=compute"]);
     assert_one_line_error(&o, "for BRDF maps");
+    let patch = place::assets().join("patches/blazed-1.6um.gsf");
+    let args = ["profile", "--heightfield", patch.to_str().unwrap(), "--width", "32", "--frames", "1"];
+    let o = diffract(&[&args[..], &["--no-reference", "--sweep", "target=display"]].concat());
+    assert_one_line_error(&o, "is for scenes");
 }
 
 #[test]

@@ -288,6 +288,30 @@ fn multisampled_counts_on_a_cpu_device_say_what_they_leave_out() {
     assert_eq!(multi.contains(note), on_cpu, "{multi}");
 }
 
+/// `--sweep target=linear,display` times a scene's frames as `render` draws them (RGBA32F, read back, compared
+/// with the reference) and as `view` presents them (8-bit sRGB encoded by the shaders, timed only).
+#[test]
+fn a_scene_is_timed_into_the_linear_target_and_the_display_target() {
+    let (scene, csv) = (common::place::scene("blazed-disk.toml"), scratch("targets.csv"));
+    let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "2", "--warmup", "0"];
+    let sweep = ["--sweep", "samples=1,4", "target=linear,display"];
+    let o = diffract(&[&args[..], &sweep, &["--reference-pixels", "40", "--validation", "--csv", s(&csv)]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8(o.stdout).unwrap();
+    assert!(stdout.contains("- target display: the 8-bit sRGB frames a window presents"), "{stdout}");
+    let table = read_csv(&csv);
+    let targets: Vec<(&str, &str)> =
+        table.rows.iter().map(|r| (r["samples"].as_str(), r["frame_target"].as_str())).collect();
+    assert_eq!(targets, [("1", "linear"), ("1", "display"), ("4", "linear"), ("4", "display")]);
+    for row in &table.rows {
+        let display = row["frame_target"] == "display";
+        assert_eq!(row["mean_de2000"].is_empty(), display, "ΔE00 on linear frames only: {row:?}");
+        assert!(number(row, "gpu_ms_median") > 0.0 && number(row, "shading_ms_median") > 0.0, "{row:?}");
+        assert_eq!(row["resolve_ms_median"].is_empty(), row["samples"] == "1", "{row:?}");
+        assert!(row["label"].ends_with(if display { "display" } else { "linear" }), "{row:?}");
+    }
+}
+
 /// A 16-pixel BRDF map of the grating at 4 µm coherence and +4 EV, one frame per configuration, profiled with
 /// `extra` flags (a `--sweep` among them) into the CSV `name`, which is returned parsed.
 fn profile_grating_map(name: &str, extra: &[&str]) -> Csv {

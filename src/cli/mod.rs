@@ -98,7 +98,9 @@ Examples:
   diffract profile --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 --width 64 \\
                    --exposure 8 --frames 5 --sweep approach=flss,nmm,pq,gem --sweep order=4,8,16 lambda_step_nm=10,5
   diffract profile --heightfield blaze.gsf --roofline --csv blaze.csv --plot blaze.png
-  diffract profile assets/scenes/blazed-disk.toml --width 96 --height 64 --sweep approach=flss,gem";
+  diffract profile assets/scenes/blazed-disk.toml --width 96 --height 64 --sweep approach=flss,gem
+  diffract profile --width 800 --height 800 --no-reference --sweep samples=1,4 target=linear,display
+                   the default scene's frames pass by pass, as `render` and as `view` draw them";
 
 const RENDER_HELP: &str = "\
 Examples:

@@ -13,6 +13,7 @@ use crate::physics::optics;
 use crate::profile::run::{self, Options, Progress, ReferenceOptions, Report, Subject};
 use crate::profile::{self as prof, exact_image, Config, Row, Sweep};
 use crate::render::profile::{fetch_probe, ProbeResult};
+use crate::render::surface::FrameTarget;
 use crate::scene::Scene;
 use crate::shading::Settings;
 use crate::vk::Context;
@@ -55,8 +56,10 @@ pub struct ProfileArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=1000))]
     pub warmup: u32,
     /// Vary settings: KEY=V1,V2,... items (keys: every material setting by its scene key, e.g. approach, order,
-    /// lambda_step_nm, window_radius, coherence_um; and size, samples, and a map's shader=compute,fragment); one
-    /// --sweep runs the cross product of its items, several --sweep flags run one list after the other
+    /// lambda_step_nm, window_radius, coherence_um; and size, samples, a map's shader=compute,fragment, and a
+    /// scene's target=linear,display: RGBA32F frames as `render` reads back, or the 8-bit sRGB frames `view`
+    /// presents, timed without a window); one --sweep runs the cross product of its items, several --sweep flags
+    /// run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
     /// The `--sweep` flags' items, one list per flag (filled from clap's occurrences by `cli::main`).
@@ -112,12 +115,12 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
-    let base = Config { overrides: args.settings.patch, size: args.width, samples: None, shader: None };
+    let base = Config { overrides: args.settings.patch, size: args.width, samples: None, shader: None, target: None };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;
     for config in &configs {
-        subject.check_map_shader(config.shader)?;
+        subject.check_frame_keys(config)?;
     }
     if let Subject::Scene { scene, .. } = &subject {
         if let Some(environment) = &scene.environment {
@@ -209,6 +212,10 @@ const CPU_MSAA_COUNTS: &str = "multisampling: on a CPU device a multisampled fra
                                where a nearer surface hides it; fetches/px and shaded per pixel count \
                                only what is seen";
 
+/// Why a display target's rows have no error against the reference.
+const DISPLAY_TARGET: &str = "target display: the 8-bit sRGB frames a window presents (encoded by the shaders), \
+                              timed; ΔE00 is measured on linear frames only";
+
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.
 fn print_report(
     ctx: &Context,
@@ -236,6 +243,9 @@ fn print_report(
     ];
     if ctx.info.kind == ash::vk::PhysicalDeviceType::CPU && rows.iter().any(|r| r.samples > 1) {
         comments.push(CPU_MSAA_COUNTS.to_string());
+    }
+    if rows.iter().any(|r| r.frame_target == Some(FrameTarget::Display)) {
+        comments.push(DISPLAY_TARGET.to_string());
     }
     for (size, description) in &report.references {
         comments.push(format!("reference {}x{}: {description}", size.0, size.1));

@@ -20,6 +20,7 @@ use std::fmt::Write as _;
 use crate::error::{Error, Result};
 use crate::render::diffraction::{MapShader, Upload};
 use crate::render::pass;
+use crate::render::surface::FrameTarget;
 use crate::shading::{Approach, Settings, SettingsPatch};
 use crate::stats::Spread;
 
@@ -34,10 +35,12 @@ pub struct Config {
     pub samples: Option<u32>,
     /// The pipeline that draws a BRDF map (None: the device's, `MapShader::for_device`).
     pub shader: Option<MapShader>,
+    /// What a scene's frames are drawn into (None: linear, as `render` reads them back).
+    pub target: Option<FrameTarget>,
 }
 
 /// The keys a sweep may vary besides the material settings ([`Settings::KEYS`]).
-pub const FRAME_KEYS: [&str; 3] = ["size", "samples", "shader"];
+pub const FRAME_KEYS: [&str; 4] = ["size", "samples", "shader", "target"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
 
@@ -69,6 +72,12 @@ impl Config {
                 let names = MapShader::NAMES.join(" or ");
                 self.shader = Some(MapShader::parse(value).ok_or_else(|| bad(&format!("a map's shader is {names}")))?);
             }
+            "target" => {
+                let names = FrameTarget::NAMES.join(" or ");
+                let target =
+                    FrameTarget::parse(value).ok_or_else(|| bad(&format!("a scene's frame target is {names}")))?;
+                self.target = Some(target);
+            }
             _ if Settings::canonical(key).is_some() => {
                 self.overrides.set(key, value).map_err(|e| Error::Invalid(format!("--sweep {e}")))?
             }
@@ -99,18 +108,23 @@ impl Config {
                 }
             })
             .collect();
-        with_shader(with_samples(format!("{} {}px", parts.join(" "), self.size), self.samples), self.shader)
+        self.with_frame(format!("{} {}px", parts.join(" "), self.size))
     }
-}
 
-/// A label with the map shader a sweep set (`… 256px fragment`).
-fn with_shader(label: String, shader: Option<MapShader>) -> String {
-    shader.map_or(label.clone(), |s| format!("{label} {}", s.name()))
-}
-
-/// A label with the samples per pixel a sweep set (`… 800px 4spp`).
-fn with_samples(label: String, samples: Option<u32>) -> String {
-    samples.map_or(label.clone(), |n| format!("{label} {n}spp"))
+    /// `label` with the samples per pixel, map shader and frame target a sweep set (`… 800px 4spp display`).
+    fn with_frame(&self, label: String) -> String {
+        let mut label = label;
+        let parts = [
+            self.samples.map(|n| format!("{n}spp")),
+            self.shader.map(|s| s.name().to_string()),
+            self.target.map(|t| t.name().to_string()),
+        ];
+        for part in parts.into_iter().flatten() {
+            label += " ";
+            label += &part;
+        }
+        label
+    }
 }
 
 /// One `--sweep`: items `KEY=V1,V2,...` whose cross product it stands for.
@@ -193,6 +207,8 @@ pub struct Row {
     pub samples: u32,
     /// The pipeline that drew a BRDF map's frames (None for a scene).
     pub map_shader: Option<MapShader>,
+    /// What a scene's frames were drawn into (None for a map).
+    pub frame_target: Option<FrameTarget>,
     /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
     pub order: Option<usize>,
     pub lambda_count: usize,
@@ -249,7 +265,7 @@ impl TableSummary {
 }
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 33] = [
+pub const MEASURED_COLUMNS: [&str; 34] = [
     "order_used",
     "lambda_count",
     "taps",
@@ -257,6 +273,7 @@ pub const MEASURED_COLUMNS: [&str; 33] = [
     "height",
     "samples",
     "map_shader",
+    "frame_target",
     "frames",
     "precompute_ms",
     "gpu_ms_median",
@@ -297,8 +314,7 @@ fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
 impl Row {
     /// The label of what ran, e.g. `flss N=12 Δλ=5 r=2 256px` (`auto`: the order or radius was not forced).
     pub fn label(&self) -> String {
-        let label = format!("{} {}px", self.settings.label(&self.config.overrides), self.config.size);
-        with_shader(with_samples(label, self.config.samples), self.config.shader)
+        self.config.with_frame(format!("{} {}px", self.settings.label(&self.config.overrides), self.config.size))
     }
 
     /// The median GPU time of the pass `name` over the frames (None where the frames had no such pass).
@@ -317,6 +333,7 @@ impl Row {
             self.height.to_string(),
             self.samples.to_string(),
             self.map_shader.map_or(String::new(), |s| s.name().to_string()),
+            self.frame_target.map_or(String::new(), |t| t.name().to_string()),
             self.frames.to_string(),
             format!("{:.3}", self.precompute_ms),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
@@ -400,9 +417,11 @@ pub fn markdown(rows: &[Row]) -> String {
             taps,
             r.width,
             r.height,
-            match (r.samples, r.config.shader) {
-                (n, _) if n > 1 => format!(" ×{n}"),
-                (_, Some(shader)) => format!(" {}", shader.name()),
+            match (r.samples, r.config.shader, r.config.target) {
+                (n, _, Some(FrameTarget::Display)) =>
+                    format!("{} display", if n > 1 { format!(" ×{n}") } else { String::new() }),
+                (n, _, _) if n > 1 => format!(" ×{n}"),
+                (_, Some(shader), _) => format!(" {}", shader.name()),
                 _ => String::new(),
             },
             gpu,
@@ -491,7 +510,7 @@ mod tests {
     fn base() -> Config {
         let overrides =
             SettingsPatch { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..SettingsPatch::default() };
-        Config { overrides, size: 64, samples: None, shader: None }
+        Config { overrides, size: 64, samples: None, shader: None, target: None }
     }
 
     #[test]
@@ -516,6 +535,13 @@ mod tests {
             [Some(MapShader::Fragment), Some(MapShader::Compute)]
         );
         assert!(shaders[1].label().ends_with("64px compute"), "{}", shaders[1].label());
+        let sweep = Sweep::parse(&["samples=4".into(), "target=linear,display".into()]).unwrap();
+        let targets = configurations(base(), &[sweep]).unwrap();
+        assert_eq!(
+            targets.iter().map(|c| c.target).collect::<Vec<_>>(),
+            [Some(FrameTarget::Linear), Some(FrameTarget::Display)]
+        );
+        assert!(targets[1].label().ends_with("64px 4spp display"), "{}", targets[1].label());
     }
 
     #[test]
@@ -533,6 +559,7 @@ mod tests {
             ("samples=3", "1, 2, 4"),
             ("samples=128", "1, 2, 4"),
             ("shader=vertex", "compute or fragment"),
+            ("target=srgb", "linear or display"),
         ] {
             let e = Sweep::parse(&[item.to_string()]).unwrap_err().to_string();
             assert!(e.contains(needle), "{item}: {e}");

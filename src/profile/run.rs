@@ -18,6 +18,7 @@ use crate::render::capture::{material_inputs, prepare_materials, scene_objects, 
 use crate::render::diffraction::{MapShader, MapSpec, Upload};
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
+use crate::render::surface::FrameTarget;
 use crate::render::SceneView;
 use crate::scene::Scene;
 use crate::shading::{Material, Reach, Settings};
@@ -77,12 +78,15 @@ impl Subject {
     }
 
     /// Refuses a map shader asked of a scene (a BRDF map's pipeline is as asked, else the device's:
-    /// [`MapShader::for_device`]).
-    pub fn check_map_shader(&self, asked: Option<MapShader>) -> Result<()> {
+    /// [`MapShader::for_device`]) and a frame target asked of a map (a map's pixels are linear).
+    pub fn check_frame_keys(&self, config: &Config) -> Result<()> {
         match self {
-            Subject::Scene { .. } if asked.is_some() => {
+            Subject::Scene { .. } if config.shader.is_some() => {
                 Err(Error::Invalid("--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
             }
+            Subject::Map { .. } if config.target.is_some() => Err(Error::Invalid(
+                "--sweep target= is for scenes (what `render` or `view` draws into): a BRDF map is linear".into(),
+            )),
             _ => Ok(()),
         }
     }
@@ -185,19 +189,19 @@ impl Subject {
         Ok(image)
     }
 
-    /// The GPU side of one configuration's frames (`shader`: a map's pipeline as asked).
+    /// The GPU side of one configuration's frames (a map's pipeline and a scene's target as `config` asks).
     fn workload<'a>(
         &'a self,
         ctx: &Context,
         materials: &'a [Material],
-        size: (u32, u32),
-        (samples, shader): (vk::SampleCountFlags, Option<MapShader>),
+        (size, samples): ((u32, u32), vk::SampleCountFlags),
+        config: &Config,
         options: &Options,
     ) -> Result<Box<dyn Workload + 'a>> {
-        self.check_map_shader(shader)?;
+        self.check_frame_keys(config)?;
         Ok(match self {
             Subject::Map { light, .. } => {
-                let shader = shader.unwrap_or_else(|| MapShader::for_device(ctx));
+                let shader = config.shader.unwrap_or_else(|| MapShader::for_device(ctx));
                 let spec = MapSpec {
                     material: &materials[0],
                     size: size.0,
@@ -210,7 +214,8 @@ impl Subject {
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
                 let inputs = material_inputs(scene, materials);
-                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, samples)?)
+                let target = config.target.unwrap_or(FrameTarget::Linear);
+                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, (samples, target))?)
             }
         })
     }
@@ -414,14 +419,17 @@ fn measure_config(
     step: &dyn Fn(&str),
 ) -> Result<Row> {
     let Measured { materials, precompute_ms, reference, exposure } = *with;
+    let target = config.target.unwrap_or(FrameTarget::Linear);
     let samples = match config.samples {
-        Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, crate::render::LINEAR_FORMAT)?,
+        Some(n) => ctx.sample_count(subject.frame_samples(Some(n))?, target.format())?,
         None => options.samples,
     };
-    let mut workload = subject.workload(ctx, materials, size, (samples, config.shader), options)?;
+    let mut workload = subject.workload(ctx, materials, (size, samples), config, options)?;
     let map_shader = workload.map_shader();
     let measured = frames(ctx, workload.as_mut(), options, step);
     let uploads = workload.uploads();
+    // A display target's frames are exposed and encoded for a screen: only linear frames meet the reference.
+    let reference = reference.filter(|_| target == FrameTarget::Linear);
     let result = measured.and_then(|(samples, image, fetches)| {
         let error = reference.map(|r| exact_image::image_error(r, &image, exposure)).transpose()?;
         Ok((samples, error, fetches))
@@ -449,6 +457,7 @@ fn measure_config(
         height: size.1,
         samples: samples_per_pixel,
         map_shader,
+        frame_target: matches!(subject, Subject::Scene { .. }).then_some(target),
         order: m.plan.map(|p| p.order),
         lambda_count: m.sampling.count,
         taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,

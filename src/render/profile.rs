@@ -7,7 +7,7 @@ use std::time::Instant;
 use ash::vk;
 
 use super::diffraction::{map_target, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
-use super::surface::{Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
+use super::surface::{FrameTarget, Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
@@ -55,7 +55,7 @@ impl FrameSample {
 pub trait Workload {
     /// Draws one frame as one submission and waits for it.
     fn frame(&mut self, ctx: &Context) -> Result<FrameSample>;
-    /// The last frame's linear scene-referred RGBA, rows top first.
+    /// The last frame's linear scene-referred RGBA, rows top first (a scene's display target: its 8-bit codes / 255).
     fn image(&self, ctx: &Context) -> Result<Vec<f32>>;
     /// What uploading each material's table or Taylor terms cost.
     fn uploads(&self) -> Vec<Upload>;
@@ -290,25 +290,28 @@ pub struct SceneWorkload<'a> {
     renderer: SceneRenderer,
     target: OffscreenTarget,
     readback: Buffer,
+    frame_target: FrameTarget,
     width: u32,
     height: u32,
 }
 
 impl<'a> SceneWorkload<'a> {
-    /// Frames of `width`×`height` with `samples` per pixel (as `render` and `view` draw them).
+    /// Frames of `width`×`height` with `samples` per pixel into `frame_target` (as `render` or `view` draws them).
     pub fn new(
         ctx: &Context,
         inputs: Vec<MaterialInput<'a>>,
         objects: Vec<(&'a Mesh, usize)>,
         view: SceneView,
         (width, height): (u32, u32),
-        samples: vk::SampleCountFlags,
+        (samples, frame_target): (vk::SampleCountFlags, FrameTarget),
     ) -> Result<Self> {
-        let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, LINEAR_FORMAT, true, samples)?);
-        let shade = SurfaceVariant::Shade { display_output: false };
+        let format = frame_target.format();
+        let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?);
+        let shade = SurfaceVariant::Shade { display_output: frame_target.display_output() };
         let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, shade, &target)?);
         let readback = ctx.create_readback(&target.color)?;
-        Ok(Self { inputs, objects, view, renderer: renderer.keep(), target: target.keep(), readback, width, height })
+        let (renderer, target) = (renderer.keep(), target.keep());
+        Ok(Self { inputs, objects, view, renderer, target, readback, frame_target, width, height })
     }
 
     fn renderer(
@@ -319,8 +322,8 @@ impl<'a> SceneWorkload<'a> {
         variant: SurfaceVariant,
         target: &OffscreenTarget,
     ) -> Result<SceneRenderer> {
-        let (extent, samples) = (target.color.extent(), target.view().samples);
-        let renderer = SceneRenderer::with_variant(ctx, inputs, objects, LINEAR_FORMAT, variant, samples)?;
+        let (extent, samples, format) = (target.color.extent(), target.view().samples, target.color.desc.format);
+        let renderer = SceneRenderer::with_variant(ctx, inputs, objects, format, variant, samples)?;
         let mut renderer = Guard::new(ctx, renderer);
         let aspect = extent.width as f32 / extent.height as f32;
         renderer.update(ctx, view, aspect)?;
@@ -338,8 +341,13 @@ impl Workload for SceneWorkload<'_> {
         })
     }
 
+    /// Linear RGBA; a display target's encoded values over 255 (timed, not compared with the exact reference).
     fn image(&self, _ctx: &Context) -> Result<Vec<f32>> {
-        Ok(bytemuck::pod_collect_to_vec(self.readback.mapped().unwrap_or_default()))
+        let bytes = self.readback.mapped().unwrap_or_default();
+        Ok(match self.frame_target {
+            FrameTarget::Linear => bytemuck::pod_collect_to_vec(bytes),
+            FrameTarget::Display => bytes.iter().map(|&b| f32::from(b) / 255.0).collect(),
+        })
     }
 
     fn uploads(&self) -> Vec<Upload> {

@@ -633,6 +633,47 @@ impl SceneRenderer {
     }
 }
 
+/// What a scene's frames are drawn into: what `render` reads back, or what `view` presents. The profiler times
+/// either (`--sweep target=linear,display`), so that a machine without a display measures the window's frames.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameTarget {
+    /// Linear RGB in 32-bit floats, exposure and display encoding left to the CPU (`render`, the profiler's
+    /// default): 16 bytes per sample.
+    Linear,
+    /// Exposure-scaled sRGB in 8 bits per channel, encoded by the shaders (the viewer's window): 4 bytes per
+    /// sample. On an NVIDIA H100 these frames cost about half the linear ones at 4 samples per pixel.
+    Display,
+}
+
+impl FrameTarget {
+    pub const NAMES: [&'static str; 2] = ["linear", "display"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Linear => "linear",
+            Self::Display => "display",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "linear" => Some(Self::Linear),
+            "display" => Some(Self::Display),
+            _ => None,
+        }
+    }
+
+    /// Whether the shaders apply the exposure and the sRGB encoding.
+    pub fn display_output(self) -> bool {
+        self == Self::Display
+    }
+
+    /// The colour format of the target (and of the [`SceneRenderer`] drawing into it).
+    pub fn format(self) -> vk::Format {
+        OffscreenFrames::format(self.display_output())
+    }
+}
+
 /// An offscreen target for a [`SceneRenderer`]: renders frames and reads them back.
 pub struct OffscreenFrames {
     target: OffscreenTarget,
