@@ -120,10 +120,15 @@ done
 echo "== timings on device $device (GPU ms; the passes of a frame sum to its time)"
 # A map's first frames after its table's upload run slower on an H100 (2048², baked: 19.9 ms median over frames
 # 3–12, 5.8 ms over frames 11–70), so a GPU's maps are timed after 20 warm-up frames.
+# A scene's configuration can start the same way (the GPU idles while the CPU prepares it): on an H100 at de6cb65
+# the default scene's 1920×1080 frame read 7.38 ms after 5 warm-up frames in one run and 1.91 in three others
+# (the upload's GPU time doubled with it, as at a lower clock), so scenes get 20 warm-up frames too (not yet
+# checked on a GPU: compare a row's upload time with the other rows').
 if [ "$quick" = 1 ]; then
-  frames=(800x800) map_sizes=256,512,1024 map_frames=10 map_warmup=2
+  frames=(800x800) scene_frames=10 scene_warmup=2 map_sizes=256,512,1024 map_frames=10 map_warmup=2
 else
-  frames=(1920x1080 3840x2160) map_sizes=256,512,1024,2048,4096 map_frames=30 map_warmup=20
+  frames=(1920x1080 3840x2160) scene_frames=20 scene_warmup=20 map_sizes=256,512,1024,2048,4096 map_frames=30 \
+    map_warmup=20
 fi
 # The default scene (the snake under the clear sky; its diffraction at the vertices and per pixel) and the same
 # snake under the sun alone (what the sky costs), each also as the viewer draws it (8-bit sRGB frames, timed
@@ -134,8 +139,8 @@ for size in "${frames[@]}"; do
     name=scene-$size args=() sweep=(samples=1,4 sky_at=vertex,pixel --sweep samples=1,4 target=display)
     [ "$scene" = sun ] && name=scene-sun-$size args=(assets/scenes/elaphe-snake-sun.toml) \
       sweep=(samples=1,4 target=linear,display)
-    "$bin" profile "${args[@]}" "${device_args[@]}" --width "$w" --height "$h" --frames 10 --warmup 2 \
-      --no-reference --sweep "${sweep[@]}" --csv "$out/$name.csv" >"$out/$name.md" 2>"$out/$name.err" \
+    "$bin" profile "${args[@]}" "${device_args[@]}" --width "$w" --height "$h" --frames "$scene_frames" \
+      --warmup "$scene_warmup" --no-reference --sweep "${sweep[@]}" --csv "$out/$name.csv" >"$out/$name.md" 2>"$out/$name.err" \
       || { echo "FAIL  timing $name"; cat "$out/$name.err"; failures=$((failures + 1)); }
     echo "-- $scene scene at $size"
     sed -n '/^| configuration/,$p' "$out/$name.md"
