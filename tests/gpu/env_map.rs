@@ -294,7 +294,6 @@ fn the_elaphe_scans_moments_conserve_energy() {
 fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     use diffract::env_light::ExactEnv;
     use diffract::env_prefilter::SkyAt;
-    use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
     use diffract::render::gbuffer::GBuffer;
     use diffract::shading::SettingsPatch;
     let path = crate::harness::place::assets().join("scenes/elaphe-snake.toml");
@@ -303,19 +302,15 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     // The GPU's own sky term: the frame with the environment's diffraction (evaluated at the vertices, the
     // default, or per pixel) less the same frame without it (the materials' moments dropped).
     let (frames, gbuffer) = gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
         let render = |sky_at: Option<SkyAt>| {
             let overrides = SettingsPatch { sky_at, ..SettingsPatch::default() };
-            let mut materials = prepare_materials(&scene, &overrides, &reaches).unwrap();
+            let mut materials = crate::capture::scene_materials(ctx, &scene, (w, h), &overrides);
             if sky_at.is_none() {
                 materials.iter_mut().for_each(|m| m.moments = None);
             }
-            let mut capture =
-                SceneCapture::new(ctx, &scene, &materials, w, h, ash::vk::SampleCountFlags::TYPE_1).unwrap();
-            let frame = capture.render(ctx, &diffract::render::SceneView::of(&scene));
-            // SAFETY: render waited.
-            unsafe { capture.destroy(ctx) };
-            frame.unwrap().linear().unwrap().to_vec()
+            let (view, one) = (diffract::render::SceneView::of(&scene), ash::vk::SampleCountFlags::TYPE_1);
+            let frames = crate::capture::capture_views(ctx, &scene, &materials, (w, h), one, &[view]);
+            frames[0].linear().unwrap().to_vec()
         };
         let frames = [render(Some(SkyAt::Vertex)), render(Some(SkyAt::Pixel)), render(None)];
         let gbuffer = GBuffer::draw(ctx, &scene, (&scene.camera, scene.light_dir), (w, h), true).unwrap();

@@ -4,28 +4,15 @@
 //! The map is a ramp — texel (x, y) holds (x + ½, y + ½, 1) — so that bilinear filtering reproduces the texture
 //! coordinate itself: a pixel's red and green, over the scale, are where its ray lands in the map (u·W, v·H).
 
-use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
-use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::shading::SettingsPatch;
 use glam::DVec3;
-
-use crate::harness::gpu_test;
 
 const W: u32 = 64;
 const H: u32 = 32;
 
 /// `scene` rendered at `w`×`h`, one sample per pixel: its linear RGBA.
 fn render_linear(scene: &Scene, w: u32, h: u32) -> Vec<f32> {
-    gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(scene, &SettingsPatch::default(), &reaches).unwrap();
-        let mut capture = SceneCapture::new(ctx, scene, &materials, w, h, ash::vk::SampleCountFlags::TYPE_1).unwrap();
-        let frame = capture.render(ctx, &SceneView::of(scene));
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frame.unwrap().linear().unwrap().to_vec()
-    })
+    crate::capture::render_scene(scene, (w, h))
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! All GPU tests, in one binary, on the test device (lavapipe unless `DIFFRACT_TEST_DEVICE` says otherwise) with
 //! validation (see `harness`).
 
+mod capture;
 mod diffraction;
 mod env_map;
 mod environment;

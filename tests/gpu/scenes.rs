@@ -1,9 +1,9 @@
 //! Every scene shipped in assets/scenes renders validation-clean, with colour, as its golden image shows it.
 
-use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::scene::Scene;
 use diffract::shading::SettingsPatch;
 
+use crate::capture::{capture_views, scene_materials};
 use crate::golden;
 use crate::harness::gpu_test;
 
@@ -17,15 +17,11 @@ fn every_asset_scene_renders_in_colour() {
         let scene = Scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let (w, h) = (96, 96);
         let linear = gpu_test(|ctx| {
-            // As `diffract render` does: each baked table covers what this frame shows.
-            let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-            let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
+            let materials = scene_materials(ctx, &scene, (w, h), &SettingsPatch::default());
             let samples = ctx.sample_count(scene.render.samples, diffract::render::LINEAR_FORMAT).unwrap();
-            let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, samples).unwrap();
-            let frame = capture.render(ctx, &diffract::render::SceneView::of(&scene));
-            // SAFETY: render waited.
-            unsafe { capture.destroy(ctx) };
-            frame.unwrap().linear().unwrap().to_vec()
+            let view = diffract::render::SceneView::of(&scene);
+            let frames = capture_views(ctx, &scene, &materials, (w, h), samples, &[view]);
+            frames[0].linear().unwrap().to_vec()
         });
         let rgba8 = diffract::physics::spectrum::linear_to_rgba8(
             &linear,

@@ -4,12 +4,12 @@
 //! under a sun whose mirror glint is 1), with no acne on either.
 
 use diffract::physics::optics::SUN_SOLID_ANGLE;
-use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::SceneView;
 use diffract::scene::Scene;
 use diffract::shading::SettingsPatch;
 use glam::{DVec3, Vec4};
 
+use crate::capture::{capture_views, scene_materials};
 use crate::harness::gpu_test;
 
 const BALL: DVec3 = DVec3::new(0.0, 1.6, 0.0);
@@ -56,16 +56,16 @@ fn scene(shadows: bool) -> Scene {
     ball_scene(&head, BALL)
 }
 
-fn render(scene: &Scene, (w, h): (u32, u32)) -> Vec<f32> {
+fn render(scene: &Scene, size: (u32, u32)) -> Vec<f32> {
+    crate::capture::render_scene(scene, size)
+}
+
+/// `views` of `scene` drawn one after another by one renderer at `size`, one sample per pixel: linear RGBA each.
+fn render_views(scene: &Scene, size: (u32, u32), views: &[SceneView]) -> Vec<Vec<f32>> {
     gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(scene, &SettingsPatch::default(), &reaches).unwrap();
-        let one = ash::vk::SampleCountFlags::TYPE_1;
-        let mut capture = SceneCapture::new(ctx, scene, &materials, w, h, one).unwrap();
-        let frame = capture.render(ctx, &SceneView::of(scene));
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frame.unwrap().linear().unwrap().to_vec()
+        let materials = scene_materials(ctx, scene, size, &SettingsPatch::default());
+        let frames = capture_views(ctx, scene, &materials, size, ash::vk::SampleCountFlags::TYPE_1, views);
+        frames.iter().map(|f| f.linear().unwrap().to_vec()).collect()
     })
 }
 
@@ -158,21 +158,9 @@ fn a_ball_shadows_the_ground_where_its_rays_are_blocked_and_nowhere_else() {
 fn a_renderer_switches_between_views_with_and_without_shadows() {
     let scene = scene(true);
     let (w, h) = (64, 48);
-    let frames = gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
-        let one = ash::vk::SampleCountFlags::TYPE_1;
-        let with = SceneView::of(&scene);
-        let without = SceneView { shadow_casters: None, ..SceneView::of(&scene) };
-        let mut capture = SceneCapture::new(ctx, &scene, &materials, w, h, one).unwrap();
-        let frames: Vec<Vec<f32>> = [&with, &without, &with, &without]
-            .into_iter()
-            .map(|view| capture.render(ctx, view).unwrap().linear().unwrap().to_vec())
-            .collect();
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frames
-    });
+    let with = SceneView::of(&scene);
+    let without = SceneView { shadow_casters: None, ..SceneView::of(&scene) };
+    let frames = render_views(&scene, (w, h), &[with.clone(), without.clone(), with, without]);
     assert_eq!(frames[0], frames[2], "shadows again");
     assert_eq!(frames[1], frames[3], "no shadows again");
     assert_ne!(frames[0], frames[1], "the ball's shadow");
@@ -274,20 +262,8 @@ fn the_shadow_map_is_drawn_again_when_the_sun_or_an_object_moves() {
         ball_scene(&head("[3.0, 6.0, 7.0]", "[1.0, 1.1, 0.35]"), BALL),
     ];
     let (w, h) = (64, 48);
-    let frames = gpu_test(|ctx| {
-        let first = &scenes[0];
-        let reaches = scene_reaches(ctx, first, &[(first.camera, first.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(first, &SettingsPatch::default(), &reaches).unwrap();
-        let one = ash::vk::SampleCountFlags::TYPE_1;
-        let mut capture = SceneCapture::new(ctx, first, &materials, w, h, one).unwrap();
-        let frames: Vec<Vec<f32>> = scenes
-            .iter()
-            .map(|scene| capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec())
-            .collect();
-        // SAFETY: render waited.
-        unsafe { capture.destroy(ctx) };
-        frames
-    });
+    let views: Vec<SceneView> = scenes.iter().map(SceneView::of).collect();
+    let frames = render_views(&scenes[0], (w, h), &views);
     for (i, scene) in scenes.iter().enumerate() {
         assert_eq!(frames[i], render(scene, (w, h)), "view {i}: a renderer that only drew it");
     }

@@ -244,20 +244,15 @@ fn multisampling_gives_silhouette_pixels_intermediate_values() {
 /// pixel, as in the G-buffer, where with the pre-pass the last does).
 #[test]
 fn the_snake_drawn_front_first_is_the_frame_a_depth_pre_pass_gives() {
-    use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
+    use crate::capture::{capture_views, scene_materials};
     use diffract::scene::Scene;
-    use diffract::shading::SettingsPatch;
     let mut scene = Scene::load(&crate::harness::place::assets().join("scenes/elaphe-snake-sun.toml")).unwrap();
     assert!(scene.objects[0].mesh.front_first);
     let (w, h) = (128, 128);
     let [front_first, pre_pass] = gpu_test(|ctx| {
-        let reaches = scene_reaches(ctx, &scene, &[(scene.camera, scene.light_dir)], w, h).unwrap();
-        let materials = prepare_materials(&scene, &SettingsPatch::default(), &reaches).unwrap();
+        let materials = scene_materials(ctx, &scene, (w, h), &Default::default());
         let render = |scene: &Scene| {
-            let mut capture = SceneCapture::new(ctx, scene, &materials, w, h, ONE).unwrap();
-            let frame = capture.render(ctx, &SceneView::of(scene)).unwrap();
-            // SAFETY: render waited.
-            unsafe { capture.destroy(ctx) };
+            let frame = capture_views(ctx, scene, &materials, (w, h), ONE, &[SceneView::of(scene)]).remove(0);
             let times = frame.times.clone().expect("lavapipe has timestamps");
             (frame.linear().unwrap().to_vec(), times.pass_ms(diffract::render::pass::DEPTH).is_some())
         };
