@@ -417,13 +417,7 @@ pub fn markdown(rows: &[Row]) -> String {
             taps,
             r.width,
             r.height,
-            match (r.samples, r.config.shader, r.config.target) {
-                (n, _, Some(FrameTarget::Display)) =>
-                    format!("{} display", if n > 1 { format!(" ×{n}") } else { String::new() }),
-                (n, _, _) if n > 1 => format!(" ×{n}"),
-                (_, Some(shader), _) => format!(" {}", shader.name()),
-                _ => String::new(),
-            },
+            frame_suffix(r),
             gpu,
             ms(r.cpu_ms.median),
             si(r.fetches_per_pixel),
@@ -434,6 +428,15 @@ pub fn markdown(rows: &[Row]) -> String {
         );
     }
     out
+}
+
+/// What a markdown row's size says besides the pixels: the samples per pixel (` ×4`), a map's shader, a scene's
+/// display target.
+fn frame_suffix(r: &Row) -> String {
+    let samples = if r.samples > 1 { format!(" ×{}", r.samples) } else { String::new() };
+    let shader = r.config.shader.map_or(String::new(), |s| format!(" {}", s.name()));
+    let display = if r.config.target == Some(FrameTarget::Display) { " display" } else { "" };
+    format!("{samples}{shader}{display}")
 }
 
 /// The second table printed at the end of a profile: where each configuration's frame time goes, pass by pass
