@@ -24,6 +24,11 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface.frag", "surface_baked.frag", "BAKED"),
     ("surface.frag", "surface_baked_count.frag", "BAKED COUNT_FETCHES"),
     ("surface.vert", "surface_sky.vert", "SKY_DIFFRACTION_AT_VERTEX"),
+    ("surface.vert", "surface_visibility.vert", "VISIBILITY"),
+    ("surface.vert", "surface_sky_visibility.vert", "SKY_DIFFRACTION_AT_VERTEX VISIBILITY"),
+    ("surface_resolve.frag", "surface_resolve_baked.frag", "BAKED"),
+    ("surface_resolve.frag", "surface_resolve_one.frag", "ONE_SAMPLE"),
+    ("surface_resolve.frag", "surface_resolve_baked_one.frag", "BAKED ONE_SAMPLE"),
 ];
 
 /// The uniform blocks whose GLSL is generated from their Rust structs (std140): (source file, struct, descriptor
@@ -44,6 +49,7 @@ const PUSH_BLOCKS: &[(&str, &str, &str)] = &[
     ("EnvMapPush", "map", "env_map_push.glsl"),
     ("EvalPush", "eval", "eval_push.glsl"),
     ("SelftestPush", "pc", "selftest_push.glsl"),
+    ("VisibilityPush", "visibility", "visibility_push.glsl"),
 ];
 
 /// Shader stages recognised from the second-to-last component of a file name.

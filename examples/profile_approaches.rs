@@ -29,6 +29,7 @@ fn main() -> diffract::Result<()> {
             samples: None,
             shader: None,
             target: None,
+            path: None,
         })
         .to_vec();
     let ctx = Context::new(&ContextDesc::new(DeviceSelector::Auto, false))?;

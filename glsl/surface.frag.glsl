@@ -1,7 +1,6 @@
 #version 460
-// The surface pass: diffraction (the thesis's approaches) plus the skin's pigment under the grating, lit by the
-// light the surface transmits (1 − R, Schlick; the thesis's texture blending, model.md §3.8) from the sun's
-// disc and from the sky above the horizon.
+// The surface pass: each fragment shaded by surface_shade.glsl (diffraction plus the skin's pigment under the
+// grating) with the inputs its vertices give it.
 #include "params.glsl"
 #include "spectrum.glsl"
 #include "brdf.glsl"
@@ -14,6 +13,7 @@
 #include "surface_frame.glsl"
 #include "shadow.glsl"
 #include "sky_diffraction.glsl"
+#include "surface_shade.glsl"
 
 // After a depth pre-pass only the visible surface passes the EQUAL test; without one (meshes drawn front first,
 // `Mesh::front_first`) a fragment that a surface drawn before it hides fails LESS. Testing before the shader runs
@@ -29,85 +29,15 @@ layout(location = 5) in vec4 patch_axis;
 layout(location = 6) in vec3 sky_diffracted_at_vertex;
 layout(location = 0) out vec4 out_color;
 
-// SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
-// its glint in a mirror.
-
-// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`optics::transmittance`).
-float transmittance(float cos_theta) {
-    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-    return 1.0 - (r0 + (1.0 - r0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0));
-}
-
-// The same averaged over a uniform sky's incidences (cosine-weighted): 1 − (R0 + (1 − R0)/21).
-float sky_transmittance() {
-    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-    return 1.0 - (r0 + (1.0 - r0) / 21.0);
-}
-
-// The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
-// profiler's reference adds it on the CPU). A Lambertian `albedo` under the skin's surface, lit through that
-// surface by the sun's disc (cos θ_i, times the share `sun_visible` of it that no shadow hides) and by a sky of
-// radiance `ambient` above the horizon with dark ground below (a surface whose normal makes cos = `normal_up` with
-// the world's up sees (1 + normal_up)/2 of it), and seen through it. A matte surface (`coated` false) has no skin:
-// the albedo is lit and seen directly.
-vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float ambient, float sun_visible,
-                 bool coated) {
-    if (omega_r.z <= 0.0) return vec3(0.0);
-    float sun = SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0) * sun_visible * (coated ? transmittance(omega_i.z) : 1.0);
-    float sky = ambient * 0.5 * (1.0 + normal_up) * (coated ? sky_transmittance() : 1.0);
-    return albedo * ((coated ? transmittance(omega_r.z) : 1.0) * (sun + sky));
-}
-
-// The environment's irradiance over π at the world normal `n`: the sum of its nine SH coefficients
-// (`physics::sh::Irradiance::over_pi`), never negative; zero where the scene has no environment.
-vec3 sky_over_pi(vec3 n) {
-    vec3 e = frame.sky_sh[0].rgb * 0.282095 + frame.sky_sh[1].rgb * (0.488603 * n.y)
-        + frame.sky_sh[2].rgb * (0.488603 * n.z) + frame.sky_sh[3].rgb * (0.488603 * n.x)
-        + frame.sky_sh[4].rgb * (1.092548 * n.x * n.y) + frame.sky_sh[5].rgb * (1.092548 * n.y * n.z)
-        + frame.sky_sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0)) + frame.sky_sh[7].rgb * (1.092548 * n.x * n.z)
-        + frame.sky_sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
-    return max(e, vec3(0.0));
-}
-
-// The pigment lit by the environment (`optics::pigment_sky_rgb`): through the skin both ways (unless matte), in
-// the environment's own colours (not the illuminant's white).
-vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky, bool coated) {
-    if (omega_r.z <= 0.0) return vec3(0.0);
-    return albedo * (coated ? transmittance(omega_r.z) * sky_transmittance() : 1.0) * sky;
-}
-
 void main() {
-    vec3 omega_i = normalize(patch_light);
-    vec3 omega_r = normalize(patch_view);
-    // A matte material (a ground) has no grating and no skin: only its pigment.
-    bool coated = frame.orientation.w < 0.5;
-    // The sun's share that no shadow hides (1 where the scene has no shadow map).
-    float sun_visible = sun_visibility(shadow_coord);
+    SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
+                                    sky_diffracted_at_vertex);
+    float footprint = 0.0;
 #ifdef BAKED
-    // Derivatives, so in uniform control flow (before the branch).
-    float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
+    // Derivatives, so in uniform control flow (before the shading's branches).
+    footprint = pixel_footprint(-normalize(patch_light).xy - normalize(patch_view).xy);
 #endif
-    vec3 rgb = vec3(0.0);
-    if (coated && sun_visible > 0.0) {
-#ifdef BAKED
-        rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
-#else
-        rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
-#endif
-        // 1 in relative units; under a physical light, the BRDF in sr⁻¹ times the sun's irradiance per unit of
-        // its radiance (`spectrum::diffraction_gain`).
-        rgb *= params.light_white.w * sun_visible;
-    }
-    vec3 normal = normalize(world_normal);
-    float normal_up = normal.y;
-    vec3 albedo = frame.pigment.rgb * tint;
-    rgb += pigment_rgb(omega_i, omega_r, normal_up, albedo, frame.pigment.w, sun_visible, coated) * params.light_white.rgb;
-    rgb += pigment_sky_rgb(omega_r, albedo, sky_over_pi(normal), coated);
-    if (coated) {
-        // The environment's own diffraction (no shadow: like the sky's light on the pigment, it is not occluded).
-        vec3 x = normalize(patch_axis.xyz - normal * dot(normal, patch_axis.xyz));
-        rgb += sky_diffraction(omega_r, x, patch_axis.w * cross(normal, x), normal, sky_diffracted_at_vertex);
-    }
+    vec3 rgb = surface_colour(s, footprint);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
     record_fetches();
 }

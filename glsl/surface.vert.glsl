@@ -29,6 +29,15 @@ layout(location = 6) out vec3 sky_diffracted_at_vertex;
 #include "sky_diffraction.glsl"
 #endif
 
+#ifdef VISIBILITY
+// The visibility buffer's raster pass (`render::visibility`, the variants `surface_visibility.vert` and
+// `surface_sky_visibility.vert`) also keeps every vertex's outputs, from which its shading pass rebuilds a pixel's
+// inputs (surface_resolve.frag reads them in this order).
+layout(std430, binding = BINDING_VERTEX_OUTPUTS) writeonly buffer VertexOutputs {
+    vec4 vertex_outputs[];
+};
+#endif
+
 void main() {
     // The depth pre-pass and the shading pass run this shader in two pipelines, and the shading pass's EQUAL depth
     // test needs both to compute the same bits: `precise` forbids the contractions and reorderings that a compiler
@@ -62,4 +71,15 @@ void main() {
     shadow_coord = (frame.shadow_view_proj * vec4(lifted, 1.0)).xyz;
     precise vec4 clip = frame.view_proj * p;
     gl_Position = clip;
+#ifdef VISIBILITY
+    // A vertex that several triangles share writes the same values each time it is shaded.
+    uint base = uint(gl_VertexIndex) * VERTEX_OUTPUT_VEC4S;
+    vertex_outputs[base] = clip;
+    vertex_outputs[base + 1u] = vec4(patch_light, tint.r);
+    vertex_outputs[base + 2u] = vec4(patch_view, tint.g);
+    vertex_outputs[base + 3u] = vec4(world_normal, tint.b);
+    vertex_outputs[base + 4u] = vec4(shadow_coord, patch_axis.w);
+    vertex_outputs[base + 5u] = vec4(patch_axis.xyz, 0.0);
+    vertex_outputs[base + 6u] = vec4(sky_diffracted_at_vertex, 0.0);
+#endif
 }

@@ -132,13 +132,14 @@ else
 fi
 # The default scene (the snake under the clear sky; its diffraction at the vertices and per pixel) and the same
 # snake under the sun alone (what the sky costs), each also as the viewer draws it (8-bit sRGB frames, timed
-# without a window: target=display).
+# without a window: target=display) and through a visibility buffer (path=visibility, linear frames).
 for size in "${frames[@]}"; do
   w=${size%x*} h=${size#*x}
   for scene in default sun; do
-    name=scene-$size args=() sweep=(samples=1,4 sky_at=vertex,pixel --sweep samples=1,4 target=display)
+    name=scene-$size args=()
+    sweep=(samples=1,4 sky_at=vertex,pixel --sweep samples=1,4 target=display --sweep samples=1,4 path=visibility)
     [ "$scene" = sun ] && name=scene-sun-$size args=(assets/scenes/elaphe-snake-sun.toml) \
-      sweep=(samples=1,4 target=linear,display)
+      sweep=(samples=1,4 target=linear,display --sweep samples=1,4 path=visibility)
     "$bin" profile "${args[@]}" "${device_args[@]}" --width "$w" --height "$h" --frames "$scene_frames" \
       --warmup "$scene_warmup" --no-reference --sweep "${sweep[@]}" --csv "$out/$name.csv" >"$out/$name.md" 2>"$out/$name.err" \
       || { echo "FAIL  timing $name"; cat "$out/$name.err"; failures=$((failures + 1)); }

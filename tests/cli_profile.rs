@@ -312,6 +312,35 @@ fn a_scene_is_timed_into_the_linear_target_and_the_display_target() {
     }
 }
 
+#[test]
+fn a_scene_is_timed_on_the_forward_path_and_through_a_visibility_buffer() {
+    let (scene, csv) = (common::place::scene("blazed-disk.toml"), scratch("paths.csv"));
+    let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "2", "--warmup", "0"];
+    let sweep = ["--sweep", "samples=1,4", "path=forward,visibility"];
+    let o = diffract(&[&args[..], &sweep, &["--reference-pixels", "40", "--validation", "--csv", s(&csv)]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = read_csv(&csv);
+    let paths: Vec<(&str, &str)> =
+        table.rows.iter().map(|r| (r["samples"].as_str(), r["shading_path"].as_str())).collect();
+    assert_eq!(paths, [("1", "forward"), ("1", "visibility"), ("4", "forward"), ("4", "visibility")]);
+    for row in &table.rows {
+        let visibility = row["shading_path"] == "visibility";
+        // Its own raster pass, no resolve of colour samples; the error against the reference as the forward
+        // path's (the same random pixels: within a few hundredths).
+        assert_eq!(row["visibility_ms_median"].is_empty(), !visibility, "{row:?}");
+        assert_eq!(row["resolve_ms_median"].is_empty(), visibility || row["samples"] == "1", "{row:?}");
+        assert!(number(row, "shading_ms_median") > 0.0, "{row:?}");
+        assert!(row["label"].ends_with(if visibility { "visibility" } else { "forward" }), "{row:?}");
+    }
+    for pair in table.rows.chunks(2) {
+        let (forward, visibility) = (number(&pair[0], "mean_de2000"), number(&pair[1], "mean_de2000"));
+        assert!((forward - visibility).abs() < 0.05 * forward.max(1.0), "{forward} against {visibility}");
+    }
+    let map = diffract(&["profile", "--heightfield", s(&grating()), "--width", "8", "--sweep", "path=visibility"]);
+    assert!(!map.status.success());
+    assert!(String::from_utf8_lossy(&map.stderr).contains("path= is for scenes"));
+}
+
 /// A 16-pixel BRDF map of the grating at 4 µm coherence and +4 EV, one frame per configuration, profiled with
 /// `extra` flags (a `--sweep` among them) into the CSV `name`, which is returned parsed.
 fn profile_grating_map(name: &str, extra: &[&str]) -> Csv {

@@ -58,8 +58,9 @@ pub struct ProfileArgs {
     /// Vary settings: KEY=V1,V2,... items (keys: every material setting by its scene key, e.g. approach, order,
     /// lambda_step_nm, window_radius, coherence_um; and size, samples, a map's shader=compute,fragment, and a
     /// scene's target=linear,display: RGBA32F frames as `render` reads back, or the 8-bit sRGB frames `view`
-    /// presents, timed without a window); one --sweep runs the cross product of its items, several --sweep flags
-    /// run one list after the other
+    /// presents, timed without a window, and path=forward,visibility: each fragment shaded as drawn, or a
+    /// visibility buffer shading each pixel's visible triangles once); one --sweep runs the cross product of its
+    /// items, several --sweep flags run one list after the other
     #[arg(long, value_name = "KEY=V1,V2,...", num_args = 1.., action = clap::ArgAction::Append)]
     pub sweep: Vec<String>,
     /// The `--sweep` flags' items, one list per flag (filled from clap's occurrences by `cli::main`).
@@ -115,7 +116,14 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
-    let base = Config { overrides: args.settings.patch, size: args.width, samples: None, shader: None, target: None };
+    let base = Config {
+        overrides: args.settings.patch,
+        size: args.width,
+        samples: None,
+        shader: None,
+        target: None,
+        path: None,
+    };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;

@@ -14,6 +14,7 @@ use crate::mesh::Mesh;
 use crate::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
+use crate::render::visibility::ShadingPath;
 use crate::render::SceneView;
 use crate::scene::Scene;
 
@@ -52,6 +53,11 @@ pub struct RenderArgs {
     /// Draw the scene lit without diffraction (fast: for framing the camera)
     #[arg(long)]
     pub preview: bool,
+    /// How the frame is shaded: forward (each fragment as it is drawn) or visibility (the triangles first, then
+    /// each pixel's visible triangles shaded once: on lavapipe the default scene's 4-sample frame in about 0.6 of
+    /// the time, at the same error against the exact reference)
+    #[arg(long, value_name = "PATH", default_value = "forward", value_parser = parse_path, conflicts_with = "preview")]
+    pub path: ShadingPath,
     /// Let a sequence replace frames (NAME_0001.png, …) that exist already; without it a sequence refuses to
     /// overwrite a file it did not create
     #[arg(long)]
@@ -95,6 +101,10 @@ fn check_sequence_names(args: &RenderArgs) -> anyhow::Result<()> {
 }
 
 /// `--turn-deg`: an angle in (0, 360].
+fn parse_path(s: &str) -> std::result::Result<ShadingPath, String> {
+    ShadingPath::parse(s).ok_or_else(|| format!("the shading path is {}", ShadingPath::NAMES.join(" or ")))
+}
+
 fn parse_turn(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
         Ok(deg) if deg > 0.0 && deg <= 360.0 => Ok(deg),
@@ -174,6 +184,13 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
+    if args.path == ShadingPath::Visibility {
+        if let Err(e) = capture.use_visibility_buffer(&ctx) {
+            // SAFETY: nothing was submitted with it.
+            unsafe { capture.destroy(&ctx) };
+            return Err(e.into());
+        }
+    }
     let uploads = capture.uploads();
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
     // SAFETY: every frame was waited for.
@@ -194,9 +211,10 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     };
     let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
     println!(
-        "wrote {what} ({width}×{height}, {} sample(s) per pixel, {} object(s), {} material(s); precompute \
+        "wrote {what} ({width}×{height}, {} sample(s) per pixel{}, {} object(s), {} material(s); precompute \
          {prep_ms:.0} ms{median} on {}{first_use})",
         samples.as_raw(),
+        if args.path == ShadingPath::Visibility { " through a visibility buffer" } else { "" },
         scene.objects.len(),
         scene.materials.len(),
         ctx.info.name

@@ -21,6 +21,7 @@ use crate::error::{Error, Result};
 use crate::render::diffraction::{MapShader, Upload};
 use crate::render::pass;
 use crate::render::surface::FrameTarget;
+use crate::render::visibility::ShadingPath;
 use crate::shading::{Approach, Settings, SettingsPatch};
 use crate::stats::Spread;
 
@@ -37,10 +38,12 @@ pub struct Config {
     pub shader: Option<MapShader>,
     /// What a scene's frames are drawn into (None: linear, as `render` reads them back).
     pub target: Option<FrameTarget>,
+    /// How a scene's frames are shaded (None: forward, as `render` draws them).
+    pub path: Option<ShadingPath>,
 }
 
 /// The keys a sweep may vary besides the material settings ([`Settings::KEYS`]).
-pub const FRAME_KEYS: [&str; 4] = ["size", "samples", "shader", "target"];
+pub const FRAME_KEYS: [&str; 5] = ["size", "samples", "shader", "target", "path"];
 /// Largest image side a profile renders (the reference is a CPU computation).
 pub const MAX_SIZE: u32 = 4096;
 
@@ -77,6 +80,12 @@ impl Config {
                 let target =
                     FrameTarget::parse(value).ok_or_else(|| bad(&format!("a scene's frame target is {names}")))?;
                 self.target = Some(target);
+            }
+            "path" => {
+                let names = ShadingPath::NAMES.join(" or ");
+                let path =
+                    ShadingPath::parse(value).ok_or_else(|| bad(&format!("a scene's shading path is {names}")))?;
+                self.path = Some(path);
             }
             _ if Settings::canonical(key).is_some() => {
                 self.overrides.set(key, value).map_err(|e| Error::Invalid(format!("--sweep {e}")))?
@@ -118,6 +127,7 @@ impl Config {
             self.samples.map(|n| format!("{n}spp")),
             self.shader.map(|s| s.name().to_string()),
             self.target.map(|t| t.name().to_string()),
+            self.path.map(|p| p.name().to_string()),
         ];
         for part in parts.into_iter().flatten() {
             label += " ";
@@ -209,6 +219,8 @@ pub struct Row {
     pub map_shader: Option<MapShader>,
     /// What a scene's frames were drawn into (None for a map).
     pub frame_target: Option<FrameTarget>,
+    /// How a scene's frames were shaded (None for a map).
+    pub shading_path: Option<ShadingPath>,
     /// The Taylor order used (None for gem), wavelengths sampled (FLSS, PQ; NMM's vary) and taps per axis.
     pub order: Option<usize>,
     pub lambda_count: usize,
@@ -265,7 +277,7 @@ impl TableSummary {
 }
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 34] = [
+pub const MEASURED_COLUMNS: [&str; 36] = [
     "order_used",
     "lambda_count",
     "taps",
@@ -274,12 +286,14 @@ pub const MEASURED_COLUMNS: [&str; 34] = [
     "samples",
     "map_shader",
     "frame_target",
+    "shading_path",
     "frames",
     "precompute_ms",
     "gpu_ms_median",
     "gpu_ms_p10",
     "gpu_ms_p90",
     "depth_ms_median",
+    "visibility_ms_median",
     "shading_ms_median",
     "resolve_ms_median",
     "copy_ms_median",
@@ -334,12 +348,14 @@ impl Row {
             self.samples.to_string(),
             self.map_shader.map_or(String::new(), |s| s.name().to_string()),
             self.frame_target.map_or(String::new(), |t| t.name().to_string()),
+            self.shading_path.map_or(String::new(), |p| p.name().to_string()),
             self.frames.to_string(),
             format!("{:.3}", self.precompute_ms),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.p10))),
             opt(self.gpu_ms.map(|s| format!("{:.4}", s.p90))),
             opt(self.pass_ms(pass::DEPTH).map(|v| format!("{v:.4}"))),
+            opt(self.pass_ms(pass::VISIBILITY).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::SHADING).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::RESOLVE).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::COPY).map(|v| format!("{v:.4}"))),
@@ -436,7 +452,8 @@ fn frame_suffix(r: &Row) -> String {
     let samples = if r.samples > 1 { format!(" ×{}", r.samples) } else { String::new() };
     let shader = r.config.shader.map_or(String::new(), |s| format!(" {}", s.name()));
     let display = if r.config.target == Some(FrameTarget::Display) { " display" } else { "" };
-    format!("{samples}{shader}{display}")
+    let path = if r.config.path == Some(ShadingPath::Visibility) { " visibility" } else { "" };
+    format!("{samples}{shader}{display}{path}")
 }
 
 /// The second table printed at the end of a profile: where each configuration's frame time goes, pass by pass
@@ -513,7 +530,7 @@ mod tests {
     fn base() -> Config {
         let overrides =
             SettingsPatch { approach: Some(Approach::Flss), lambda_step_nm: Some(5.0), ..SettingsPatch::default() };
-        Config { overrides, size: 64, samples: None, shader: None, target: None }
+        Config { overrides, size: 64, samples: None, shader: None, target: None, path: None }
     }
 
     #[test]

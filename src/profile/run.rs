@@ -19,6 +19,7 @@ use crate::render::diffraction::{MapShader, MapSpec, Upload};
 use crate::render::gbuffer::{GBuffer, Seen};
 use crate::render::profile::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
 use crate::render::surface::FrameTarget;
+use crate::render::visibility::ShadingPath;
 use crate::render::SceneView;
 use crate::scene::Scene;
 use crate::shading::{Material, Reach, Settings};
@@ -87,6 +88,16 @@ impl Subject {
             Subject::Map { .. } if config.target.is_some() => Err(Error::Invalid(
                 "--sweep target= is for scenes (what `render` or `view` draws into): a BRDF map is linear".into(),
             )),
+            Subject::Map { .. } if config.path.is_some() => {
+                Err(Error::Invalid("--sweep path= is for scenes: a BRDF map has no triangles to raster".into()))
+            }
+            Subject::Scene { .. }
+                if config.path == Some(ShadingPath::Visibility) && config.target == Some(FrameTarget::Display) =>
+            {
+                Err(Error::Invalid(
+                    "--sweep path=visibility draws linear frames (as `render` does): not with target=display".into(),
+                ))
+            }
             _ => Ok(()),
         }
     }
@@ -214,8 +225,8 @@ impl Subject {
             Subject::Scene { scene, .. } => {
                 let view = SceneView::of(scene);
                 let inputs = material_inputs(scene, materials);
-                let target = config.target.unwrap_or(FrameTarget::Linear);
-                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, (samples, target))?)
+                let frame = (samples, config.target.unwrap_or_default(), config.path.unwrap_or_default());
+                Box::new(SceneWorkload::new(ctx, inputs, scene_objects(scene), view, size, frame)?)
             }
         })
     }
@@ -458,6 +469,7 @@ fn measure_config(
         samples: samples_per_pixel,
         map_shader,
         frame_target: matches!(subject, Subject::Scene { .. }).then_some(target),
+        shading_path: matches!(subject, Subject::Scene { .. }).then_some(config.path.unwrap_or_default()),
         order: m.plan.map(|p| p.order),
         lambda_count: m.sampling.count,
         taps: 2 * m.window.radius_x.max(m.window.radius_y) as u32 + 1,

@@ -16,8 +16,8 @@ use crate::scene::Environment;
 use crate::shaders;
 use crate::shaders::interface::{BINDING_ENVIRONMENT, BINDING_FRAME, SPEC_DISPLAY_OUTPUT};
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
-    ImageState, Pipeline, Sampler, SpecConstants,
+    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
+    ImageDesc, ImageState, Pipeline, Sampler, SpecConstants,
 };
 
 /// The width of the clear sky's map behind a scene (its height is half): 0.7° texels, about the sun's disc.
@@ -112,12 +112,15 @@ pub struct BackgroundPass {
 }
 
 impl BackgroundPass {
-    /// A pass drawing into `color_format` targets of `samples` (display-encoded with `display_output`).
+    /// A pass drawing into `color_format` targets of `samples` (display-encoded with `display_output`), behind
+    /// the objects (an EQUAL depth test at the far plane); with `under`, into a one-sample target without depth,
+    /// under the premultiplied colours and coverage the objects left there (the visibility buffer's).
     pub fn new(
         ctx: &Context,
         color_format: vk::Format,
         display_output: bool,
         samples: vk::SampleCountFlags,
+        under: bool,
     ) -> Result<Self> {
         let stages = vk::ShaderStageFlags::FRAGMENT;
         let bindings = [
@@ -136,9 +139,10 @@ impl BackgroundPass {
                 vertex_stride: 0,
                 vertex_attributes: &[],
                 color_format,
-                depth: Some((super::DEPTH_FORMAT, DepthTest::Equal)),
+                depth: Some((super::DEPTH_FORMAT, if under { DepthTest::Off } else { DepthTest::Equal })),
                 cull_back_faces: false,
-                samples,
+                samples: if under { vk::SampleCountFlags::TYPE_1 } else { samples },
+                blend: if under { Blend::Under } else { Blend::Replace },
             })?,
         );
         let sampler = Guard::new(ctx, ctx.create_panorama_sampler(NAME)?);

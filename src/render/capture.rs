@@ -111,6 +111,12 @@ impl SceneCapture {
         Ok(Self { renderer: renderer.keep(), frames, width, height })
     }
 
+    /// Draws the frames through a visibility buffer (`render::visibility`) instead of the forward pass.
+    pub fn use_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
+        let extent = ash::vk::Extent2D { width: self.width, height: self.height };
+        self.renderer.use_visibility_buffer(ctx, extent)
+    }
+
     /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.
     pub fn render(&mut self, ctx: &Context, view: &SceneView) -> Result<Frame> {
         self.renderer.update(ctx, view, self.width as f32 / self.height as f32)?;

@@ -17,8 +17,8 @@ use crate::shaders::interface::{
 };
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
-    ImageDesc, ImageState, MemoryState, Pipeline, Sampler,
+    Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard,
+    Image, ImageDesc, ImageState, MemoryState, Pipeline, Sampler,
 };
 
 /// Rows per submission of a BRDF map: keeps each submission short (no driver watchdog) and lets long maps
@@ -279,6 +279,7 @@ impl MapPass {
             depth: None,
             cull_back_faces: false,
             samples: vk::SampleCountFlags::TYPE_1,
+            blend: Blend::Replace,
         })?;
         Ok(Self { pipeline, counting: count_stride.is_some() })
     }

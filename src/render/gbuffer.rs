@@ -18,7 +18,8 @@ use crate::shaders;
 use crate::shaders::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
 use crate::shading::Reach;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline,
+    SpecConstants,
 };
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
@@ -198,6 +199,7 @@ impl GBuffer {
                 depth: Some((DEPTH_FORMAT, DepthTest::Write)),
                 cull_back_faces: super::culls_back_faces(scene.objects.iter().map(|o| &o.mesh)),
                 samples: vk::SampleCountFlags::TYPE_1,
+                blend: Blend::Replace,
             })?);
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);

@@ -12,6 +12,7 @@ pub mod preview;
 pub mod profile;
 pub mod shadow;
 pub mod surface;
+pub mod visibility;
 #[cfg(feature = "cli")] // the viewer's
 pub(crate) mod window;
 
@@ -41,8 +42,10 @@ pub mod pass {
     pub const RESOLVE: &str = "resolve";
     pub const COPY: &str = "copy";
     pub const PRESENT: &str = "present";
+    /// The visibility buffer's raster pass (`render::visibility`): depth and triangle ids, before the shading.
+    pub const VISIBILITY: &str = "visibility";
     /// Every pass, in frame order (the profile's columns).
-    pub const ALL: [&str; 5] = [DEPTH, SHADING, RESOLVE, COPY, PRESENT];
+    pub const ALL: [&str; 6] = [DEPTH, VISIBILITY, SHADING, RESOLVE, COPY, PRESENT];
 }
 
 /// Each pass's median GPU time over `frames`, for the passes every frame timed, in frame order:
@@ -341,6 +344,7 @@ pub(crate) struct MeshBuffers {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub index_count: u32,
+    pub vertex_count: u32,
 }
 
 impl MeshBuffers {
@@ -354,12 +358,14 @@ impl MeshBuffers {
             &format!("{name} vertices"),
         );
         let vertices = Guard::new(ctx, vertices?);
+        // Also read as a storage buffer by the visibility buffer's shading pass.
         let indices = ctx.create_buffer_init(
-            vk::BufferUsageFlags::INDEX_BUFFER,
+            vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
             bytemuck::cast_slice(&mesh.indices),
             &format!("{name} indices"),
         )?;
-        Ok(Self { vertices: vertices.keep(), indices, index_count: mesh.indices.len() as u32 })
+        let (index_count, vertex_count) = (mesh.indices.len() as u32, mesh.vertices.len() as u32);
+        Ok(Self { vertices: vertices.keep(), indices, index_count, vertex_count })
     }
 
     /// Binds the buffers and draws every triangle (a pipeline must be bound inside a rendering scope).

@@ -16,7 +16,7 @@ use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::BINDING_FRAME;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
+    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
     SpecConstants,
 };
 
@@ -105,6 +105,7 @@ impl PreviewPass {
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: true,
             samples,
+            blend: Blend::Replace,
         })?;
         Ok(Self { pipeline, mesh: mesh.keep(), uniforms: uniforms.keep() })
     }

@@ -8,14 +8,15 @@ use ash::vk;
 
 use super::diffraction::{map_target, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
 use super::surface::{FrameTarget, Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
+use super::visibility::ShadingPath;
 use super::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::shaders;
 use crate::shaders::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image, ImageDesc,
-    ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
+    Binding, Blend, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image,
+    ImageDesc, ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
 };
 
 /// One frame's cost: GPU time pass by pass (timestamps), wall time of record + submit + wait on the CPU, and
@@ -234,6 +235,7 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
             depth: None,
             cull_back_faces: false,
             samples: vk::SampleCountFlags::TYPE_1,
+            blend: Blend::Replace,
         })?,
     );
     let writes = [DescriptorWrite::SampledImage(BINDING_TABLE, &texture, &sampler)];
@@ -296,19 +298,20 @@ pub struct SceneWorkload<'a> {
 }
 
 impl<'a> SceneWorkload<'a> {
-    /// Frames of `width`×`height` with `samples` per pixel into `frame_target` (as `render` or `view` draws them).
+    /// Frames of `width`×`height` with `samples` per pixel into `frame_target` (as `render` or `view` draws them),
+    /// shaded on `path`.
     pub fn new(
         ctx: &Context,
         inputs: Vec<MaterialInput<'a>>,
         objects: Vec<(&'a Mesh, usize)>,
         view: SceneView,
         (width, height): (u32, u32),
-        (samples, frame_target): (vk::SampleCountFlags, FrameTarget),
+        (samples, frame_target, path): (vk::SampleCountFlags, FrameTarget, ShadingPath),
     ) -> Result<Self> {
         let format = frame_target.format();
         let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?);
         let shade = SurfaceVariant::Shade { display_output: frame_target.display_output() };
-        let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, shade, &target)?);
+        let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, (shade, path), &target)?);
         let readback = ctx.create_readback(&target.color)?;
         let (renderer, target) = (renderer.keep(), target.keep());
         Ok(Self { inputs, objects, view, renderer, target, readback, frame_target, width, height })
@@ -319,12 +322,15 @@ impl<'a> SceneWorkload<'a> {
         inputs: &[MaterialInput<'_>],
         objects: &[(&Mesh, usize)],
         view: &SceneView,
-        variant: SurfaceVariant,
+        (variant, path): (SurfaceVariant, ShadingPath),
         target: &OffscreenTarget,
     ) -> Result<SceneRenderer> {
         let (extent, samples, format) = (target.color.extent(), target.view().samples, target.color.desc.format);
         let renderer = SceneRenderer::with_variant(ctx, inputs, objects, format, variant, samples)?;
         let mut renderer = Guard::new(ctx, renderer);
+        if path == ShadingPath::Visibility {
+            renderer.use_visibility_buffer(ctx, extent)?;
+        }
         let aspect = extent.width as f32 / extent.height as f32;
         renderer.update(ctx, view, aspect)?;
         Ok(renderer.keep())
@@ -356,7 +362,9 @@ impl Workload for SceneWorkload<'_> {
 
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
         let variant = SurfaceVariant::CountFetches { stride: self.width };
-        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, variant, &self.target)?;
+        // Counted forward: both paths shade each visible triangle of a pixel once, with the same fetches.
+        let forward = (variant, ShadingPath::Forward);
+        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, forward, &self.target)?;
         let (target, background) = (&self.target, self.view.background);
         let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);

@@ -23,8 +23,8 @@ use crate::mesh::Vertex;
 use crate::shaders;
 use crate::shaders::interface::{BINDING_FRAME, BINDING_SHADOW, BINDING_SHADOW_DEPTH};
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
-    ImageState, Pipeline, Sampler,
+    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
+    ImageDesc, ImageState, Pipeline, Sampler,
 };
 
 /// Texels along each edge of the shadow map (D32: 16 MiB).
@@ -225,6 +225,7 @@ impl ShadowMap {
                 depth: Some((super::DEPTH_FORMAT, DepthTest::Write)),
                 cull_back_faces: false,
                 samples: vk::SampleCountFlags::TYPE_1,
+                blend: Blend::Replace,
             })?,
         );
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));

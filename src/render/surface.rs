@@ -17,6 +17,7 @@ use glam::{Mat4, Vec3};
 use super::background::BackgroundPass;
 use super::diffraction::{patch_bindings, PatchResources};
 use super::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
+use super::visibility::{ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
 use super::{
     begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
     DEPTH_FORMAT, LINEAR_FORMAT,
@@ -26,13 +27,14 @@ use crate::error::Result;
 use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::{
-    BINDING_FETCH_COUNTS, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE, SPEC_SHADOWS,
+    VisibilityPush, BINDING_FETCH_COUNTS, BINDING_FRAME, BINDING_MESH_INDICES, BINDING_VERTEX_OUTPUTS,
+    BINDING_VISIBILITY_IDS, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE, SPEC_SHADOWS,
     SPEC_SKY_DIFFRACTION,
 };
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageState,
-    Laps, Pipeline, Sampler, Statistics, VertexAttribute,
+    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
+    ImageState, Laps, MemoryState, Pipeline, Sampler, Statistics, VertexAttribute,
 };
 
 /// What a frame's recording is measured with (all off by default).
@@ -173,6 +175,10 @@ struct MaterialGpu {
     /// What those pipelines are built from: the vertex and fragment shaders and the specialization constants
     /// (all but `SPEC_SHADOWS`).
     recipe: (&'static [u8], &'static [u8], crate::vk::SpecConstants),
+    /// The visibility buffer's raster and shading pipelines, as `pipelines` (built where the renderer takes
+    /// that path), and their vertex and fragment shaders.
+    visibility_pipelines: [Option<(Pipeline, Pipeline)>; 2],
+    visibility_recipe: (&'static [u8], [&'static [u8]; 2]),
     patch: PatchResources,
     params: crate::shading::DiffractionParams,
     surface: SurfaceMaterial,
@@ -262,6 +268,9 @@ pub struct SceneRenderer {
     cull_back_faces: bool,
     /// Whether the current view casts shadows (which of each material's pipelines draws).
     shadows: bool,
+    /// The visibility buffer's target and vertex outputs where the renderer takes that path
+    /// ([`Self::use_visibility_buffer`]); None: forward.
+    visibility: Option<VisibilityState>,
 }
 
 impl SceneRenderer {
@@ -307,6 +316,7 @@ impl SceneRenderer {
             bindings: Vec::new(),
             cull_back_faces: false,
             shadows: false,
+            visibility: None,
         };
         let mut made = Guard::new(ctx, empty);
         made.fill(ctx, materials, objects, color_format, variant)?;
@@ -340,6 +350,7 @@ impl SceneRenderer {
                     depth: Some((DEPTH_FORMAT, DepthTest::Write)),
                     cull_back_faces,
                     samples: self.samples,
+                    blend: Blend::Replace,
                 })
             })
             .transpose()?;
@@ -381,9 +392,21 @@ impl SceneRenderer {
             };
             let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);
             let vertex = if sky == SKY_DIFFRACTION_VERTEX { shaders::SURFACE_SKY_VERT } else { shaders::SURFACE_VERT };
+            let visibility_vertex = if sky == SKY_DIFFRACTION_VERTEX {
+                shaders::SURFACE_SKY_VISIBILITY_VERT
+            } else {
+                shaders::SURFACE_VISIBILITY_VERT
+            };
+            // The shading pass's fragment shader for frames of one sample per pixel and of several.
+            let resolve = match baked {
+                true => [shaders::SURFACE_RESOLVE_BAKED_ONE_FRAG, shaders::SURFACE_RESOLVE_BAKED_FRAG],
+                false => [shaders::SURFACE_RESOLVE_ONE_FRAG, shaders::SURFACE_RESOLVE_FRAG],
+            };
             self.materials.push(MaterialGpu {
                 pipelines: [None, None],
                 recipe: (vertex, fragment, specialization),
+                visibility_pipelines: [None, None],
+                visibility_recipe: (visibility_vertex, resolve),
                 patch: patch.keep(),
                 params: input.material.params,
                 surface: input.surface,
@@ -405,6 +428,37 @@ impl SceneRenderer {
             self.objects.push(ObjectGpu { mesh: mesh.keep(), uniforms, material, bounds });
         }
         Ok(())
+    }
+
+    /// Makes the renderer draw its frames through a visibility buffer ([`super::visibility`]) into targets of
+    /// `extent` (and the renderer's samples): linear colour only, and not the counting variant. Call it before the
+    /// first [`Self::update`].
+    pub fn use_visibility_buffer(&mut self, ctx: &Context, extent: vk::Extent2D) -> Result<()> {
+        if self.display_output || self.counting {
+            return Err(crate::Error::Invalid(
+                "the visibility buffer draws linear frames (not a window's, nor the profiler's counting ones)".into(),
+            ));
+        }
+        let meshes: Vec<&MeshBuffers> = self.objects.iter().map(|o| &o.mesh).collect();
+        let state = VisibilityState::new(ctx, extent, self.samples, &meshes)?;
+        if let Some(old) = self.visibility.replace(state) {
+            // SAFETY: the caller promises no submitted work still uses this renderer's resources.
+            unsafe { old.destroy(ctx) };
+        }
+        if let Some(background) = self.background.take() {
+            // SAFETY: as above; `update` makes the pass again, drawn under the objects.
+            unsafe { background.destroy(ctx) };
+        }
+        self.build_pipelines(ctx)
+    }
+
+    /// Which path the renderer's frames take.
+    pub fn path(&self) -> ShadingPath {
+        if self.visibility.is_some() {
+            ShadingPath::Visibility
+        } else {
+            ShadingPath::Forward
+        }
     }
 
     /// Writes every object's uniforms for `view` (its camera, light, sky, placements and shadow casters) at
@@ -466,8 +520,9 @@ impl SceneRenderer {
         self.shows_background = view.behind.is_some();
         if let Some(environment) = &view.behind {
             if self.background.is_none() {
-                let mut pass =
-                    Guard::new(ctx, BackgroundPass::new(ctx, self.color_format, self.display_output, self.samples)?);
+                let under = self.visibility.is_some();
+                let pass = BackgroundPass::new(ctx, self.color_format, self.display_output, self.samples, under)?;
+                let mut pass = Guard::new(ctx, pass);
                 pass.set_exposure_scale(self.display_scale)?;
                 self.background = Some(pass.keep());
             }
@@ -480,6 +535,9 @@ impl SceneRenderer {
     /// Builds each material's shading pipeline for the current view's shadows where it has none yet.
     fn build_pipelines(&mut self, ctx: &Context) -> Result<()> {
         let shadows = self.shadows;
+        if self.visibility.is_some() {
+            self.build_visibility_pipelines(ctx)?;
+        }
         for m in &mut self.materials {
             let slot = &mut m.pipelines[usize::from(shadows)];
             if slot.is_some() {
@@ -499,7 +557,74 @@ impl SceneRenderer {
                 depth: Some((DEPTH_FORMAT, if self.depth.is_some() { DepthTest::Equal } else { DepthTest::Write })),
                 cull_back_faces: self.cull_back_faces,
                 samples: self.samples,
+                blend: Blend::Replace,
             })?);
+        }
+        Ok(())
+    }
+
+    /// Builds each material's visibility-buffer pipelines for the current view's shadows where it has none yet.
+    fn build_visibility_pipelines(&mut self, ctx: &Context) -> Result<()> {
+        let shadows = self.shadows;
+        let outputs =
+            |stages| Binding { binding: BINDING_VERTEX_OUTPUTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages };
+        let fragment = vk::ShaderStageFlags::FRAGMENT;
+        let mut raster_bindings = self.bindings.clone();
+        raster_bindings.push(outputs(vk::ShaderStageFlags::VERTEX));
+        let mut shade_bindings = self.bindings.clone();
+        shade_bindings.extend([
+            Binding {
+                binding: BINDING_VISIBILITY_IDS,
+                kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                stages: fragment,
+            },
+            outputs(fragment),
+            Binding { binding: BINDING_MESH_INDICES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: fragment },
+        ]);
+        let push_constant_size = std::mem::size_of::<VisibilityPush>() as u32;
+        for m in &mut self.materials {
+            let slot = &mut m.visibility_pipelines[usize::from(shadows)];
+            if slot.is_some() {
+                continue;
+            }
+            let (vertex, [one, several]) = m.visibility_recipe;
+            let fragment = if self.samples == vk::SampleCountFlags::TYPE_1 { one } else { several };
+            let specialization = m.recipe.2.clone().u32(SPEC_SHADOWS, u32::from(shadows));
+            let raster = Guard::new(
+                ctx,
+                ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                    name: super::pass::VISIBILITY,
+                    vertex,
+                    fragment: Some(shaders::VISIBILITY_FRAG),
+                    specialization: specialization.clone(),
+                    bindings: &raster_bindings,
+                    push_constant_size,
+                    vertex_stride: std::mem::size_of::<Vertex>() as u32,
+                    vertex_attributes: &VERTEX_ATTRIBUTES,
+                    color_format: vk::Format::R32_UINT,
+                    depth: Some((DEPTH_FORMAT, DepthTest::Write)),
+                    cull_back_faces: self.cull_back_faces,
+                    samples: self.samples,
+                    blend: Blend::Replace,
+                })?,
+            );
+            // One triangle over the viewport at the far plane (background.vert), tested behind the resolved depth.
+            let shade = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                name: Self::NAME,
+                vertex: shaders::BACKGROUND_VERT,
+                fragment: Some(fragment),
+                specialization,
+                bindings: &shade_bindings,
+                push_constant_size,
+                vertex_stride: 0,
+                vertex_attributes: &[],
+                color_format: self.color_format,
+                depth: Some((DEPTH_FORMAT, DepthTest::Behind)),
+                cull_back_faces: false,
+                samples: vk::SampleCountFlags::TYPE_1,
+                blend: Blend::Add,
+            })?;
+            *slot = Some((raster.keep(), shade));
         }
         Ok(())
     }
@@ -542,6 +667,10 @@ impl SceneRenderer {
             cmd,
             self.objects.iter().enumerate().map(|(i, o)| (&o.mesh, self.casters.get(i) == Some(&true))),
         );
+        if let Some(state) = &self.visibility {
+            self.record_visibility(ctx, cmd, target, background, (state, statistics, laps));
+            return;
+        }
         // Where the environment is drawn behind the objects, every sample is drawn: the colour needs no clear
         // (on a GPU, clearing a multisampled float target is much of what its samples cost).
         let covered = self.shows_background && self.background.is_some();
@@ -561,16 +690,7 @@ impl SceneRenderer {
         ctx.begin_label(cmd, pass::SHADING);
         for object in &self.objects {
             let material = &self.materials[object.material];
-            let [p, t, s] = material.patch.writes();
-            let mut writes = vec![
-                DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms),
-                p,
-                t,
-                s,
-                material.patch.moments_write(),
-                self.lighting.as_ref().expect("a filled renderer has its lighting").write(),
-            ];
-            writes.extend(shadow.writes());
+            let mut writes = self.object_writes(object);
             if let Some(counts) = counts.filter(|_| self.counting) {
                 writes.push(DescriptorWrite::StorageBuffer(BINDING_FETCH_COUNTS, counts));
             }
@@ -600,6 +720,149 @@ impl SceneRenderer {
         }
     }
 
+    /// The descriptors an object's shading reads: its uniforms, its material's patch, the lighting and the
+    /// shadow map.
+    fn object_writes<'a>(&'a self, object: &'a ObjectGpu) -> Vec<DescriptorWrite<'a>> {
+        let material = &self.materials[object.material];
+        let [p, t, s] = material.patch.writes();
+        let shadow = self.shadow.as_ref().expect("a filled renderer has a shadow map");
+        let mut writes = vec![
+            DescriptorWrite::UniformBuffer(BINDING_FRAME, &object.uniforms),
+            p,
+            t,
+            s,
+            material.patch.moments_write(),
+            self.lighting.as_ref().expect("a filled renderer has its lighting").write(),
+        ];
+        writes.extend(shadow.writes());
+        writes
+    }
+
+    /// [`Self::record_with`] through the visibility buffer: the raster pass into `state`'s ids and `target`'s
+    /// depth at the target's samples, then the shading pass into its one-sample image (the resolve image of a
+    /// multisampled target, whose own colour samples are left untouched), the background under it.
+    fn record_visibility(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        target: &TargetView,
+        background: [f32; 4],
+        (state, statistics, laps): (&VisibilityState, Option<&Statistics<'_>>, Laps<'_>),
+    ) {
+        debug_assert_eq!(state.ids.extent(), target.extent, "the visibility buffer is made for the target's size");
+        let shadows = usize::from(self.shadows);
+        let pipelines = |object: &ObjectGpu| {
+            let slot = self.materials[object.material].visibility_pipelines[shadows].as_ref();
+            slot.expect("update builds the view's pipelines before a frame is recorded")
+        };
+        let with_background = self.shows_background && self.background.is_some();
+        // Under an environment the objects add their colours to zero and the background goes under them; over a
+        // constant background each object takes its share of the background away (`surface_resolve.frag`).
+        let constant = if with_background { [0.0; 4] } else { background };
+        let push = |i: usize| VisibilityPush {
+            object: i as u32 + 1,
+            background_r: constant[0],
+            background_g: constant[1],
+            background_b: constant[2],
+            background_a: constant[3],
+        };
+        ctx.barrier_image(cmd, &state.ids, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
+        if let Some(coverage) = &state.coverage {
+            ctx.barrier_image(cmd, coverage, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        }
+        let depth = target.depth.expect("a scene's target has a depth buffer");
+        let full = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+        let ids = [vk::RenderingAttachmentInfo::default()
+            .image_view(state.ids.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { uint32: [0; 4] } })];
+        let far = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } };
+        let mut raster_depth = vk::RenderingAttachmentInfo::default()
+            .image_view(depth)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(if state.coverage.is_some() {
+                vk::AttachmentStoreOp::DONT_CARE
+            } else {
+                vk::AttachmentStoreOp::STORE
+            })
+            .clear_value(far);
+        if let (Some(coverage), Some(mode)) = (&state.coverage, state.resolve) {
+            raster_depth = raster_depth
+                .resolve_mode(mode)
+                .resolve_image_view(coverage.view)
+                .resolve_image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
+        }
+        let info = vk::RenderingInfo::default()
+            .render_area(full)
+            .layer_count(1)
+            .color_attachments(&ids)
+            .depth_attachment(&raster_depth);
+        // SAFETY: cmd is recording; the ids and depth images are in attachment layouts.
+        unsafe { super::begin_rendering_info(ctx, cmd, &info, target.extent, full) };
+        ctx.begin_label(cmd, pass::VISIBILITY);
+        for (i, object) in self.objects.iter().enumerate() {
+            let mut writes = self.object_writes(object);
+            writes.push(DescriptorWrite::StorageBuffer(BINDING_VERTEX_OUTPUTS, &state.outputs[i]));
+            ctx.bind(cmd, &pipelines(object).0, &writes, bytemuck::bytes_of(&push(i)));
+            object.mesh.draw(ctx, cmd);
+        }
+        ctx.end_label(cmd);
+        end_rendering(ctx, cmd);
+        laps.lap(cmd, pass::VISIBILITY);
+        ctx.barrier_image(cmd, &state.ids, ImageState::COLOR_ATTACHMENT, ImageState::SHADER_READ);
+        ctx.barrier_memory(cmd, VERTEX_STORAGE_WRITE, MemoryState::FRAGMENT_STORAGE);
+        ctx.barrier_memory(cmd, super::visibility::DEPTH_WRITTEN, super::visibility::DEPTH_TESTED);
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.resolve.unwrap_or(target.color))
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: constant } })];
+        // The coverage: the resolved depth, or the one-sample frame's own; where the device resolves neither way,
+        // depth 0 everywhere lets every pixel through.
+        let known = state.coverage.is_none() || state.resolve.is_some();
+        let shading_depth = vk::RenderingAttachmentInfo::default()
+            .image_view(state.coverage.as_ref().map_or(depth, |c| c.view))
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(if known { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR })
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+        let info = vk::RenderingInfo::default()
+            .render_area(full)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&shading_depth);
+        // SAFETY: cmd is recording; the colour and depth images are in attachment layouts.
+        unsafe { super::begin_rendering_info(ctx, cmd, &info, target.extent, full) };
+        if let Some(s) = statistics {
+            s.begin(cmd);
+        }
+        ctx.begin_label(cmd, pass::SHADING);
+        for (i, object) in self.objects.iter().enumerate() {
+            let mut writes = self.object_writes(object);
+            writes.extend([
+                DescriptorWrite::SampledImage(BINDING_VISIBILITY_IDS, &state.ids, &state.sampler),
+                DescriptorWrite::StorageBuffer(BINDING_VERTEX_OUTPUTS, &state.outputs[i]),
+                DescriptorWrite::StorageBuffer(BINDING_MESH_INDICES, &object.mesh.indices),
+            ]);
+            ctx.bind(cmd, &pipelines(object).1, &writes, bytemuck::bytes_of(&push(i)));
+            // SAFETY: cmd is recording inside a rendering scope with a full-screen pipeline bound.
+            unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
+        }
+        ctx.end_label(cmd);
+        if let Some(s) = statistics {
+            s.end(cmd);
+        }
+        if let Some(background) = self.background.as_ref().filter(|_| self.shows_background) {
+            background.record(ctx, cmd);
+        }
+        end_rendering(ctx, cmd);
+        laps.lap(cmd, pass::SHADING);
+    }
+
     /// What the uploads of the materials' tables (or Taylor terms) cost, material by material.
     pub fn uploads(&self) -> Vec<super::diffraction::Upload> {
         self.materials.iter().map(|m| m.patch.upload).collect()
@@ -620,9 +883,16 @@ impl SceneRenderer {
         if let Some(lighting) = self.lighting {
             lighting.destroy(ctx);
         }
+        if let Some(visibility) = self.visibility {
+            visibility.destroy(ctx);
+        }
         for m in self.materials {
             for p in m.pipelines.into_iter().flatten() {
                 p.destroy(ctx);
+            }
+            for (raster, shade) in m.visibility_pipelines.into_iter().flatten() {
+                raster.destroy(ctx);
+                shade.destroy(ctx);
             }
             m.patch.destroy(ctx);
         }
@@ -635,8 +905,9 @@ impl SceneRenderer {
 
 /// What a scene's frames are drawn into: what `render` reads back, or what `view` presents. The profiler times
 /// either (`--sweep target=linear,display`), so that a machine without a display measures the window's frames.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FrameTarget {
+    #[default]
     /// Linear RGB in 32-bit floats, exposure and display encoding left to the CPU (`render`, the profiler's
     /// default): 16 bytes per sample.
     Linear,

@@ -77,6 +77,19 @@ pub const BINDING_MOMENTS: u32 = 14;
 /// The environment without its sun, read by the surface pass at each pixel's mirror direction (its specular
 /// reflection: `render::surface`, `glsl/include/sky_diffraction.glsl`).
 pub const BINDING_ENV_LIGHT: u32 = 15;
+/// The visibility buffer (`render::visibility`): each sample's object and triangle (`VISIBILITY_OBJECT_SHIFT`), the
+/// vertex shader's outputs per vertex (`VERTEX_OUTPUT_VEC4S` each), and the mesh's indices, which the shading pass
+/// reads to rebuild a pixel's inputs.
+pub const BINDING_VISIBILITY_IDS: u32 = 16;
+pub const BINDING_VERTEX_OUTPUTS: u32 = 17;
+pub const BINDING_MESH_INDICES: u32 = 18;
+/// A visibility sample's id: (the object's index + 1) << this | the triangle's index in its mesh; 0 where no
+/// object is. So at most 255 objects of at most 2²⁴ − 1 triangles each.
+pub const VISIBILITY_OBJECT_SHIFT: u32 = 24;
+/// vec4s per vertex in the vertex outputs: the clip position, then the surface shader's inputs.
+pub const VERTEX_OUTPUT_VEC4S: u32 = 7;
+/// The most samples per pixel the visibility buffer's shading pass reads.
+pub const VISIBILITY_MAX_SAMPLES: u32 = 8;
 /// The moments' grid per axis and texture layers (`env_prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
 pub const MOMENT_GRID: u32 = 32;
 pub const MOMENT_LAYERS: u32 = 23;
@@ -162,9 +175,23 @@ pub struct SelftestPush {
     pub count: u32,
 }
 
+/// The visibility buffer's push constants (`VisibilityPush`, both passes): the drawn object's index + 1 (the top
+/// bits of its samples' ids), and the constant background the objects' colours are drawn over (linear RGBA; zero
+/// where an environment is drawn behind them instead).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct VisibilityPush {
+    pub object: u32,
+    pub background_r: f32,
+    pub background_g: f32,
+    pub background_b: f32,
+    pub background_a: f32,
+}
+
 // The push-constant blocks are generated from these structs by build.rs (PUSH_BLOCKS), which refuses a field GLSL
 // would place elsewhere; their sizes, for the pipelines' push-constant ranges:
 const _: () = assert!(std::mem::size_of::<MapPush>() == 24);
 const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
 const _: () = assert!(std::mem::size_of::<EnvMapPush>() == 72);
 const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);
+const _: () = assert!(std::mem::size_of::<VisibilityPush>() == 20);

@@ -142,6 +142,9 @@ pub struct Device {
     pub push_descriptor: ash::khr::push_descriptor::Device,
     pub debug_utils: Option<ash::ext::debug_utils::Device>,
     pub pipeline_statistics: bool,
+    /// Whether the device can draw a visibility buffer (`render::visibility`): a triangle's index in the fragment
+    /// shader (`geometryShader`) and stores from the vertex shader.
+    pub visibility_buffer: bool,
 }
 
 impl Device {
@@ -186,7 +189,13 @@ impl Device {
             .dynamic_rendering(true)
             .maintenance4(true);
         let pipeline_statistics = features.pipeline_statistics_query == vk::TRUE;
-        let base = vk::PhysicalDeviceFeatures::default().pipeline_statistics_query(pipeline_statistics);
+        let visibility_buffer =
+            features.geometry_shader == vk::TRUE && features.vertex_pipeline_stores_and_atomics == vk::TRUE;
+        let base = vk::PhysicalDeviceFeatures::default()
+            .pipeline_statistics_query(pipeline_statistics)
+            .geometry_shader(visibility_buffer)
+            .vertex_pipeline_stores_and_atomics(visibility_buffer)
+            .fragment_stores_and_atomics(features.fragment_stores_and_atomics == vk::TRUE);
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&ext_names)
@@ -206,6 +215,7 @@ impl Device {
             push_descriptor,
             debug_utils,
             pipeline_statistics,
+            visibility_buffer,
         })
     }
 

@@ -39,7 +39,7 @@ pub(crate) use guard::{Destroy, Guard};
 pub(crate) use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
 pub(crate) use pipeline::{
-    Binding, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    Binding, Blend, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
     VertexAttribute,
 };
 pub use query::{FrameTimes, PassProfile, ScopeTiming};
@@ -186,6 +186,11 @@ impl Context {
     /// Whether pipeline-statistics queries were enabled on this device.
     pub fn has_pipeline_statistics(&self) -> bool {
         self.device.pipeline_statistics
+    }
+
+    /// Whether the device can draw a visibility buffer (`render::visibility`).
+    pub fn has_visibility_buffer(&self) -> bool {
+        self.device.visibility_buffer
     }
 
     pub(crate) fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {

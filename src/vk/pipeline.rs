@@ -76,6 +76,24 @@ pub enum DepthTest {
     /// Only fragments at exactly the stored depth pass, without writing: the shading pass after a depth
     /// pre-pass, which so shades each pixel once (the vertex shader must declare `invariant gl_Position`).
     Equal,
+    /// Only fragments behind the stored depth pass (GREATER), without writing: a full-screen triangle at the far
+    /// plane that runs only where something was drawn (the visibility buffer's shading).
+    Behind,
+    /// The attachment is there but not tested.
+    Off,
+}
+
+/// How a graphics pipeline's colour output meets what the target holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// The output replaces it.
+    Replace,
+    /// The output is added to it (colour and alpha): the visibility buffer's objects, each adding its share of a
+    /// pixel.
+    Add,
+    /// The output is added under it, weighed by what its alpha leaves (1 − the target's alpha): a background
+    /// drawn after objects that wrote premultiplied colour and their coverage.
+    Under,
 }
 
 pub struct GraphicsPipelineDesc<'a> {
@@ -96,6 +114,7 @@ pub struct GraphicsPipelineDesc<'a> {
     pub cull_back_faces: bool,
     /// Samples per pixel of the attachments it draws into.
     pub samples: vk::SampleCountFlags,
+    pub blend: Blend,
 }
 
 pub struct ComputePipelineDesc<'a> {
@@ -247,7 +266,23 @@ impl Context {
             if desc.fragment.is_some() { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
         // A depth-only target (`color_format` UNDEFINED, the shadow map) has no colour attachment at all.
         let colorless = desc.color_format == vk::Format::UNDEFINED;
-        let blend_attachment = [vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes)];
+        let factors = match desc.blend {
+            Blend::Replace => None,
+            Blend::Add => Some((vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
+            Blend::Under => Some((vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::ONE)),
+        };
+        let mut attachment = vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes);
+        if let Some((src, dst)) = factors {
+            attachment = attachment
+                .blend_enable(true)
+                .src_color_blend_factor(src)
+                .dst_color_blend_factor(dst)
+                .color_blend_op(vk::BlendOp::ADD)
+                .src_alpha_blend_factor(src)
+                .dst_alpha_blend_factor(dst)
+                .alpha_blend_op(vk::BlendOp::ADD);
+        }
+        let blend_attachment = [attachment];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(if colorless {
             &[]
         } else {
@@ -366,8 +401,13 @@ fn raster_state(cull_back_faces: bool) -> vk::PipelineRasterizationStateCreateIn
 
 /// No depth test (None), a test that writes (LESS), or one that only passes the pre-pass's depth (EQUAL).
 fn depth_state(test: Option<DepthTest>) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+    let compare = match test {
+        Some(DepthTest::Equal) => vk::CompareOp::EQUAL,
+        Some(DepthTest::Behind) => vk::CompareOp::GREATER,
+        _ => vk::CompareOp::LESS,
+    };
     vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(test.is_some())
+        .depth_test_enable(test.is_some_and(|t| t != DepthTest::Off))
         .depth_write_enable(test == Some(DepthTest::Write))
-        .depth_compare_op(if test == Some(DepthTest::Equal) { vk::CompareOp::EQUAL } else { vk::CompareOp::LESS })
+        .depth_compare_op(compare)
 }

@@ -10,6 +10,7 @@ mod harness;
 mod scenes;
 mod shadow;
 mod surface;
+mod visibility;
 
 use diffract::render::preview::{render_offscreen, PreviewScene};
 use diffract::vk::DeviceSelector;

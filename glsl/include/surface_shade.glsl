@@ -1,0 +1,95 @@
+// The surface's shading (surface.frag: one fragment; surface_resolve.frag: one triangle of a visibility-buffer
+// pixel): diffraction (the thesis's approaches, or the baked table) plus the skin's pigment under the grating, lit
+// by the light the surface transmits (1 − R, Schlick; the thesis's texture blending, model.md §3.8) from the sun's
+// disc and from the sky above the horizon. Include after the diffraction, frame, shadow and sky includes.
+
+// What the vertex shader hands a surface point (surface.vert's outputs, interpolated).
+struct SurfaceInputs {
+    vec3 patch_light;
+    vec3 patch_view;
+    vec3 world_normal;
+    vec3 tint;
+    vec3 shadow_coord;
+    vec4 patch_axis;
+    vec3 sky_diffracted_at_vertex;
+};
+
+// SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
+// its glint in a mirror.
+
+// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`optics::transmittance`).
+float transmittance(float cos_theta) {
+    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
+    return 1.0 - (r0 + (1.0 - r0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0));
+}
+
+// The same averaged over a uniform sky's incidences (cosine-weighted): 1 − (R0 + (1 − R0)/21).
+float sky_transmittance() {
+    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
+    return 1.0 - (r0 + (1.0 - r0) / 21.0);
+}
+
+// The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the
+// profiler's reference adds it on the CPU). A Lambertian `albedo` under the skin's surface, lit through that
+// surface by the sun's disc (cos θ_i, times the share `sun_visible` of it that no shadow hides) and by a sky of
+// radiance `ambient` above the horizon with dark ground below (a surface whose normal makes cos = `normal_up` with
+// the world's up sees (1 + normal_up)/2 of it), and seen through it. A matte surface (`coated` false) has no skin:
+// the albedo is lit and seen directly.
+vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float ambient, float sun_visible,
+                 bool coated) {
+    if (omega_r.z <= 0.0) return vec3(0.0);
+    float sun = SUN_SOLID_ANGLE / PI * max(omega_i.z, 0.0) * sun_visible * (coated ? transmittance(omega_i.z) : 1.0);
+    float sky = ambient * 0.5 * (1.0 + normal_up) * (coated ? sky_transmittance() : 1.0);
+    return albedo * ((coated ? transmittance(omega_r.z) : 1.0) * (sun + sky));
+}
+
+// The environment's irradiance over π at the world normal `n`: the sum of its nine SH coefficients
+// (`physics::sh::Irradiance::over_pi`), never negative; zero where the scene has no environment.
+vec3 sky_over_pi(vec3 n) {
+    vec3 e = frame.sky_sh[0].rgb * 0.282095 + frame.sky_sh[1].rgb * (0.488603 * n.y)
+        + frame.sky_sh[2].rgb * (0.488603 * n.z) + frame.sky_sh[3].rgb * (0.488603 * n.x)
+        + frame.sky_sh[4].rgb * (1.092548 * n.x * n.y) + frame.sky_sh[5].rgb * (1.092548 * n.y * n.z)
+        + frame.sky_sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0)) + frame.sky_sh[7].rgb * (1.092548 * n.x * n.z)
+        + frame.sky_sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    return max(e, vec3(0.0));
+}
+
+// The pigment lit by the environment (`optics::pigment_sky_rgb`): through the skin both ways (unless matte), in
+// the environment's own colours (not the illuminant's white).
+vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky, bool coated) {
+    if (omega_r.z <= 0.0) return vec3(0.0);
+    return albedo * (coated ? transmittance(omega_r.z) * sky_transmittance() : 1.0) * sky;
+}
+
+// The linear RGB a surface point sends towards the camera; `footprint`: the pixel's footprint in (u, v), which
+// the baked table filters over (footprint.glsl; unused by the Taylor approaches).
+vec3 surface_colour(SurfaceInputs s, float footprint) {
+    vec3 omega_i = normalize(s.patch_light);
+    vec3 omega_r = normalize(s.patch_view);
+    // A matte material (a ground) has no grating and no skin: only its pigment.
+    bool coated = frame.orientation.w < 0.5;
+    // The sun's share that no shadow hides (1 where the scene has no shadow map).
+    float sun_visible = sun_visibility(s.shadow_coord);
+    vec3 rgb = vec3(0.0);
+    if (coated && sun_visible > 0.0) {
+#ifdef BAKED
+        rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
+#else
+        rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
+#endif
+        // 1 in relative units; under a physical light, the BRDF in sr⁻¹ times the sun's irradiance per unit of
+        // its radiance (`spectrum::diffraction_gain`).
+        rgb *= params.light_white.w * sun_visible;
+    }
+    vec3 normal = normalize(s.world_normal);
+    float normal_up = normal.y;
+    vec3 albedo = frame.pigment.rgb * s.tint;
+    rgb += pigment_rgb(omega_i, omega_r, normal_up, albedo, frame.pigment.w, sun_visible, coated) * params.light_white.rgb;
+    rgb += pigment_sky_rgb(omega_r, albedo, sky_over_pi(normal), coated);
+    if (coated) {
+        // The environment's own diffraction (no shadow: like the sky's light on the pigment, it is not occluded).
+        vec3 x = normalize(s.patch_axis.xyz - normal * dot(normal, s.patch_axis.xyz));
+        rgb += sky_diffraction(omega_r, x, s.patch_axis.w * cross(normal, x), normal, s.sky_diffracted_at_vertex);
+    }
+    return rgb;
+}

@@ -1,0 +1,182 @@
+//! The visibility buffer: a scene's multisampled frame shaded once per pixel and visible triangle.
+//!
+//! The forward pass ([`super::surface`]) draws a multisampled frame into a multisampled colour target, which is then
+//! resolved; on lavapipe it also shades the hidden layers of a snake's scales when it multisamples (Mesa's
+//! llvmpipe tests each sample's depth after running the shader), so four samples cost about three times one.
+//! This path splits the frame in two passes instead:
+//!
+//! 1. **The raster pass**, at the frame's samples: every object's triangles with the depth test (LESS, written),
+//!    writing per sample only which triangle it sees (`(object + 1) << VISIBILITY_OBJECT_SHIFT | triangle`, an
+//!    R32_UINT target; glsl/visibility.frag). The vertex shader is the forward pass's own (`surface.vert`'s
+//!    VISIBILITY variants), which also keeps each vertex's outputs in a buffer per object.
+//! 2. **The shading pass**, at one sample per pixel: per object, one full-screen triangle whose fragment shader
+//!    (glsl/surface_resolve.frag) finds the object's distinct triangles among the pixel's samples, rebuilds each
+//!    one's inputs at the pixel centre from its three vertices (perspective-correct barycentrics, as the
+//!    rasteriser interpolates them) and its footprint from the same triangle's plane one pixel across and down,
+//!    shades it with the forward pass's code (glsl/include/surface_shade.glsl) and weighs it by the share of the
+//!    samples it covers. The objects add into a one-sample target cleared to the background; an environment
+//!    behind them is drawn last, under what they left uncovered.
+//!
+//! A forward multisampled frame also shades each triangle once per pixel at its centre and averages over the
+//! samples it covers, so the two agree up to float rounding and the footprint's finite difference (the forward
+//! pass's derivatives come from 2×2 quads). `tests/gpu/visibility.rs` compares them.
+
+use ash::vk;
+
+use super::MeshBuffers;
+use crate::error::{Error, Result};
+use crate::shaders::interface::{VERTEX_OUTPUT_VEC4S, VISIBILITY_MAX_SAMPLES, VISIBILITY_OBJECT_SHIFT};
+use crate::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, MemoryState, Sampler};
+
+/// How a scene's frame is shaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadingPath {
+    /// Each object's fragments shaded as they are drawn, into a target of the frame's samples (then resolved).
+    #[default]
+    Forward,
+    /// Triangles first, then one shading per pixel and visible triangle (this module).
+    Visibility,
+}
+
+impl ShadingPath {
+    pub const NAMES: [&'static str; 2] = ["forward", "visibility"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Forward => "forward",
+            Self::Visibility => "visibility",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "forward" => Some(Self::Forward),
+            "visibility" => Some(Self::Visibility),
+            _ => None,
+        }
+    }
+}
+
+/// The vertex shader's storage writes, before the shading pass's fragment shader reads them.
+pub(crate) const VERTEX_STORAGE_WRITE: MemoryState =
+    MemoryState { stage: vk::PipelineStageFlags2::VERTEX_SHADER, access: vk::AccessFlags2::SHADER_STORAGE_WRITE };
+
+/// The raster pass's depth writes and its resolve, before the shading pass tests against the result.
+pub(crate) const DEPTH_WRITTEN: MemoryState = MemoryState {
+    stage: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw()
+            | vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT.as_raw(),
+    ),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw() | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE.as_raw(),
+    ),
+};
+pub(crate) const DEPTH_TESTED: MemoryState = MemoryState {
+    stage: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+    ),
+    access: vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
+};
+
+/// The largest triangle index a sample's id can hold.
+const MAX_TRIANGLES: u64 = (1 << VISIBILITY_OBJECT_SHIFT) - 1;
+/// The most objects the ids can tell apart (0 means none).
+const MAX_OBJECTS: usize = (1 << (32 - VISIBILITY_OBJECT_SHIFT)) - 1;
+
+/// The GPU state of the path for one frame size: the ids' target and each object's vertex outputs.
+pub(crate) struct VisibilityState {
+    pub ids: Image,
+    pub sampler: Sampler,
+    /// Where a multisampled frame's depth is resolved to one sample per pixel, below 1 wherever a sample shows
+    /// an object (`resolve`: MIN, or AVERAGE, whose mean of depths ≤ 1 is below 1 just as well), so that the
+    /// shading pass's full-screen triangle at the far plane skips the pixels no object covers (lavapipe then
+    /// skips whole blocks of them unshaded). None at one sample, where the frame's own depth serves.
+    pub coverage: Option<Image>,
+    /// How the depth is resolved; None where the device offers neither mode (every pixel is then shaded, and the
+    /// shader finds nothing to do where no object is).
+    pub resolve: Option<vk::ResolveModeFlags>,
+    /// Per object, in the scene's order.
+    pub outputs: Vec<Buffer>,
+}
+
+impl VisibilityState {
+    /// Checks that the device and the frame can take the path, and makes its target (`extent`, `samples`) and
+    /// the objects' output buffers.
+    pub fn new(
+        ctx: &Context,
+        extent: vk::Extent2D,
+        samples: vk::SampleCountFlags,
+        meshes: &[&MeshBuffers],
+    ) -> Result<Self> {
+        if !ctx.has_visibility_buffer() {
+            return Err(Error::Invalid(format!(
+                "{} cannot draw a visibility buffer (it lacks geometryShader or vertexPipelineStoresAndAtomics): \
+                 use the forward path",
+                ctx.info.name
+            )));
+        }
+        if samples.as_raw() > VISIBILITY_MAX_SAMPLES {
+            return Err(Error::Invalid(format!(
+                "the visibility buffer takes at most {VISIBILITY_MAX_SAMPLES} samples per pixel, not {}",
+                samples.as_raw()
+            )));
+        }
+        if meshes.len() > MAX_OBJECTS {
+            return Err(Error::Invalid(format!(
+                "the visibility buffer tells at most {MAX_OBJECTS} objects apart; the scene has {}",
+                meshes.len()
+            )));
+        }
+        if let Some((i, m)) = meshes.iter().enumerate().find(|(_, m)| u64::from(m.index_count / 3) > MAX_TRIANGLES) {
+            return Err(Error::Invalid(format!(
+                "object {i} has {} triangles; the visibility buffer takes at most {MAX_TRIANGLES} per object",
+                m.index_count / 3
+            )));
+        }
+        let mut desc =
+            ImageDesc::render_target(extent.width, extent.height, vk::Format::R32_UINT).multisampled(samples);
+        desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let ids = Guard::new(ctx, ctx.create_image(desc, "visibility ids")?);
+        let sampler = Guard::new(ctx, ctx.create_sampler("visibility ids")?);
+        let multisampled = samples != vk::SampleCountFlags::TYPE_1;
+        let resolve = if multisampled { depth_resolve_mode(ctx) } else { None };
+        let coverage = match multisampled {
+            true => Some(ctx.create_image(ImageDesc::depth(extent.width, extent.height), "visibility coverage")?),
+            false => None,
+        };
+        let coverage = Guard::new(ctx, coverage);
+        let mut outputs = Guard::new(ctx, Vec::with_capacity(meshes.len()));
+        for (i, mesh) in meshes.iter().enumerate() {
+            let size = u64::from(mesh.vertex_count) * u64::from(VERTEX_OUTPUT_VEC4S) * 16;
+            let desc = BufferDesc::gpu_only(size, vk::BufferUsageFlags::STORAGE_BUFFER);
+            outputs.push(ctx.create_buffer(desc, &format!("object {i} vertex outputs"))?);
+        }
+        let (ids, sampler, coverage, outputs) = (ids.keep(), sampler.keep(), coverage.keep(), outputs.keep());
+        Ok(Self { ids, sampler, coverage, resolve, outputs })
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.ids.destroy(ctx);
+        self.sampler.destroy(ctx);
+        if let Some(coverage) = self.coverage {
+            coverage.destroy(ctx);
+        }
+        for b in self.outputs {
+            b.destroy(ctx);
+        }
+    }
+}
+
+/// The depth resolve that tells covered pixels from empty ones: MIN, else AVERAGE (lavapipe's), else none.
+fn depth_resolve_mode(ctx: &Context) -> Option<vk::ResolveModeFlags> {
+    let mut resolve = vk::PhysicalDeviceDepthStencilResolveProperties::default();
+    let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut resolve);
+    // SAFETY: a plain query on the context's physical device.
+    unsafe { ctx.instance().get_physical_device_properties2(ctx.info.raw, &mut props) };
+    let modes = resolve.supported_depth_resolve_modes;
+    [vk::ResolveModeFlags::MIN, vk::ResolveModeFlags::AVERAGE].into_iter().find(|&m| modes.contains(m))
+}
+
+crate::impl_destroy!(VisibilityState);
