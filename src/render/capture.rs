@@ -114,7 +114,9 @@ impl SceneCapture {
     /// Draws the frames through a visibility buffer (`render::visibility`) instead of the forward pass.
     pub fn use_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
         let extent = ash::vk::Extent2D { width: self.width, height: self.height };
-        self.renderer.use_visibility_buffer(ctx, extent)
+        self.renderer.use_visibility_buffer(ctx, extent)?;
+        self.frames.for_visibility_buffer(ctx);
+        Ok(())
     }
 
     /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.

@@ -226,7 +226,20 @@ impl OffscreenTarget {
             Some(m) => (m.view, Some(self.color.view), m.desc.samples),
             None => (self.color.view, None, vk::SampleCountFlags::TYPE_1),
         };
+        // Without colour samples (`drop_color_samples`) the depth says how many the frame has.
+        let samples = self.depth.as_ref().map_or(samples, |d| d.desc.samples);
         TargetView { color, resolve, depth: self.depth.as_ref().map(|d| d.view), extent: self.color.extent(), samples }
+    }
+
+    /// Frees the colour samples of a multisampled target whose frames a visibility buffer draws
+    /// (`render::visibility`: only its depth is multisampled, and it shades straight into [`Self::color`]).
+    ///
+    /// # Safety
+    /// The GPU must be done with the target.
+    pub unsafe fn drop_color_samples(&mut self, ctx: &Context) {
+        if let Some(msaa) = self.msaa.take() {
+            msaa.destroy(ctx);
+        }
     }
 
     /// Puts the images into attachment layouts (their contents are discarded).

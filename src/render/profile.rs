@@ -311,7 +311,12 @@ impl<'a> SceneWorkload<'a> {
         let format = frame_target.format();
         let target = Guard::new(ctx, OffscreenTarget::multisampled(ctx, width, height, format, true, samples)?);
         let shade = SurfaceVariant::Shade { display_output: frame_target.display_output() };
+        let mut target = target;
         let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, (shade, path), &target)?);
+        if path == ShadingPath::Visibility {
+            // SAFETY: nothing has drawn into the target yet.
+            unsafe { target.drop_color_samples(ctx) };
+        }
         let readback = ctx.create_readback(&target.color)?;
         let (renderer, target) = (renderer.keep(), target.keep());
         Ok(Self { inputs, objects, view, renderer, target, readback, frame_target, width, height })
@@ -362,16 +367,26 @@ impl Workload for SceneWorkload<'_> {
 
     fn count_fetches(&mut self, ctx: &Context) -> Result<Vec<Counts>> {
         let variant = SurfaceVariant::CountFetches { stride: self.width };
-        // Counted forward: both paths shade each visible triangle of a pixel once, with the same fetches.
+        // Counted forward: both paths shade each visible triangle of a pixel once, with the same fetches. A
+        // visibility buffer's target has no colour samples, so the forward count draws into a target of its own.
         let forward = (variant, ShadingPath::Forward);
-        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, forward, &self.target)?;
-        let (target, background) = (&self.target, self.view.background);
+        let own = match self.renderer.path() {
+            ShadingPath::Forward => None,
+            ShadingPath::Visibility => {
+                let (format, samples) = (self.target.color.desc.format, self.target.view().samples);
+                Some(OffscreenTarget::multisampled(ctx, self.width, self.height, format, true, samples)?)
+            }
+        };
+        let own = Guard::new(ctx, own);
+        let target = own.as_ref().unwrap_or(&self.target);
+        let renderer = Self::renderer(ctx, &self.inputs, &self.objects, &self.view, forward, target)?;
+        let background = self.view.background;
         let counts = counted_frame(ctx, self.width, self.height, "surface (counting fetches)", |cmd, counts| {
             target.begin(ctx, cmd);
             let instruments = Instruments { counts: Some(counts), ..Instruments::default() };
             renderer.record_with(ctx, cmd, &target.view(), background, instruments);
         });
-        // SAFETY: counted_frame waited.
+        // SAFETY: counted_frame waited (and the guard destroys the target of its own).
         unsafe { renderer.destroy(ctx) };
         counts
     }

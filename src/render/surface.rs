@@ -969,6 +969,13 @@ impl OffscreenFrames {
         Ok(Self { target: target.keep(), readback, display_output })
     }
 
+    /// Frees the colour samples a renderer drawing through a visibility buffer does not use
+    /// ([`SceneRenderer::use_visibility_buffer`]); no submitted work may still use the target.
+    pub fn for_visibility_buffer(&mut self, ctx: &Context) {
+        // SAFETY: the caller promises the GPU is done with the target.
+        unsafe { self.target.drop_color_samples(ctx) };
+    }
+
     /// The colour format a [`SceneRenderer`] drawing into these frames must use.
     pub fn format(display_output: bool) -> vk::Format {
         if display_output {
