@@ -288,18 +288,23 @@ fn multisampled_counts_on_a_cpu_device_say_what_they_leave_out() {
     assert_eq!(multi.contains(note), on_cpu, "{multi}");
 }
 
+/// The blazed disk at 32×24, two frames per configuration of `--sweep samples=1,4 ITEM`, its error at 40 random
+/// pixels, with validation, into the CSV `name`: the report and the CSV parsed.
+fn profile_disk(name: &str, item: &str) -> (String, Csv) {
+    let (scene, csv) = (common::place::scene("blazed-disk.toml"), scratch(name));
+    let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "2", "--warmup", "0"];
+    let sweep = ["--sweep", "samples=1,4", item];
+    let o = diffract(&[&args[..], &sweep, &["--reference-pixels", "40", "--validation", "--csv", s(&csv)]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (String::from_utf8(o.stdout).unwrap(), read_csv(&csv))
+}
+
 /// `--sweep target=linear,display` times a scene's frames as `render` draws them (RGBA32F, read back, compared
 /// with the reference) and as `view` presents them (8-bit sRGB encoded by the shaders, timed only).
 #[test]
 fn a_scene_is_timed_into_the_linear_target_and_the_display_target() {
-    let (scene, csv) = (common::place::scene("blazed-disk.toml"), scratch("targets.csv"));
-    let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "2", "--warmup", "0"];
-    let sweep = ["--sweep", "samples=1,4", "target=linear,display"];
-    let o = diffract(&[&args[..], &sweep, &["--reference-pixels", "40", "--validation", "--csv", s(&csv)]].concat());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let stdout = String::from_utf8(o.stdout).unwrap();
+    let (stdout, table) = profile_disk("targets.csv", "target=linear,display");
     assert!(stdout.contains("- target display: the 8-bit sRGB frames a window presents"), "{stdout}");
-    let table = read_csv(&csv);
     let targets: Vec<(&str, &str)> =
         table.rows.iter().map(|r| (r["samples"].as_str(), r["frame_target"].as_str())).collect();
     assert_eq!(targets, [("1", "linear"), ("1", "display"), ("4", "linear"), ("4", "display")]);
@@ -314,12 +319,7 @@ fn a_scene_is_timed_into_the_linear_target_and_the_display_target() {
 
 #[test]
 fn a_scene_is_timed_on_the_forward_path_and_through_a_visibility_buffer() {
-    let (scene, csv) = (common::place::scene("blazed-disk.toml"), scratch("paths.csv"));
-    let args = ["profile", s(&scene), "--width", "32", "--height", "24", "--frames", "2", "--warmup", "0"];
-    let sweep = ["--sweep", "samples=1,4", "path=forward,visibility"];
-    let o = diffract(&[&args[..], &sweep, &["--reference-pixels", "40", "--validation", "--csv", s(&csv)]].concat());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table = read_csv(&csv);
+    let (_, table) = profile_disk("paths.csv", "path=forward,visibility");
     let paths: Vec<(&str, &str)> =
         table.rows.iter().map(|r| (r["samples"].as_str(), r["shading_path"].as_str())).collect();
     assert_eq!(paths, [("1", "forward"), ("1", "visibility"), ("4", "forward"), ("4", "visibility")]);

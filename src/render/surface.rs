@@ -771,7 +771,6 @@ impl SceneRenderer {
             ctx.barrier_image(cmd, coverage, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
         }
         let depth = target.depth.expect("a scene's target has a depth buffer");
-        let full = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
         let ids = [vk::RenderingAttachmentInfo::default()
             .image_view(state.ids.view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -795,13 +794,7 @@ impl SceneRenderer {
                 .resolve_image_view(coverage.view)
                 .resolve_image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
         }
-        let info = vk::RenderingInfo::default()
-            .render_area(full)
-            .layer_count(1)
-            .color_attachments(&ids)
-            .depth_attachment(&raster_depth);
-        // SAFETY: cmd is recording; the ids and depth images are in attachment layouts.
-        unsafe { super::begin_rendering_info(ctx, cmd, &info, target.extent, full) };
+        super::visibility::begin(ctx, cmd, &ids, &raster_depth, target.extent);
         ctx.begin_label(cmd, pass::VISIBILITY);
         for (i, object) in self.objects.iter().enumerate() {
             let mut writes = self.object_writes(object);
@@ -830,13 +823,7 @@ impl SceneRenderer {
             .load_op(if known { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR })
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
-        let info = vk::RenderingInfo::default()
-            .render_area(full)
-            .layer_count(1)
-            .color_attachments(&color)
-            .depth_attachment(&shading_depth);
-        // SAFETY: cmd is recording; the colour and depth images are in attachment layouts.
-        unsafe { super::begin_rendering_info(ctx, cmd, &info, target.extent, full) };
+        super::visibility::begin(ctx, cmd, &color, &shading_depth, target.extent);
         if let Some(s) = statistics {
             s.begin(cmd);
         }

@@ -169,6 +169,21 @@ impl VisibilityState {
     }
 }
 
+/// Begins rendering into `color` and `depth` (images in attachment layouts) over the whole `extent`.
+pub(crate) fn begin(
+    ctx: &Context,
+    cmd: vk::CommandBuffer,
+    color: &[vk::RenderingAttachmentInfo<'_>],
+    depth: &vk::RenderingAttachmentInfo<'_>,
+    extent: vk::Extent2D,
+) {
+    let full = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let info =
+        vk::RenderingInfo::default().render_area(full).layer_count(1).color_attachments(color).depth_attachment(depth);
+    // SAFETY: cmd is recording and the caller's attachments are in their attachment layouts.
+    unsafe { super::begin_rendering_info(ctx, cmd, &info, extent, full) };
+}
+
 /// The depth resolve that tells covered pixels from empty ones: MIN, else AVERAGE (lavapipe's), else none.
 fn depth_resolve_mode(ctx: &Context) -> Option<vk::ResolveModeFlags> {
     let mut resolve = vk::PhysicalDeviceDepthStencilResolveProperties::default();
