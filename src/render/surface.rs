@@ -17,7 +17,7 @@ use glam::{Mat4, Vec3};
 use super::background::BackgroundPass;
 use super::diffraction::{patch_bindings, PatchResources};
 use super::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
-use super::visibility::{ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
+use super::visibility::{self, ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
 use super::{
     begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
     DEPTH_FORMAT, LINEAR_FORMAT,
@@ -532,11 +532,12 @@ impl SceneRenderer {
         Ok(())
     }
 
-    /// Builds each material's shading pipeline for the current view's shadows where it has none yet.
+    /// Builds each material's shading pipeline for the current view's shadows where it has none yet (for the
+    /// path the renderer takes).
     fn build_pipelines(&mut self, ctx: &Context) -> Result<()> {
         let shadows = self.shadows;
         if self.visibility.is_some() {
-            self.build_visibility_pipelines(ctx)?;
+            return self.build_visibility_pipelines(ctx);
         }
         for m in &mut self.materials {
             let slot = &mut m.pipelines[usize::from(shadows)];
@@ -739,8 +740,8 @@ impl SceneRenderer {
     }
 
     /// [`Self::record_with`] through the visibility buffer: the raster pass into `state`'s ids and `target`'s
-    /// depth at the target's samples, then the shading pass into its one-sample image (the resolve image of a
-    /// multisampled target, whose own colour samples are left untouched), the background under it.
+    /// depth at the target's samples, then the shading pass into its one-sample colour (the resolve image of a
+    /// target that keeps colour samples, which are left untouched), the background under it.
     fn record_visibility(
         &self,
         ctx: &Context,
@@ -766,10 +767,11 @@ impl SceneRenderer {
             background_b: constant[2],
             background_a: constant[3],
         };
-        ctx.barrier_image(cmd, &state.ids, ImageState::UNDEFINED, ImageState::COLOR_ATTACHMENT);
+        ctx.barrier_image(cmd, &state.ids, visibility::IDS_READ, ImageState::COLOR_ATTACHMENT);
         if let Some(coverage) = &state.coverage {
-            ctx.barrier_image(cmd, coverage, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+            ctx.barrier_image(cmd, coverage, visibility::COVERAGE_TESTED, ImageState::DEPTH_ATTACHMENT);
         }
+        ctx.barrier_memory(cmd, visibility::OUTPUTS_READ, VERTEX_STORAGE_WRITE);
         let depth = target.depth.expect("a scene's target has a depth buffer");
         let ids = [vk::RenderingAttachmentInfo::default()
             .image_view(state.ids.view)
@@ -794,7 +796,7 @@ impl SceneRenderer {
                 .resolve_image_view(coverage.view)
                 .resolve_image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
         }
-        super::visibility::begin(ctx, cmd, &ids, &raster_depth, target.extent);
+        visibility::begin(ctx, cmd, &ids, &raster_depth, target.extent);
         ctx.begin_label(cmd, pass::VISIBILITY);
         for (i, object) in self.objects.iter().enumerate() {
             let mut writes = self.object_writes(object);
@@ -807,7 +809,7 @@ impl SceneRenderer {
         laps.lap(cmd, pass::VISIBILITY);
         ctx.barrier_image(cmd, &state.ids, ImageState::COLOR_ATTACHMENT, ImageState::SHADER_READ);
         ctx.barrier_memory(cmd, VERTEX_STORAGE_WRITE, MemoryState::FRAGMENT_STORAGE);
-        ctx.barrier_memory(cmd, super::visibility::DEPTH_WRITTEN, super::visibility::DEPTH_TESTED);
+        ctx.barrier_memory(cmd, visibility::DEPTH_WRITTEN, visibility::DEPTH_TESTED);
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(target.resolve.unwrap_or(target.color))
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -823,7 +825,7 @@ impl SceneRenderer {
             .load_op(if known { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR })
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
-        super::visibility::begin(ctx, cmd, &color, &shading_depth, target.extent);
+        visibility::begin(ctx, cmd, &color, &shading_depth, target.extent);
         if let Some(s) = statistics {
             s.begin(cmd);
         }

@@ -26,7 +26,7 @@ use ash::vk;
 use super::MeshBuffers;
 use crate::error::{Error, Result};
 use crate::shaders::interface::{VERTEX_OUTPUT_VEC4S, VISIBILITY_MAX_SAMPLES, VISIBILITY_OBJECT_SHIFT};
-use crate::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, MemoryState, Sampler};
+use crate::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, ImageState, MemoryState, Sampler};
 
 /// How a scene's frame is shaded.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -60,6 +60,20 @@ impl ShadingPath {
 /// The vertex shader's storage writes, before the shading pass's fragment shader reads them.
 pub(crate) const VERTEX_STORAGE_WRITE: MemoryState =
     MemoryState { stage: vk::PipelineStageFlags2::VERTEX_SHADER, access: vk::AccessFlags2::SHADER_STORAGE_WRITE };
+
+/// Where the previous frame left the ids (read by its shading pass), the coverage depth (tested there) and the
+/// vertex outputs (read there): this frame's raster pass writes them anew only after those reads.
+pub(crate) const IDS_READ: ImageState =
+    ImageState::new(vk::ImageLayout::UNDEFINED, vk::PipelineStageFlags2::FRAGMENT_SHADER, vk::AccessFlags2::NONE);
+pub(crate) const COVERAGE_TESTED: ImageState = ImageState::new(
+    vk::ImageLayout::UNDEFINED,
+    vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+    ),
+    vk::AccessFlags2::NONE,
+);
+pub(crate) const OUTPUTS_READ: MemoryState =
+    MemoryState { stage: vk::PipelineStageFlags2::FRAGMENT_SHADER, access: vk::AccessFlags2::NONE };
 
 /// The raster pass's depth writes and its resolve, before the shading pass tests against the result.
 pub(crate) const DEPTH_WRITTEN: MemoryState = MemoryState {
