@@ -449,7 +449,8 @@ impl SceneRenderer {
             // SAFETY: as above; `update` makes the pass again, drawn under the objects.
             unsafe { background.destroy(ctx) };
         }
-        self.build_pipelines(ctx)
+        // `update` builds the pipelines, for the shadows its view casts.
+        Ok(())
     }
 
     /// Which path the renderer's frames take.
