@@ -113,8 +113,9 @@ pub struct BackgroundPass {
 
 impl BackgroundPass {
     /// A pass drawing into `color_format` targets of `samples` (display-encoded with `display_output`), behind
-    /// the objects (an EQUAL depth test at the far plane); with `under`, into a one-sample target without depth,
-    /// under the premultiplied colours and coverage the objects left there (the visibility buffer's).
+    /// the objects (an EQUAL depth test at the far plane); with `under`, into a one-sample target whose depth it
+    /// leaves untested, under the premultiplied colours and coverage the objects left there (the visibility
+    /// buffer's).
     pub fn new(
         ctx: &Context,
         color_format: vk::Format,
