@@ -233,3 +233,32 @@ fn gen_snake_writes_an_obj_a_scene_can_use() {
         .status
         .success());
 }
+
+/// `--path auto` (the default) draws a multisampled frame through the visibility buffer on lavapipe, where it was
+/// measured faster, and forward at one sample or on a GPU; a chosen path is taken as chosen. The two paths'
+/// pictures agree (the GPU tests compare them closely).
+#[test]
+fn the_default_path_is_the_visibility_buffer_on_lavapipe_at_several_samples() {
+    let device = common::place::test_device();
+    let render = |extra: &[&str], name: &str| {
+        let out = scratch(name);
+        let mut args = vec!["render", "--out", s(&out), "--width", "32", "--height", "32", "--validation"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--device", &device]);
+        let o = diffract(&args);
+        let text = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !text.contains("validation"), "{text}");
+        (text.contains("through a visibility buffer"), image::open(&out).unwrap().to_rgb8())
+    };
+    let (auto, auto_image) = render(&["--samples", "4"], "auto.png");
+    assert_eq!(auto, common::place::on_lavapipe(), "auto at 4 samples: visibility on lavapipe, forward on a GPU");
+    assert!(!render(&["--samples", "1"], "one.png").0, "one sample: forward");
+    let (chosen, forward_image) = render(&["--samples", "4", "--path", "forward"], "forward.png");
+    assert!(!chosen, "--path forward is taken as chosen");
+    assert!(render(&["--samples", "4", "--path", "visibility"], "visibility.png").0);
+    let differences = auto_image.pixels().zip(forward_image.pixels());
+    let mean =
+        differences.map(|(a, b)| a.0.iter().zip(b.0).map(|(&x, y)| x.abs_diff(y) as f64).sum::<f64>()).sum::<f64>()
+            / (3.0 * 32.0 * 32.0);
+    assert!(mean < 2.0, "the paths' pictures agree: mean 8-bit difference {mean}");
+}

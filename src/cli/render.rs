@@ -53,11 +53,12 @@ pub struct RenderArgs {
     /// Draw the scene lit without diffraction (fast: for framing the camera)
     #[arg(long)]
     pub preview: bool,
-    /// How the frame is shaded: forward (each fragment as it is drawn) or visibility (the triangles first, then
+    /// How the frame is shaded: forward (each fragment as it is drawn), visibility (the triangles first, then
     /// each pixel's visible triangles shaded once: on lavapipe the default scene's 4-sample frame in about 0.6 of
-    /// the time, at the same error against the exact reference)
-    #[arg(long, value_name = "PATH", default_value = "forward", value_parser = parse_path, conflicts_with = "preview")]
-    pub path: ShadingPath,
+    /// the time, at the same error against the exact reference), or auto: visibility on a CPU device at 2 to 8
+    /// samples, forward at one sample and on GPUs (not measured there yet)
+    #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_path, conflicts_with = "preview")]
+    pub path: PathChoice,
     /// Let a sequence replace frames (NAME_0001.png, …) that exist already; without it a sequence refuses to
     /// overwrite a file it did not create
     #[arg(long)]
@@ -100,11 +101,23 @@ fn check_sequence_names(args: &RenderArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `--turn-deg`: an angle in (0, 360].
-fn parse_path(s: &str) -> std::result::Result<ShadingPath, String> {
-    ShadingPath::parse(s).ok_or_else(|| format!("the shading path is {}", ShadingPath::NAMES.join(" or ")))
+/// `--path`: a shading path, or `auto` for the one [`ShadingPath::for_frame`] picks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathChoice {
+    Auto,
+    Fixed(ShadingPath),
 }
 
+fn parse_path(s: &str) -> std::result::Result<PathChoice, String> {
+    if s == "auto" {
+        return Ok(PathChoice::Auto);
+    }
+    ShadingPath::parse(s)
+        .map(PathChoice::Fixed)
+        .ok_or_else(|| format!("the shading path is auto, {}", ShadingPath::NAMES.join(" or ")))
+}
+
+/// `--turn-deg`: an angle in (0, 360].
 fn parse_turn(text: &str) -> Result<f32, String> {
     match text.parse::<f32>() {
         Ok(deg) if deg > 0.0 && deg <= 360.0 => Ok(deg),
@@ -184,11 +197,20 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
-    if args.path == ShadingPath::Visibility {
+    let mut path = match args.path {
+        PathChoice::Fixed(path) => path,
+        PathChoice::Auto => ShadingPath::for_frame(&ctx, samples),
+    };
+    if path == ShadingPath::Visibility {
         if let Err(e) = capture.use_visibility_buffer(&ctx) {
-            // SAFETY: nothing was submitted with it.
-            unsafe { capture.destroy(&ctx) };
-            return Err(e.into());
+            if args.path != PathChoice::Auto {
+                // SAFETY: nothing was submitted with it.
+                unsafe { capture.destroy(&ctx) };
+                return Err(e.into());
+            }
+            // The scene is beyond the visibility buffer's limits (objects, triangles): the forward path draws it.
+            eprintln!("drawing forward: {e}");
+            path = ShadingPath::Forward;
         }
     }
     let uploads = capture.uploads();
@@ -214,7 +236,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         "wrote {what} ({width}×{height}, {} sample(s) per pixel{}, {} object(s), {} material(s); precompute \
          {prep_ms:.0} ms{median} on {}{first_use})",
         samples.as_raw(),
-        if args.path == ShadingPath::Visibility { " through a visibility buffer" } else { "" },
+        if path == ShadingPath::Visibility { " through a visibility buffer" } else { "" },
         scene.objects.len(),
         scene.materials.len(),
         ctx.info.name

@@ -57,6 +57,23 @@ impl ShadingPath {
     }
 }
 
+impl ShadingPath {
+    /// The path a frame of `samples` per pixel takes on `ctx`'s device when the user does not choose: the
+    /// visibility buffer on a CPU device (lavapipe) at 2 to 8 samples, where it was measured faster
+    /// (docs/performance.md: the default scene's 4-sample frame at 800² in 0.57–0.59 of the forward path's time,
+    /// a lone frame in about half once Mesa's shader cache holds its shaders, at the same error against the exact
+    /// reference); forward at one sample, where the two cost the same, and on GPUs, where the visibility buffer
+    /// is not measured yet.
+    pub fn for_frame(ctx: &Context, samples: vk::SampleCountFlags) -> Self {
+        let cpu = ctx.info.kind == vk::PhysicalDeviceType::CPU;
+        let multisampled = (2..=VISIBILITY_MAX_SAMPLES).contains(&samples.as_raw());
+        match cpu && multisampled && ctx.has_visibility_buffer() {
+            true => Self::Visibility,
+            false => Self::Forward,
+        }
+    }
+}
+
 /// The vertex shader's storage writes, before the shading pass's fragment shader reads them.
 pub(crate) const VERTEX_STORAGE_WRITE: MemoryState =
     MemoryState { stage: vk::PipelineStageFlags2::VERTEX_SHADER, access: vk::AccessFlags2::SHADER_STORAGE_WRITE };
