@@ -55,9 +55,7 @@ impl ShadingPath {
             _ => None,
         }
     }
-}
 
-impl ShadingPath {
     /// The path a frame of `samples` per pixel takes on `ctx`'s device when the user does not choose: the
     /// visibility buffer on a CPU device (lavapipe) at 2 to 8 samples, where it was measured faster
     /// (docs/performance.md: the default scene's 4-sample frame at 800² in 0.57–0.59 of the forward path's time,
