@@ -262,3 +262,34 @@ fn the_default_path_is_the_visibility_buffer_on_lavapipe_at_several_samples() {
             / (3.0 * 32.0 * 32.0);
     assert!(mean < 2.0, "the paths' pictures agree: mean 8-bit difference {mean}");
 }
+
+/// A scene beyond the visibility buffer's limits (256 objects; its ids tell 255 apart): `auto` draws it forward
+/// and says why in one line, and `--path visibility` refuses it in one line.
+#[test]
+fn a_scene_beyond_the_visibility_buffers_limits_is_drawn_forward_unless_that_path_is_chosen() {
+    let dir = scratch("many");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut text = String::from(
+        "[camera]\nposition = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 40.0\n[light]\n\
+         direction = [0.0, 0.0, 1.0]\n[material.m]\ngenerate = \"flat\"\nsize_um = 2.0\npigment = [0.5, 0.5, 0.5]\n",
+    );
+    text += &"[[object]]\nshape = \"plane\"\nmaterial = \"m\"\n".repeat(256);
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("many.png");
+    let device = common::place::test_device();
+    let args = ["render", s(&scene), "--out", s(&out), "--width", "16", "--height", "16", "--samples", "4"];
+    let o = diffract(&[&args[..], &["--validation", "--device", &device]].concat());
+    let text = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !text.contains("validation"), "{text}");
+    assert!(!text.contains("through a visibility buffer"), "{text}");
+    if common::place::on_lavapipe() {
+        assert!(text.contains("drawing forward: the visibility buffer tells at most 255 objects apart"), "{text}");
+    }
+    // Refused once the scene is prepared (the material's table line comes first): the last line says why.
+    let chosen = diffract(&[&args[..], &["--path", "visibility", "--device", &device]].concat());
+    let err = String::from_utf8_lossy(&chosen.stderr);
+    assert!(!chosen.status.success() && !err.contains("panicked"), "{err}");
+    let last = err.trim_end().lines().last().unwrap_or_default();
+    assert!(last.starts_with("error: ") && last.contains("at most 255 objects"), "{err}");
+}
