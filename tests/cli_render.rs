@@ -234,6 +234,15 @@ fn gen_snake_writes_an_obj_a_scene_can_use() {
         .success());
 }
 
+/// Runs `diffract` (with `--validation` among `args`), checks that it succeeds without a validation message and
+/// returns what it printed, stdout then stderr.
+fn render_clean(args: &[&str]) -> String {
+    let o = diffract(args);
+    let text = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && !text.contains("validation"), "{text}");
+    text
+}
+
 /// `--path auto` (the default) draws a multisampled frame through the visibility buffer on lavapipe, where it was
 /// measured faster, and forward at one sample or on a GPU; a chosen path is taken as chosen. The two paths'
 /// pictures agree (the GPU tests compare them closely).
@@ -245,9 +254,7 @@ fn the_default_path_is_the_visibility_buffer_on_lavapipe_at_several_samples() {
         let mut args = vec!["render", "--out", s(&out), "--width", "32", "--height", "32", "--validation"];
         args.extend_from_slice(extra);
         args.extend_from_slice(&["--device", &device]);
-        let o = diffract(&args);
-        let text = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success() && !text.contains("validation"), "{text}");
+        let text = render_clean(&args);
         (text.contains("through a visibility buffer"), image::open(&out).unwrap().to_rgb8())
     };
     let (auto, auto_image) = render(&["--samples", "4"], "auto.png");
@@ -264,7 +271,7 @@ fn the_default_path_is_the_visibility_buffer_on_lavapipe_at_several_samples() {
 }
 
 /// A scene beyond the visibility buffer's limits (256 objects; its ids tell 255 apart): `auto` draws it forward
-/// and says why in one line, and `--path visibility` refuses it in one line.
+/// and says why in one line, and `--path visibility` refuses it, its last line saying why.
 #[test]
 fn a_scene_beyond_the_visibility_buffers_limits_is_drawn_forward_unless_that_path_is_chosen() {
     let dir = scratch("many");
@@ -279,9 +286,7 @@ fn a_scene_beyond_the_visibility_buffers_limits_is_drawn_forward_unless_that_pat
     let out = dir.join("many.png");
     let device = common::place::test_device();
     let args = ["render", s(&scene), "--out", s(&out), "--width", "16", "--height", "16", "--samples", "4"];
-    let o = diffract(&[&args[..], &["--validation", "--device", &device]].concat());
-    let text = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success() && !text.contains("validation"), "{text}");
+    let text = render_clean(&[&args[..], &["--validation", "--device", &device]].concat());
     assert!(!text.contains("through a visibility buffer"), "{text}");
     if common::place::on_lavapipe() {
         assert!(text.contains("drawing forward: the visibility buffer tells at most 255 objects apart"), "{text}");
