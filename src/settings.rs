@@ -19,6 +19,7 @@
 
 use crate::env_prefilter::SkyAt;
 use crate::error::{Error, Result};
+use crate::physics::baked::sample::TableMips;
 use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::taylor::DEFAULT_TOLERANCE;
@@ -86,6 +87,15 @@ impl SettingValue for Approach {
 impl SettingValue for SkyAt {
     fn parse(text: &str) -> std::result::Result<Self, String> {
         parse_named(text, &SkyAt::ALL, SkyAt::name, "choices")
+    }
+    fn show(&self) -> String {
+        self.name().to_string()
+    }
+}
+
+impl SettingValue for TableMips {
+    fn parse(text: &str) -> std::result::Result<Self, String> {
+        parse_named(text, &TableMips::ALL, TableMips::name, "choices")
     }
     fn show(&self) -> String {
         self.name().to_string()
@@ -446,6 +456,11 @@ settings! {
     /// vertices, interpolated; the specular part per pixel) or pixel (all of it per pixel)
     sky_at: value<SkyAt> = SkyAt::Vertex, check any,
         flag "sky-at", value_name "WHERE";
+    /// Baked: how a frame reads the table between its mip levels: linear (trilinear, two levels blended), nearest
+    /// (the nearest level: half the texel reads) or auto (nearest on a CPU device, where it costs a tenth of the
+    /// default scene's frame and measured the same error; linear on a GPU)
+    table_mips: value<TableMips> = TableMips::Auto, check any,
+        flag "table-mips", value_name "FILTER";
 }
 
 /// A flag's help: the setting's doc on one line and its default.

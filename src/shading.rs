@@ -306,16 +306,6 @@ impl Material {
         self.params.display[0] = exposure_ev.exp2() as f32;
     }
 
-    /// Texels one BRDF evaluation reads at most: FLSS/PQ's Taylor terms (NMM and gem vary per pixel), or the
-    /// baked table's layers, each a trilinear sample of 2 × 4 texels.
-    pub fn fetches_per_evaluation(&self) -> usize {
-        if self.table.is_some() {
-            return self.layers as usize * TRILINEAR_TEXELS;
-        }
-        let taps = (2 * self.window.radius_x as usize + 1) * (2 * self.window.radius_y as usize + 1);
-        self.sampling.count * self.layers as usize * taps
-    }
-
     /// One line on the baked table (its plan, and how long it took), for the commands' reports.
     pub fn table_line(&self) -> Option<String> {
         let (plan, table) = (self.table_plan.as_ref()?, self.table.as_ref()?);
@@ -415,9 +405,6 @@ impl Baked {
         Ok(Self { table, plan, ms, cached, uv, w })
     }
 }
-
-/// Texels a trilinear sample reads: 2 × 2 in each of two mip levels (what the counting shaders add per fetch).
-pub(crate) const TRILINEAR_TEXELS: usize = 8;
 
 const VISIBLE_MIN_UM: f64 = spectrum::VISIBLE_MIN_NM * 1e-3;
 

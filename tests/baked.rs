@@ -3,6 +3,7 @@
 //! "Exact" is `Reference` with `Method::Exact` (the DFT of exp(i·k·w·h) itself at the window's bins, no Taylor
 //! series, no FFT) or, where a patch is too large for that, the f64 Taylor sum to 10⁻¹⁰; both at 1 nm steps.
 
+use diffract::physics::baked::sample::{MipFilter, TableMips};
 use diffract::physics::baked::{
     build, cache, Domain, Grid, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE, FOOTPRINT_LOD_BIAS,
 };
@@ -157,6 +158,34 @@ fn a_pixel_footprint_picks_the_level_a_third_of_its_variance_finer() {
     assert_eq!(table.lod(f64::NAN), 0.0);
     assert!((table.lod(8.0 * t) - (3.0 - FOOTPRINT_LOD_BIAS)).abs() < 1e-12);
     assert_eq!(table.lod(1e9 * t), (table.levels.len() - 1) as f64, "clamped to the coarsest level");
+}
+
+#[test]
+fn the_nearest_mip_filter_reads_the_level_nearest_the_lod_and_auto_takes_it_on_a_cpu_device() {
+    let hf = dense();
+    let (_, table) = map_table(&hf, 2.4, 8);
+    assert!(table.levels.len() >= 3, "{} levels", table.levels.len());
+    let g = &table.grid;
+    let w = 0.5 * (g.w.0 + g.w.1);
+    // Points between texel centres, where a level's bilinear read differs from its neighbours'.
+    for (fu, fv) in [(0.37, 0.61), (0.52, 0.23), (0.81, 0.77)] {
+        let uvw = DVec3::new(g.u0 + fu * g.nu as f64 * g.texel, g.v0 + fv * g.nv as f64 * g.texel, w);
+        for (lod, level) in [(0.3, 0.0), (0.7, 1.0), (1.2, 1.0), (1.6, 2.0)] {
+            assert_eq!(table.xyz_filtered(uvw, lod, MipFilter::Nearest), table.xyz(uvw, level), "lod {lod}");
+        }
+        // Trilinear blends the two levels: at lod 1.25 it is a quarter of the way from level 1 to level 2.
+        let (one, two) = (table.xyz(uvw, 1.0), table.xyz(uvw, 2.0));
+        assert!((one - two).abs().max_element() > 1e-9 * one.abs().max_element(), "the levels differ here");
+        let blended = table.xyz_filtered(uvw, 1.25, MipFilter::Linear);
+        assert!((blended - (one + 0.25 * (two - one))).abs().max_element() <= 1e-12 + 1e-9 * one.max_element());
+    }
+    assert_eq!(TableMips::Auto.filter(true), MipFilter::Nearest);
+    assert_eq!(TableMips::Auto.filter(false), MipFilter::Linear);
+    for cpu in [false, true] {
+        assert_eq!(TableMips::Linear.filter(cpu), MipFilter::Linear);
+        assert_eq!(TableMips::Nearest.filter(cpu), MipFilter::Nearest);
+    }
+    assert_eq!([MipFilter::Linear, MipFilter::Nearest].map(MipFilter::texels_per_read), [8, 4]);
 }
 
 #[test]

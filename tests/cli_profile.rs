@@ -154,9 +154,11 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
         );
     }
     // Baked: every disk pixel reads each of the table's RGBA layers (3 channels × its terms in w, four to a
-    // layer) once, a trilinear sample of 8 texels; that is all it fetches.
+    // layer) once, a sample of 4 texels from the nearest mip level on lavapipe (`table_mips = "auto"`), of 8 from
+    // two levels on a GPU; that is all it fetches.
     let layers = (3.0 * number(baked, "table_terms") / 4.0).ceil();
-    let expected = disk * layers * 8.0 / 1024.0;
+    let texels = if common::place::on_lavapipe() { 4.0 } else { 8.0 };
+    let expected = disk * layers * texels / 1024.0;
     assert!(
         (number(baked, "fetches_per_pixel") - expected).abs() < 0.06,
         "{} vs {expected}",
@@ -333,9 +335,12 @@ fn a_scene_is_timed_on_the_forward_path_and_through_a_visibility_buffer() {
         assert!(number(row, "shading_ms_median") > 0.0, "{row:?}");
         assert!(row["label"].ends_with(if visibility { "visibility" } else { "forward" }), "{row:?}");
     }
+    // The two paths take a pixel's footprint in (u, v) from the screen's derivatives and from the triangle's plane,
+    // and the table's mip level from it: where a device reads the nearest level (lavapipe), a small difference in
+    // the footprint can pick the other level (measured: 0.871 against 0.812 at 4 samples).
     for pair in table.rows.chunks(2) {
         let (forward, visibility) = (number(&pair[0], "mean_de2000"), number(&pair[1], "mean_de2000"));
-        assert!((forward - visibility).abs() < 0.05 * forward.max(1.0), "{forward} against {visibility}");
+        assert!((forward - visibility).abs() < 0.1 * forward.max(1.0), "{forward} against {visibility}");
     }
     let map = diffract(&["profile", "--heightfield", s(&grating()), "--width", "8", "--sweep", "path=visibility"]);
     assert!(!map.status.success());
@@ -464,6 +469,34 @@ fn a_reference_at_random_pixels_estimates_the_whole_image() {
         "{:?}",
         sampled.comments
     );
+}
+
+/// The baked table read from its nearest mip level (what `table_mips = "auto"` takes on lavapipe) counts half the
+/// texels of a trilinear read, and matches the exact reference as well (docs/performance.md: the same error at 800²
+/// in every scene measured). At 32² most footprints span several texels, so the levels' choice matters here.
+#[test]
+fn the_table_read_from_its_nearest_level_takes_half_the_texels_at_the_same_error() {
+    let table = profile_scene_with(
+        "elaphe-snake-sun.toml",
+        (32, 32),
+        1,
+        "baked",
+        "mips.csv",
+        &["--sweep", "table_mips=linear,nearest"],
+    );
+    let [auto, linear, nearest] = &table.rows[..] else { panic!("three rows: {:?}", table.rows) };
+    assert_eq!((linear["table_mips"].as_str(), nearest["table_mips"].as_str()), ("linear", "nearest"));
+    // `auto` is the nearest level on lavapipe and both levels on a GPU: the same pixels, counted the same.
+    let same = if common::place::on_lavapipe() { nearest } else { linear };
+    for column in ["fetches_per_pixel", "mean_de2000", "p99_de2000"] {
+        assert_eq!(auto[column], same[column], "{column}: {auto:?} vs {same:?}");
+    }
+    let fetches = |row| number(row, "fetches_per_pixel");
+    assert!(fetches(nearest) > 0.0, "{nearest:?}");
+    assert!((fetches(linear) - 2.0 * fetches(nearest)).abs() <= 0.11, "{linear:?} vs {nearest:?}");
+    let de = |row| number(row, "mean_de2000");
+    // (At 32² the scales are a pixel or two: both are far from the reference, 14.8 against 14.9 when written.)
+    assert!(de(nearest) <= 1.05 * de(linear) + 0.05, "ΔE00 {} vs {}", de(nearest), de(linear));
 }
 
 /// Under the clear sky (physical units, the pigment lit by the sky's nine SH coefficients, the model's sun) FLSS

@@ -373,6 +373,7 @@ fn hostile_flags() {
         render("window radius 4e9", &["--window-radius", "4000000000"], "window radius"),
         render("unknown approach", &["--approach", "magic"], "magic"),
         render("sky at nowhere", &["--sky-at", "sideways"], "vertex, pixel"),
+        render("table mips cubic", &["--table-mips", "cubic"], "auto, linear, nearest"),
         case(
             "map: sky at",
             &["map", "--heightfield", "good.gsf", "--light-theta", "0", "--out", "OUT/keep.png", "--sky-at", "pixel"],

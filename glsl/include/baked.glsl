@@ -5,8 +5,9 @@
 
 // RGBA layers of the table: 3 channels × TERMS coefficients, four to a layer (`baked::layers_for`).
 const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
-// Texels a trilinear sample reads (`shading::TRILINEAR_TEXELS`): what the counting variant adds per fetch.
-const uint TRILINEAR_TEXELS = 8u;
+// Texels a read of the table takes (`MipFilter::texels_per_read`: 8 trilinear, 4 from the nearest level): what
+// the counting variants add per read.
+layout(constant_id = SPEC_TABLE_TEXELS) const uint TABLE_TEXELS = 8u;
 
 // How much finer than a pixel's footprint the mip level is chosen (FOOTPRINT_LOD_BIAS, from interface.glsl): a
 // trilinear fetch averages a level's texels (a box, variance T²/12) and interpolates between them (a tent, T²/6);
@@ -38,7 +39,7 @@ vec3 baked_xyz(vec3 uvw, float lod) {
         }
     }
 #ifdef COUNT_FETCHES
-    fetch_count += TABLE_LAYERS * TRILINEAR_TEXELS;
+    fetch_count += TABLE_LAYERS * TABLE_TEXELS;
 #endif
     return max(xyz, vec3(0.0));
 }

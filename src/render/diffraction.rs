@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::{begin_rendering, end_rendering, OffscreenTarget, TargetView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
+use crate::physics::baked::sample::MipFilter;
 use crate::physics::spectrum;
 use crate::physics::Query;
 use crate::progress::Progress;
@@ -14,11 +15,12 @@ use crate::shaders;
 use crate::shaders::interface::{
     EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_MAP_IMAGE, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS,
     BINDING_SPECTRUM, BINDING_TABLE, LOCAL_SIZE_X, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT, SPEC_MAP_LOCAL_SIZE,
+    SPEC_TABLE_TEXELS,
 };
 use crate::shading::Material;
 use crate::vk::{
     Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard,
-    Image, ImageDesc, ImageState, MemoryState, Pipeline, Sampler,
+    Image, ImageDesc, ImageState, MemoryState, Pipeline, Sampler, SpecConstants,
 };
 
 /// Rows per submission of a BRDF map: keeps each submission short (no driver watchdog) and lets long maps
@@ -70,6 +72,21 @@ pub struct Upload {
     pub wall_ms: f64,
 }
 
+/// How `ctx`'s frames read `material`'s baked table between its mip levels (its `table_mips` setting).
+pub(crate) fn table_filter(ctx: &Context, material: &Material) -> MipFilter {
+    material.settings.table_mips.filter(ctx.info.kind == vk::PhysicalDeviceType::CPU)
+}
+
+/// `material`'s specialization constants for a counting variant on `ctx` (texels per table read).
+pub(crate) fn counting_constants(
+    ctx: &Context,
+    material: &Material,
+    specialization: SpecConstants,
+    stride: u32,
+) -> SpecConstants {
+    specialization.u32(SPEC_COUNT_STRIDE, stride).u32(SPEC_TABLE_TEXELS, table_filter(ctx, material).texels_per_read())
+}
+
 impl PatchResources {
     pub fn new(ctx: &Context, material: &Material) -> Result<Self> {
         let limits = &ctx.info.limits;
@@ -85,7 +102,7 @@ impl PatchResources {
                 let (w, h) = (table.grid.nu as u32, table.grid.nv as u32);
                 let desc = ImageDesc::texture_array(w, h, table.layers() as u32, TABLE_FORMAT)
                     .with_mips(table.levels.len() as u32);
-                ("baked table", desc, "baked table (trilinear)")
+                ("baked table", desc, "baked table")
             }
             None => {
                 let (nx, ny) = (material.nx as u32, material.ny as u32);
@@ -121,7 +138,11 @@ impl PatchResources {
             gpu_ms,
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         };
-        let sampler = Guard::new(ctx, ctx.create_filtered_sampler(sampler_name, material.table.is_some())?);
+        let sampler = match material.table {
+            Some(_) => ctx.create_table_sampler(sampler_name, table_filter(ctx, material))?,
+            None => ctx.create_sampler(sampler_name)?,
+        };
+        let sampler = Guard::new(ctx, sampler);
         let layers = crate::env_prefilter::MOMENT_LAYERS as u32;
         let (moment_side, moment_texels) = match &material.moments {
             Some(m) => (m.grid as u32, m.gpu_texels()),
@@ -263,7 +284,7 @@ impl MapPass {
         let mut fragment = if baked { shaders::MAP_BAKED_FRAG } else { shaders::MAP_FRAG };
         if let Some(stride) = count_stride {
             bindings.push(count_binding());
-            specialization = specialization.u32(SPEC_COUNT_STRIDE, stride);
+            specialization = counting_constants(ctx, material, specialization, stride);
             fragment = if baked { shaders::MAP_BAKED_COUNT_FRAG } else { shaders::MAP_COUNT_FRAG };
         }
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {

@@ -15,7 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use super::background::BackgroundPass;
-use super::diffraction::{patch_bindings, PatchResources};
+use super::diffraction::{counting_constants, patch_bindings, PatchResources};
 use super::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
 use super::visibility::{self, ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
 use super::{
@@ -28,8 +28,7 @@ use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::{
     VisibilityPush, BINDING_FETCH_COUNTS, BINDING_FRAME, BINDING_MESH_INDICES, BINDING_VERTEX_OUTPUTS,
-    BINDING_VISIBILITY_IDS, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_COUNT_STRIDE, SPEC_SHADOWS,
-    SPEC_SKY_DIFFRACTION,
+    BINDING_VISIBILITY_IDS, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
 use crate::shading::Material;
 use crate::vk::{
@@ -387,7 +386,7 @@ impl SceneRenderer {
                 ),
                 SurfaceVariant::CountFetches { stride } => (
                     if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
-                    input.material.spec_constants(false).u32(SPEC_COUNT_STRIDE, stride),
+                    counting_constants(ctx, input.material, input.material.spec_constants(false), stride),
                 ),
             };
             let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);

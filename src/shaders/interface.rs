@@ -35,6 +35,9 @@ pub const SKY_DIFFRACTION_PIXEL: u32 = 2;
 /// 1: the surface pass looks up the sun's shadow map (the view casts shadows); 0 compiles the lookups out (a
 /// CPU device would run the soft shadows' loops for nothing).
 pub const SPEC_SHADOWS: u32 = 11;
+/// Texels one read of the baked table takes (`physics::baked::sample::MipFilter::texels_per_read`): what the
+/// counting variants add per read.
+pub const SPEC_TABLE_TEXELS: u32 = 12;
 
 // Specialization constants of single shaders.
 /// Which part of the G-buffer `gbuffer.frag` writes.

@@ -378,8 +378,19 @@ impl Context {
         self.create_filtered_sampler(name, false)
     }
 
-    /// An edge-clamped sampler: `linear` filters trilinearly over every mip level (the baked table), else
-    /// nearest.
+    /// The baked table's sampler: bilinear within a level, edge-clamped, and between the mip levels as `mips`
+    /// says (`physics::baked::sample`, whose CPU twin reads it the same way).
+    pub fn create_table_sampler(&self, name: &str, mips: crate::physics::baked::sample::MipFilter) -> Result<Sampler> {
+        let mip = match mips {
+            crate::physics::baked::sample::MipFilter::Linear => vk::SamplerMipmapMode::LINEAR,
+            crate::physics::baked::sample::MipFilter::Nearest => vk::SamplerMipmapMode::NEAREST,
+        };
+        let info = vk::SamplerCreateInfo::default().mipmap_mode(mip).max_lod(vk::LOD_CLAMP_NONE);
+        self.sampler(info, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE, &format!("{name} ({mips:?})"))
+    }
+
+    /// An edge-clamped sampler: `linear` filters trilinearly over every mip level (the environment's moments),
+    /// else nearest.
     pub fn create_filtered_sampler(&self, name: &str, linear: bool) -> Result<Sampler> {
         let (filter, mip) = if linear {
             (vk::Filter::LINEAR, vk::SamplerMipmapMode::LINEAR)

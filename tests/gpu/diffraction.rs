@@ -1,5 +1,6 @@
 //! Diffraction shading on the GPU against the CPU reference and against closed forms.
 
+use diffract::physics::baked::sample::{MipFilter, TableMips};
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
@@ -153,13 +154,16 @@ fn blazed_map_shows_the_first_order_spectrum_in_order() {
 
 #[test]
 fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
-    // The GPU's trilinear reads, LOD and Chebyshev sum against `BakedTable::xyz` (the shader's CPU twin), at the
-    // table's finest level (pixel centres are texel centres) and filtered over each pixel's footprint.
+    // The GPU's reads, LOD and Chebyshev sum against `BakedTable::xyz_filtered` (the shader's CPU twin), at the
+    // table's finest level (pixel centres are texel centres) and filtered over each pixel's footprint, between the
+    // mip levels (trilinear) and from the nearest one.
     let hf = elaphe(3);
     let light = direction(20.0, 0.0);
     let size = 49;
-    for footprint in [false, true] {
-        let settings = Settings { approach: Approach::Baked, ..Settings::default() };
+    let cases = [(false, TableMips::Linear), (true, TableMips::Linear), (true, TableMips::Nearest)];
+    for (footprint, table_mips) in cases {
+        let filter = table_mips.filter(true);
+        let settings = Settings { approach: Approach::Baked, table_mips, ..Settings::default() };
         let material = Material::prepare(&hf, settings, &Reach::Map { light, size, filtered: footprint }).unwrap();
         let (image, bits) = gpu_test(|ctx| {
             let limits = &ctx.info.limits;
@@ -169,13 +173,15 @@ fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
         let table = material.table.as_ref().unwrap();
         let lod = if footprint { table.lod(2.0 / f64::from(size)) } else { 0.0 };
         assert!(!footprint || lod > 0.5, "the footprint of a {size}² map spans several texels: lod {lod}");
+        // A LOD halfway between two levels may round either way to the nearest one: this one is not.
+        assert!((lod.fract() - 0.5).abs() > 0.05, "lod {lod}");
         let mut compared = 0;
         for y in 0..size {
             for x in 0..size {
                 let Some(omega_r) = map_direction(size, x, y) else { continue };
                 let g = gain_factor(light, omega_r) * shadow_mask(light, omega_r);
                 let uvw = -light - omega_r;
-                let srgb = |uvw: DVec3, lod: f64| xyz_to_linear_srgb(table.xyz(uvw, lod) * g);
+                let srgb = |uvw: DVec3, lod: f64| xyz_to_linear_srgb(table.xyz_filtered(uvw, lod, filter) * g);
                 let cpu = srgb(uvw, lod);
                 let gpu = image.pixel(x, y);
                 // A device computes the filter's weights in fixed point (the two axes' each): the bilinear weights to
@@ -194,7 +200,10 @@ fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
                         .fold(0.0, f64::max);
                     2.0 * contrast * 0.5f64.powi(bits as i32)
                 };
-                let (lo, hi) = (lod.floor(), (lod.floor() + 1.0).min(lod.ceil()));
+                let (lo, hi) = match filter {
+                    MipFilter::Linear => (lod.floor(), (lod.floor() + 1.0).min(lod.ceil())),
+                    MipFilter::Nearest => (lod.round(), lod.round()),
+                };
                 let between_levels = (srgb(uvw, lo) - srgb(uvw, hi)).abs().max_element();
                 let slack =
                     slack_at(lo, bits.0).max(slack_at(hi, bits.0)) + between_levels * 0.5f64.powi(bits.1 as i32);
@@ -204,7 +213,8 @@ fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
                     compared += 1;
                     assert!(
                         err < 2e-3 * scale + slack,
-                        "footprint {footprint}, pixel ({x}, {y}): GPU {gpu} vs CPU {cpu} (slack {slack:.2e}, bits {bits:?})"
+                        "footprint {footprint}, {filter:?}, pixel ({x}, {y}): GPU {gpu} vs CPU {cpu} (slack {slack:.2e}, \
+                         bits {bits:?})"
                     );
                 } else {
                     assert!(gpu.abs().max_element() < 2e-4 + slack, "pixel ({x}, {y}): GPU {gpu} vs CPU {cpu}");

@@ -1,6 +1,7 @@
 //! Reading a baked table as the shader does (`baked_xyz` in glsl/include/baked.glsl, same names): texel
-//! coordinates of (u, v), the mip level of a footprint, trilinear filtering with clamped edges, and the
-//! Chebyshev sum in w. The CPU twin lets tests read the table the GPU reads without a GPU.
+//! coordinates of (u, v), the mip level of a footprint, bilinear filtering with clamped edges within a level and
+//! between two levels or from the nearest one ([`MipFilter`]), and the Chebyshev sum in w. The CPU twin lets tests
+//! read the table the GPU reads without a GPU.
 
 use glam::DVec3;
 
@@ -13,6 +14,60 @@ use super::{BakedTable, TableLevel, LAYER_CHANNELS};
 /// source with the shaders' (`shaders::interface`).
 pub const FOOTPRINT_LOD_BIAS: f64 = crate::shaders::interface::FOOTPRINT_LOD_BIAS;
 use crate::physics::chebyshev;
+
+/// How a read of the table goes between its mip levels (the sampler's mipmap mode, `render::diffraction`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MipFilter {
+    /// Trilinear: the two levels either side of the LOD, blended by its fraction (16 texels a layer).
+    Linear,
+    /// The level nearest the LOD, read bilinearly (8 texels a layer: half the reads). A LOD exactly halfway
+    /// between two levels may go to either (Vulkan lets a device round it either way).
+    Nearest,
+}
+
+/// Which [`MipFilter`] the surface and map passes read the table with (the `table_mips` setting).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TableMips {
+    /// Nearest on a CPU device (lavapipe), where a trilinear read costs two bilinear ones; linear on a GPU, whose
+    /// texture units blend two levels at no extra cost.
+    #[default]
+    Auto,
+    Linear,
+    Nearest,
+}
+
+impl MipFilter {
+    /// Texels one read takes: 2 × 2 in each of two levels, or in one.
+    pub fn texels_per_read(self) -> u32 {
+        match self {
+            MipFilter::Linear => 8,
+            MipFilter::Nearest => 4,
+        }
+    }
+}
+
+impl TableMips {
+    pub const ALL: [TableMips; 3] = [TableMips::Auto, TableMips::Linear, TableMips::Nearest];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TableMips::Auto => "auto",
+            TableMips::Linear => "linear",
+            TableMips::Nearest => "nearest",
+        }
+    }
+
+    /// The filter on a device that is a CPU (`cpu_device`) or not.
+    pub fn filter(self, cpu_device: bool) -> MipFilter {
+        match self {
+            TableMips::Linear => MipFilter::Linear,
+            TableMips::Nearest => MipFilter::Nearest,
+            TableMips::Auto if cpu_device => MipFilter::Nearest,
+            TableMips::Auto => MipFilter::Linear,
+        }
+    }
+}
 
 impl BakedTable {
     /// Level-0 texel coordinates of (u, v), texel centres at integers + ½ (the sampler's convention).
@@ -34,9 +89,18 @@ impl BakedTable {
         }
     }
 
-    /// XYZ (relative to a D65 mirror, before the gain and the shadowing) at `uvw`, mip level `lod`.
+    /// XYZ (relative to a D65 mirror, before the gain and the shadowing) at `uvw`, mip level `lod`, trilinear.
     pub fn xyz(&self, uvw: DVec3, lod: f64) -> DVec3 {
+        self.xyz_filtered(uvw, lod, MipFilter::Linear)
+    }
+
+    /// [`Self::xyz`] read between the mip levels as `filter` says.
+    pub fn xyz_filtered(&self, uvw: DVec3, lod: f64, filter: MipFilter) -> DVec3 {
         let lod = lod.clamp(0.0, (self.levels.len() - 1) as f64);
+        let lod = match filter {
+            MipFilter::Linear => lod,
+            MipFilter::Nearest => (lod + 0.5).floor().min((self.levels.len() - 1) as f64),
+        };
         let (lo, frac) = (lod.floor() as usize, lod - lod.floor());
         let (x, y) = self.texel_coords(uvw.x, uvw.y);
         let (nx, ny) = (x / self.grid.nu as f64, y / self.grid.nv as f64);
