@@ -457,8 +457,8 @@ settings! {
     sky_at: value<SkyAt> = SkyAt::Vertex, check any,
         flag "sky-at", value_name "WHERE";
     /// Baked: how a frame reads the table between its mip levels: linear (trilinear, two levels blended), nearest
-    /// (the nearest level: half the texel reads) or auto (nearest on a CPU device, where it costs a tenth of the
-    /// default scene's frame and measured the same error; linear on a GPU)
+    /// (the nearest level: half the texel reads) or auto (nearest on a CPU device, where it saved a tenth of the
+    /// default scene's frame at the same measured error; linear on a GPU)
     table_mips: value<TableMips> = TableMips::Auto, check any,
         flag "table-mips", value_name "FILTER";
 }

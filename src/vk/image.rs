@@ -7,6 +7,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::{Buffer, BufferDesc, Context, Guard, ImageState, MemoryState};
 use crate::error::{Error, Result, VkResultExt};
+use crate::physics::baked::sample::MipFilter;
 
 /// Size, format and use of a GPU-only 2D (array) image.
 #[derive(Clone, Copy, Debug)]
@@ -380,10 +381,10 @@ impl Context {
 
     /// The baked table's sampler: bilinear within a level, edge-clamped, and between the mip levels as `mips`
     /// says (`physics::baked::sample`, whose CPU twin reads it the same way).
-    pub fn create_table_sampler(&self, name: &str, mips: crate::physics::baked::sample::MipFilter) -> Result<Sampler> {
+    pub fn create_table_sampler(&self, name: &str, mips: MipFilter) -> Result<Sampler> {
         let mip = match mips {
-            crate::physics::baked::sample::MipFilter::Linear => vk::SamplerMipmapMode::LINEAR,
-            crate::physics::baked::sample::MipFilter::Nearest => vk::SamplerMipmapMode::NEAREST,
+            MipFilter::Linear => vk::SamplerMipmapMode::LINEAR,
+            MipFilter::Nearest => vk::SamplerMipmapMode::NEAREST,
         };
         let info = vk::SamplerCreateInfo::default().mipmap_mode(mip).max_lod(vk::LOD_CLAMP_NONE);
         self.sampler(info, vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE, &format!("{name} ({mips:?})"))

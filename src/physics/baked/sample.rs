@@ -18,10 +18,11 @@ use crate::physics::chebyshev;
 /// How a read of the table goes between its mip levels (the sampler's mipmap mode, `render::diffraction`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MipFilter {
-    /// Trilinear: the two levels either side of the LOD, blended by its fraction (16 texels a layer).
+    /// Trilinear: the two levels either side of the LOD, each read bilinearly, blended by its fraction (8 texels a
+    /// read).
     Linear,
-    /// The level nearest the LOD, read bilinearly (8 texels a layer: half the reads). A LOD exactly halfway
-    /// between two levels may go to either (Vulkan lets a device round it either way).
+    /// The level nearest the LOD, read bilinearly (4 texels a read: half). A LOD exactly halfway between two levels
+    /// may go to either (Vulkan lets a device round it either way).
     Nearest,
 }
 
@@ -99,7 +100,7 @@ impl BakedTable {
         let lod = lod.clamp(0.0, (self.levels.len() - 1) as f64);
         let lod = match filter {
             MipFilter::Linear => lod,
-            MipFilter::Nearest => (lod + 0.5).floor().min((self.levels.len() - 1) as f64),
+            MipFilter::Nearest => (lod + 0.5).floor(),
         };
         let (lo, frac) = (lod.floor() as usize, lod - lod.floor());
         let (x, y) = self.texel_coords(uvw.x, uvw.y);
