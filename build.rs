@@ -29,6 +29,7 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface_resolve.frag", "surface_resolve_baked.frag", "BAKED"),
     ("surface_resolve.frag", "surface_resolve_one.frag", "ONE_SAMPLE"),
     ("surface_resolve.frag", "surface_resolve_baked_one.frag", "BAKED ONE_SAMPLE"),
+    ("surface_edges.comp", "surface_edges_baked.comp", "BAKED"),
 ];
 
 /// The uniform blocks whose GLSL is generated from their Rust structs (std140): (source file, struct, descriptor

@@ -96,7 +96,7 @@ fn profile_prints_the_table_and_writes_the_csv_schema_and_plot() {
     let rows = |t: &str| t.lines().filter(|l| ["| flss", "| gem", "| baked"].iter().any(|a| l.starts_with(a))).count();
     assert_eq!(rows(main), 4, "{out}");
     assert_eq!(rows(passes), 4, "one per-pass row per configuration: {out}");
-    let header = "| configuration | depth pre-pass ms | visibility ms | shading ms | resolve ms | copy ms |";
+    let header = "| configuration | depth pre-pass ms | visibility ms | shading ms | edges ms | resolve ms | copy ms |";
     assert!(passes.contains(header), "{out}");
 
     let table = read_csv(&csv);
@@ -332,6 +332,8 @@ fn a_scene_is_timed_on_the_forward_path_and_through_a_visibility_buffer() {
         // path's (the same random pixels: within a few hundredths).
         assert_eq!(row["visibility_ms_median"].is_empty(), !visibility, "{row:?}");
         assert_eq!(row["resolve_ms_median"].is_empty(), visibility || row["samples"] == "1", "{row:?}");
+        // The edge pass shades the further triangles of a multisampled frame's edge pixels.
+        assert_eq!(row["edges_ms_median"].is_empty(), !visibility || row["samples"] == "1", "{row:?}");
         assert!(number(row, "shading_ms_median") > 0.0, "{row:?}");
         assert!(row["label"].ends_with(if visibility { "visibility" } else { "forward" }), "{row:?}");
     }

@@ -1,5 +1,6 @@
 // The sun's shadow map (`render::shadow`): how much of the sun's disc reaches a point, 0 (umbra) to 1 (lit).
-// Requires surface_frame.glsl (frame.shadow, frame.shadow_penumbra) and interface.glsl.
+// Requires surface_frame.glsl (frame.shadow, frame.shadow_penumbra) and interface.glsl. The maps have one mip
+// level, read with textureLod, so that compute shaders (the visibility buffer's edge pass) may call it too.
 
 // 0 where the view casts no shadows (`render::surface`): the lookups compile out.
 layout(constant_id = SPEC_SHADOWS) const uint SHADOWS = 1;
@@ -43,7 +44,7 @@ float sun_visibility(vec3 coord) {
     float blockers = 0.0;
     float count = 0.0;
     for (int k = 0; k < SEARCH_TAPS; ++k) {
-        float d = texture(shadow_depths, uv + tap(k, SEARCH_TAPS) * search * texel).r;
+        float d = textureLod(shadow_depths, uv + tap(k, SEARCH_TAPS) * search * texel, 0.0).r;
         if (d < z) {
             blockers += d;
             count += 1.0;
@@ -54,7 +55,7 @@ float sun_visibility(vec3 coord) {
     int taps = radius > WIDE_TEXELS ? WIDE_TAPS : NARROW_TAPS;
     float lit = 0.0;
     for (int k = 0; k < taps; ++k) {
-        lit += texture(shadow_map, vec3(uv + tap(k, taps) * radius * texel, z));
+        lit += textureLod(shadow_map, vec3(uv + tap(k, taps) * radius * texel, z), 0.0);
     }
     return lit / float(taps);
 }

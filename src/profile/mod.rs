@@ -277,7 +277,7 @@ impl TableSummary {
 }
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 36] = [
+pub const MEASURED_COLUMNS: [&str; 37] = [
     "order_used",
     "lambda_count",
     "taps",
@@ -295,6 +295,7 @@ pub const MEASURED_COLUMNS: [&str; 36] = [
     "depth_ms_median",
     "visibility_ms_median",
     "shading_ms_median",
+    "edges_ms_median",
     "resolve_ms_median",
     "copy_ms_median",
     "cpu_ms_median",
@@ -357,6 +358,7 @@ impl Row {
             opt(self.pass_ms(pass::DEPTH).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::VISIBILITY).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::SHADING).map(|v| format!("{v:.4}"))),
+            opt(self.pass_ms(pass::EDGES).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::RESOLVE).map(|v| format!("{v:.4}"))),
             opt(self.pass_ms(pass::COPY).map(|v| format!("{v:.4}"))),
             format!("{:.4}", self.cpu_ms.median),

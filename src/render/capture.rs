@@ -115,8 +115,7 @@ impl SceneCapture {
     pub fn use_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
         let extent = ash::vk::Extent2D { width: self.width, height: self.height };
         self.renderer.use_visibility_buffer(ctx, extent)?;
-        self.frames.for_visibility_buffer(ctx);
-        Ok(())
+        self.frames.for_visibility_buffer(ctx)
     }
 
     /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.

@@ -44,8 +44,11 @@ pub mod pass {
     pub const PRESENT: &str = "present";
     /// The visibility buffer's raster pass (`render::visibility`): depth and triangle ids, before the shading.
     pub const VISIBILITY: &str = "visibility";
+    /// The visibility buffer's edge pass: the further triangles of the pixels that see more than one, after the
+    /// shading (multisampled frames).
+    pub const EDGES: &str = "edges";
     /// Every pass, in frame order (the profile's columns).
-    pub const ALL: [&str; 6] = [DEPTH, VISIBILITY, SHADING, RESOLVE, COPY, PRESENT];
+    pub const ALL: [&str; 7] = [DEPTH, VISIBILITY, SHADING, EDGES, RESOLVE, COPY, PRESENT];
 }
 
 /// Each pass's median GPU time over `frames`, for the passes every frame timed, in frame order:
@@ -72,6 +75,9 @@ pub struct TargetView {
     pub extent: vk::Extent2D,
     /// Samples per pixel of `color` and `depth` (the pipelines drawing must be built for it).
     pub samples: vk::SampleCountFlags,
+    /// The single-sampled colour image where it is also a storage image (a target readied for a visibility
+    /// buffer: [`OffscreenTarget::for_visibility_buffer`]), whose edge pass adds to it; None elsewhere.
+    pub storage: Option<vk::Image>,
 }
 
 /// What a scene's surface frame is drawn under: the camera, the light, the sky, each object's placement and the
@@ -228,18 +234,28 @@ impl OffscreenTarget {
         };
         // Without colour samples (`drop_color_samples`) the depth says how many the frame has.
         let samples = self.depth.as_ref().map_or(samples, |d| d.desc.samples);
-        TargetView { color, resolve, depth: self.depth.as_ref().map(|d| d.view), extent: self.color.extent(), samples }
+        let storage = self.color.desc.usage.contains(vk::ImageUsageFlags::STORAGE).then_some(self.color.raw);
+        let depth = self.depth.as_ref().map(|d| d.view);
+        TargetView { color, resolve, depth, extent: self.color.extent(), samples, storage }
     }
 
-    /// Frees the colour samples of a multisampled target whose frames a visibility buffer draws
-    /// (`render::visibility`: only its depth is multisampled, and it shades straight into [`Self::color`]).
+    /// Readies the target for frames a visibility buffer draws (`render::visibility`): frees its colour samples
+    /// (only its depth is multisampled, and the shading pass writes straight into [`Self::color`]) and makes
+    /// [`Self::color`] a storage image as well, which the edge pass adds to.
     ///
     /// # Safety
     /// The GPU must be done with the target.
-    pub unsafe fn drop_color_samples(&mut self, ctx: &Context) {
+    pub unsafe fn for_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
         if let Some(msaa) = self.msaa.take() {
             msaa.destroy(ctx);
         }
+        if !self.color.desc.usage.contains(vk::ImageUsageFlags::STORAGE) {
+            let mut desc = self.color.desc;
+            desc.usage |= vk::ImageUsageFlags::STORAGE;
+            let color = ctx.create_image(desc, "offscreen colour")?;
+            std::mem::replace(&mut self.color, color).destroy(ctx);
+        }
+        Ok(())
     }
 
     /// Puts the images into attachment layouts (their contents are discarded).

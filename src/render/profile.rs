@@ -315,7 +315,7 @@ impl<'a> SceneWorkload<'a> {
         let renderer = Guard::new(ctx, Self::renderer(ctx, &inputs, &objects, &view, (shade, path), &target)?);
         if path == ShadingPath::Visibility {
             // SAFETY: nothing has drawn into the target yet.
-            unsafe { target.drop_color_samples(ctx) };
+            unsafe { target.for_visibility_buffer(ctx)? };
         }
         let readback = ctx.create_readback(&target.color)?;
         let (renderer, target) = (renderer.keep(), target.keep());

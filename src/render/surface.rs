@@ -28,12 +28,13 @@ use crate::mesh::{Mesh, Vertex};
 use crate::shaders;
 use crate::shaders::interface::{
     VisibilityPush, BINDING_FETCH_COUNTS, BINDING_FRAME, BINDING_MESH_INDICES, BINDING_VERTEX_OUTPUTS,
-    BINDING_VISIBILITY_IDS, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
+    BINDING_VISIBILITY_EDGES, BINDING_VISIBILITY_IDS, BINDING_VISIBILITY_TARGET, SKY_DIFFRACTION_NONE,
+    SKY_DIFFRACTION_VERTEX, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
 use crate::shading::Material;
 use crate::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
-    ImageState, Laps, MemoryState, Pipeline, Sampler, Statistics, VertexAttribute,
+    Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc,
+    Guard, Image, ImageState, Laps, MemoryState, Pipeline, Sampler, Statistics, VertexAttribute,
 };
 
 /// What a frame's recording is measured with (all off by default).
@@ -174,13 +175,34 @@ struct MaterialGpu {
     /// What those pipelines are built from: the vertex and fragment shaders and the specialization constants
     /// (all but `SPEC_SHADOWS`).
     recipe: (&'static [u8], &'static [u8], crate::vk::SpecConstants),
-    /// The visibility buffer's raster and shading pipelines, as `pipelines` (built where the renderer takes
-    /// that path), and their vertex and fragment shaders.
-    visibility_pipelines: [Option<(Pipeline, Pipeline)>; 2],
-    visibility_recipe: (&'static [u8], [&'static [u8]; 2]),
+    /// The visibility buffer's pipelines, as `pipelines` (built where the renderer takes that path), and their
+    /// shaders: the raster pass's vertex shader, the shading pass's fragment shaders (one sample, several) and
+    /// the edge pass's compute shader.
+    visibility_pipelines: [Option<VisibilityPipelines>; 2],
+    visibility_recipe: (&'static [u8], [&'static [u8]; 2], &'static [u8]),
     patch: PatchResources,
     params: crate::shading::DiffractionParams,
     surface: SurfaceMaterial,
+}
+
+/// A material's pipelines for the visibility buffer's passes (`render::visibility`): the raster pass, the shading
+/// pass and, where the frame has several samples, the edge pass.
+struct VisibilityPipelines {
+    raster: Pipeline,
+    shade: Pipeline,
+    edges: Option<Pipeline>,
+}
+
+impl VisibilityPipelines {
+    /// # Safety
+    /// No pending work may use them.
+    unsafe fn destroy(self, ctx: &Context) {
+        self.raster.destroy(ctx);
+        self.shade.destroy(ctx);
+        if let Some(edges) = self.edges {
+            edges.destroy(ctx);
+        }
+    }
 }
 
 struct ObjectGpu {
@@ -401,11 +423,12 @@ impl SceneRenderer {
                 true => [shaders::SURFACE_RESOLVE_BAKED_ONE_FRAG, shaders::SURFACE_RESOLVE_BAKED_FRAG],
                 false => [shaders::SURFACE_RESOLVE_ONE_FRAG, shaders::SURFACE_RESOLVE_FRAG],
             };
+            let edges = if baked { shaders::SURFACE_EDGES_BAKED_COMP } else { shaders::SURFACE_EDGES_COMP };
             self.materials.push(MaterialGpu {
                 pipelines: [None, None],
                 recipe: (vertex, fragment, specialization),
                 visibility_pipelines: [None, None],
-                visibility_recipe: (visibility_vertex, resolve),
+                visibility_recipe: (visibility_vertex, resolve, edges),
                 patch: patch.keep(),
                 params: input.material.params,
                 surface: input.surface,
@@ -582,14 +605,29 @@ impl SceneRenderer {
             outputs(fragment),
             Binding { binding: BINDING_MESH_INDICES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: fragment },
         ]);
+        let multisampled = self.samples != vk::SampleCountFlags::TYPE_1;
+        let edge_list =
+            |stages| Binding { binding: BINDING_VISIBILITY_EDGES, kind: vk::DescriptorType::STORAGE_BUFFER, stages };
+        if multisampled {
+            shade_bindings.push(edge_list(fragment));
+        }
+        // The edge pass reads what the shading pass reads, and adds to the frame's colour.
+        let compute = vk::ShaderStageFlags::COMPUTE;
+        let mut edge_bindings: Vec<Binding> =
+            shade_bindings.iter().map(|b| Binding { stages: compute, ..*b }).collect();
+        edge_bindings.push(Binding {
+            binding: BINDING_VISIBILITY_TARGET,
+            kind: vk::DescriptorType::STORAGE_IMAGE,
+            stages: compute,
+        });
         let push_constant_size = std::mem::size_of::<VisibilityPush>() as u32;
         for m in &mut self.materials {
             let slot = &mut m.visibility_pipelines[usize::from(shadows)];
             if slot.is_some() {
                 continue;
             }
-            let (vertex, [one, several]) = m.visibility_recipe;
-            let fragment = if self.samples == vk::SampleCountFlags::TYPE_1 { one } else { several };
+            let (vertex, [one, several], edges) = m.visibility_recipe;
+            let fragment = if multisampled { several } else { one };
             let specialization = m.recipe.2.clone().u32(SPEC_SHADOWS, u32::from(shadows));
             let raster = Guard::new(
                 ctx,
@@ -610,22 +648,36 @@ impl SceneRenderer {
                 })?,
             );
             // One triangle over the viewport at the far plane (background.vert), tested behind the resolved depth.
-            let shade = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-                name: Self::NAME,
-                vertex: shaders::BACKGROUND_VERT,
-                fragment: Some(fragment),
-                specialization,
-                bindings: &shade_bindings,
-                push_constant_size,
-                vertex_stride: 0,
-                vertex_attributes: &[],
-                color_format: self.color_format,
-                depth: Some((DEPTH_FORMAT, DepthTest::Behind)),
-                cull_back_faces: false,
-                samples: vk::SampleCountFlags::TYPE_1,
-                blend: Blend::Add,
-            })?;
-            *slot = Some((raster.keep(), shade));
+            let shade = Guard::new(
+                ctx,
+                ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+                    name: Self::NAME,
+                    vertex: shaders::BACKGROUND_VERT,
+                    fragment: Some(fragment),
+                    specialization: specialization.clone(),
+                    bindings: &shade_bindings,
+                    push_constant_size,
+                    vertex_stride: 0,
+                    vertex_attributes: &[],
+                    color_format: self.color_format,
+                    depth: Some((DEPTH_FORMAT, DepthTest::Behind)),
+                    cull_back_faces: false,
+                    samples: vk::SampleCountFlags::TYPE_1,
+                    blend: Blend::Add,
+                })?,
+            );
+            let edges = multisampled
+                .then(|| {
+                    ctx.create_compute_pipeline(&ComputePipelineDesc {
+                        name: super::pass::EDGES,
+                        shader: edges,
+                        specialization,
+                        bindings: &edge_bindings,
+                        push_constant_size,
+                    })
+                })
+                .transpose()?;
+            *slot = Some(VisibilityPipelines { raster: raster.keep(), shade: shade.keep(), edges });
         }
         Ok(())
     }
@@ -756,6 +808,9 @@ impl SceneRenderer {
             let slot = self.materials[object.material].visibility_pipelines[shadows].as_ref();
             slot.expect("update builds the view's pipelines before a frame is recorded")
         };
+        let edges_into = (!state.edges.is_empty()).then(|| {
+            target.storage.expect("a multisampled visibility frame's target is a storage image (for_visibility_buffer)")
+        });
         let with_background = self.shows_background && self.background.is_some();
         // Under an environment the objects add their colours to zero and the background goes under them; over a
         // constant background each object takes its share of the background away (`surface_resolve.frag`).
@@ -766,6 +821,7 @@ impl SceneRenderer {
             background_g: constant[1],
             background_b: constant[2],
             background_a: constant[3],
+            edge: 0,
         };
         ctx.barrier_image(cmd, &state.ids, visibility::IDS_READ, ImageState::COLOR_ATTACHMENT);
         if let Some(coverage) = &state.coverage {
@@ -801,7 +857,7 @@ impl SceneRenderer {
         for (i, object) in self.objects.iter().enumerate() {
             let mut writes = self.object_writes(object);
             writes.push(DescriptorWrite::StorageBuffer(BINDING_VERTEX_OUTPUTS, &state.outputs[i]));
-            ctx.bind(cmd, &pipelines(object).0, &writes, bytemuck::bytes_of(&push(i)));
+            ctx.bind(cmd, &pipelines(object).raster, &writes, bytemuck::bytes_of(&push(i)));
             object.mesh.draw(ctx, cmd);
         }
         ctx.end_label(cmd);
@@ -810,6 +866,7 @@ impl SceneRenderer {
         ctx.barrier_image(cmd, &state.ids, ImageState::COLOR_ATTACHMENT, ImageState::SHADER_READ);
         ctx.barrier_memory(cmd, VERTEX_STORAGE_WRITE, MemoryState::FRAGMENT_STORAGE);
         ctx.barrier_memory(cmd, visibility::DEPTH_WRITTEN, visibility::DEPTH_TESTED);
+        state.reset_edges(ctx, cmd);
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(target.resolve.unwrap_or(target.color))
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
@@ -830,14 +887,21 @@ impl SceneRenderer {
             s.begin(cmd);
         }
         ctx.begin_label(cmd, pass::SHADING);
-        for (i, object) in self.objects.iter().enumerate() {
+        let shade_writes = |i: usize| {
+            let object = &self.objects[i];
             let mut writes = self.object_writes(object);
             writes.extend([
                 DescriptorWrite::SampledImage(BINDING_VISIBILITY_IDS, &state.ids, &state.sampler),
                 DescriptorWrite::StorageBuffer(BINDING_VERTEX_OUTPUTS, &state.outputs[i]),
                 DescriptorWrite::StorageBuffer(BINDING_MESH_INDICES, &object.mesh.indices),
             ]);
-            ctx.bind(cmd, &pipelines(object).1, &writes, bytemuck::bytes_of(&push(i)));
+            if let Some(list) = state.edges.get(i) {
+                writes.push(DescriptorWrite::StorageBuffer(BINDING_VISIBILITY_EDGES, list));
+            }
+            writes
+        };
+        for (i, object) in self.objects.iter().enumerate() {
+            ctx.bind(cmd, &pipelines(object).shade, &shade_writes(i), bytemuck::bytes_of(&push(i)));
             // SAFETY: cmd is recording inside a rendering scope with a full-screen pipeline bound.
             unsafe { ctx.device().cmd_draw(cmd, 3, 1, 0, 0) };
         }
@@ -850,6 +914,43 @@ impl SceneRenderer {
         }
         end_rendering(ctx, cmd);
         laps.lap(cmd, pass::SHADING);
+        let Some(image) = edges_into else { return };
+        // The edge pass: each object's listed pixels, their further triangles added to the colour in place (the
+        // frame's one-sample image, in the GENERAL layout meanwhile).
+        let colour =
+            vk::ImageSubresourceRange::default().aspect_mask(vk::ImageAspectFlags::COLOR).level_count(1).layer_count(1);
+        ctx.barrier_raw_image(cmd, image, colour, ImageState::COLOR_ATTACHMENT, ImageState::STORAGE);
+        ctx.barrier_memory(cmd, MemoryState::FRAGMENT_STORAGE, visibility::EDGES_NEXT);
+        ctx.begin_label(cmd, pass::EDGES);
+        for (i, object) in self.objects.iter().enumerate() {
+            let pipeline = pipelines(object).edges.as_ref().expect("a multisampled renderer builds its edge pass");
+            let mut writes = shade_writes(i);
+            writes
+                .push(DescriptorWrite::StorageView(BINDING_VISIBILITY_TARGET, target.resolve.unwrap_or(target.color)));
+            ctx.bind(cmd, pipeline, &writes, &[]);
+            for k in 1..=state.edge_lists {
+                if i > 0 || k > 1 {
+                    ctx.barrier_memory(cmd, visibility::EDGES_ADDED, visibility::EDGES_NEXT);
+                }
+                let push = VisibilityPush { edge: k, ..push(i) };
+                let offset = u64::from(k - 1) * state.edge_list_bytes;
+                // SAFETY: cmd is recording outside a rendering scope with the edge pass bound; each list begins
+                // with its dispatch's size, which the shading pass counted.
+                unsafe {
+                    ctx.device().cmd_push_constants(
+                        cmd,
+                        pipeline.layout,
+                        pipeline.push_stages,
+                        0,
+                        bytemuck::bytes_of(&push),
+                    );
+                    ctx.device().cmd_dispatch_indirect(cmd, state.edges[i].raw, offset);
+                }
+            }
+        }
+        ctx.end_label(cmd);
+        ctx.barrier_raw_image(cmd, image, colour, ImageState::STORAGE, ImageState::COLOR_ATTACHMENT);
+        laps.lap(cmd, pass::EDGES);
     }
 
     /// What the uploads of the materials' tables (or Taylor terms) cost, material by material.
@@ -879,9 +980,8 @@ impl SceneRenderer {
             for p in m.pipelines.into_iter().flatten() {
                 p.destroy(ctx);
             }
-            for (raster, shade) in m.visibility_pipelines.into_iter().flatten() {
-                raster.destroy(ctx);
-                shade.destroy(ctx);
+            for pipelines in m.visibility_pipelines.into_iter().flatten() {
+                pipelines.destroy(ctx);
             }
             m.patch.destroy(ctx);
         }
@@ -958,11 +1058,12 @@ impl OffscreenFrames {
         Ok(Self { target: target.keep(), readback, display_output })
     }
 
-    /// Frees the colour samples a renderer drawing through a visibility buffer does not use
-    /// ([`SceneRenderer::use_visibility_buffer`]); no submitted work may still use the target.
-    pub fn for_visibility_buffer(&mut self, ctx: &Context) {
+    /// Readies the target for a renderer drawing through a visibility buffer
+    /// ([`SceneRenderer::use_visibility_buffer`], [`OffscreenTarget::for_visibility_buffer`]); no submitted work may
+    /// still use it.
+    pub fn for_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
         // SAFETY: the caller promises the GPU is done with the target.
-        unsafe { self.target.drop_color_samples(ctx) };
+        unsafe { self.target.for_visibility_buffer(ctx) }
     }
 
     /// The colour format a [`SceneRenderer`] drawing into these frames must use.

@@ -15,7 +15,14 @@
 //!    rasteriser interpolates them) and its footprint from the same triangle's plane one pixel across and down,
 //!    shades it with the forward pass's code (glsl/include/surface_shade.glsl) and weighs it by the share of the
 //!    samples it covers. The objects add into a one-sample target cleared to the background; an environment
-//!    behind them is drawn last, under what they left uncovered.
+//!    behind them is drawn last, under what they left uncovered. That pass shades each pixel's first triangle
+//!    only; where a pixel sees more (an edge), it lists the pixel.
+//! 3. **The edge pass**, where the frame has several samples: per object, a compute dispatch over its listed
+//!    pixels (glsl/surface_edges.comp, as many work groups as the shading pass counted: an indirect dispatch)
+//!    shades their further triangles alike and adds them to the target. On llvmpipe a full-screen pass runs a
+//!    branch's body for a whole block of pixels whenever one of them needs it, and most of the snake's blocks hold
+//!    an edge pixel (the spokes of its scales' fans), so a second shading there cost as much as the first; the
+//!    dispatch packs the edge pixels densely (docs/performance.md).
 //!
 //! A forward multisampled frame also shades each triangle once per pixel at its centre and averages over the
 //! samples it covers, so the two agree up to float rounding and the footprint's finite difference (the forward
@@ -25,7 +32,9 @@ use ash::vk;
 
 use super::MeshBuffers;
 use crate::error::{Error, Result};
-use crate::shaders::interface::{VERTEX_OUTPUT_VEC4S, VISIBILITY_MAX_SAMPLES, VISIBILITY_OBJECT_SHIFT};
+use crate::shaders::interface::{
+    VERTEX_OUTPUT_VEC4S, VISIBILITY_EDGE_GROUP, VISIBILITY_MAX_SAMPLES, VISIBILITY_OBJECT_SHIFT,
+};
 use crate::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, ImageState, MemoryState, Sampler};
 
 /// How a scene's frame is shaded.
@@ -107,6 +116,33 @@ pub(crate) const DEPTH_TESTED: MemoryState = MemoryState {
     access: vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ,
 };
 
+/// An edge-pass dispatch adding to the frame's colour (a storage image) and listing pixels for the next one...
+pub(crate) const EDGES_ADDED: MemoryState = MemoryState {
+    stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw() | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw(),
+    ),
+};
+/// ... before the next dispatch reads its size, its list and the colour (or the next frame resets the lists).
+pub(crate) const EDGES_NEXT: MemoryState = MemoryState {
+    stage: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags2::DRAW_INDIRECT.as_raw(),
+    ),
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::INDIRECT_COMMAND_READ.as_raw(),
+    ),
+};
+
+// Every Vulkan device runs work groups of 128 invocations (maxComputeWorkGroupSize[0] and
+// maxComputeWorkGroupInvocations are at least that): the edge pass's groups need no check at run time.
+const _: () = assert!(VISIBILITY_EDGE_GROUP <= 128);
+
+/// An edge list's header as the shading pass starts it: the indirect dispatch's (x, y, z) work groups and the
+/// number of pixels listed (glsl/include/visibility_shade.glsl).
+const EDGES_EMPTY: [u32; 4] = [0, 1, 1, 0];
+
 /// The largest triangle index a sample's id can hold.
 const MAX_TRIANGLES: u64 = (1 << VISIBILITY_OBJECT_SHIFT) - 1;
 /// The most objects the ids can tell apart (0 means none).
@@ -126,6 +162,13 @@ pub(crate) struct VisibilityState {
     pub resolve: Option<vk::ResolveModeFlags>,
     /// Per object, in the scene's order.
     pub outputs: Vec<Buffer>,
+    /// Per object where the frame has several samples (else empty): the pixels that see more than one of its
+    /// triangles, listed by the shading pass for the edge pass, one list for each further triangle a pixel may
+    /// see (samples − 1 lists of [`Self::edge_list_bytes`]: `EDGES_EMPTY`'s header, then a pixel a word).
+    pub edges: Vec<Buffer>,
+    /// Lists in each of `edges`: one for each triangle after a pixel's first.
+    pub edge_lists: u32,
+    pub edge_list_bytes: u64,
 }
 
 impl VisibilityState {
@@ -139,8 +182,8 @@ impl VisibilityState {
     ) -> Result<Self> {
         if !ctx.has_visibility_buffer() {
             return Err(Error::Invalid(format!(
-                "{} cannot draw a visibility buffer (it lacks geometryShader or vertexPipelineStoresAndAtomics): \
-                 use the forward path",
+                "{} cannot draw a visibility buffer (it lacks geometryShader, vertexPipelineStoresAndAtomics or \
+                 fragmentStoresAndAtomics): use the forward path",
                 ctx.info.name
             )));
         }
@@ -180,8 +223,19 @@ impl VisibilityState {
             let desc = BufferDesc::gpu_only(size, vk::BufferUsageFlags::STORAGE_BUFFER);
             outputs.push(ctx.create_buffer(desc, &format!("object {i} vertex outputs"))?);
         }
-        let (ids, sampler, coverage, outputs) = (ids.keep(), sampler.keep(), coverage.keep(), outputs.keep());
-        Ok(Self { ids, sampler, coverage, resolve, outputs })
+        let mut edges = Guard::new(ctx, Vec::new());
+        let edge_lists = samples.as_raw() - 1;
+        let edge_list_bytes = 16 + 4 * u64::from(extent.width) * u64::from(extent.height);
+        if multisampled {
+            let size = u64::from(edge_lists) * edge_list_bytes;
+            let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER;
+            for i in 0..meshes.len() {
+                edges.push(ctx.create_buffer(BufferDesc::gpu_only(size, usage), &format!("object {i} edge pixels"))?);
+            }
+        }
+        let (ids, sampler, coverage, outputs, edges) =
+            (ids.keep(), sampler.keep(), coverage.keep(), outputs.keep(), edges.keep());
+        Ok(Self { ids, sampler, coverage, resolve, outputs, edges, edge_lists, edge_list_bytes })
     }
 
     /// # Safety
@@ -192,9 +246,27 @@ impl VisibilityState {
         if let Some(coverage) = self.coverage {
             coverage.destroy(ctx);
         }
-        for b in self.outputs {
+        for b in self.outputs.into_iter().chain(self.edges) {
             b.destroy(ctx);
         }
+    }
+
+    /// Empties every object's edge list (after the previous frame's edge pass has read it), before the shading
+    /// pass appends to them.
+    pub fn reset_edges(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        if self.edges.is_empty() {
+            return;
+        }
+        // The previous frame's edge pass is done with them.
+        ctx.barrier_memory(cmd, EDGES_NEXT, MemoryState::TRANSFER_WRITE);
+        for lists in &self.edges {
+            for k in 0..u64::from(self.edge_lists) {
+                let offset = k * self.edge_list_bytes;
+                // SAFETY: cmd is recording outside a rendering scope; the list's header lies in the live buffer.
+                unsafe { ctx.device().cmd_update_buffer(cmd, lists.raw, offset, bytemuck::cast_slice(&EDGES_EMPTY)) };
+            }
+        }
+        ctx.barrier_memory(cmd, MemoryState::TRANSFER_WRITE, MemoryState::FRAGMENT_STORAGE);
     }
 }
 

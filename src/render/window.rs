@@ -164,9 +164,17 @@ impl WindowTarget {
                     depth: Some(s.depth.view),
                     extent: s.extent,
                     samples: s.samples,
+                    storage: None,
                 },
                 // A multisampled depth buffer would not match the single-sampled presented image.
-                TargetView { color: presented, resolve: None, depth: None, extent: s.extent, samples: one },
+                TargetView {
+                    color: presented,
+                    resolve: None,
+                    depth: None,
+                    extent: s.extent,
+                    samples: one,
+                    storage: None,
+                },
             ),
             None => {
                 let view = TargetView {
@@ -175,6 +183,7 @@ impl WindowTarget {
                     depth: Some(s.depth.view),
                     extent: s.extent,
                     samples: one,
+                    storage: None,
                 };
                 (view, view)
             }

@@ -86,6 +86,12 @@ pub const BINDING_ENV_LIGHT: u32 = 15;
 pub const BINDING_VISIBILITY_IDS: u32 = 16;
 pub const BINDING_VERTEX_OUTPUTS: u32 = 17;
 pub const BINDING_MESH_INDICES: u32 = 18;
+/// The visibility buffer's edge pass (`render::visibility`): the pixels that see more than one of an object's
+/// triangles, listed by the shading pass, and the frame's one-sample colour it adds their further triangles to.
+pub const BINDING_VISIBILITY_EDGES: u32 = 19;
+pub const BINDING_VISIBILITY_TARGET: u32 = 20;
+/// Invocations per work group of the edge pass (and pixels per group the shading pass counts).
+pub const VISIBILITY_EDGE_GROUP: u32 = 64;
 /// A visibility sample's id: (the object's index + 1) << this | the triangle's index in its mesh; 0 where no
 /// object is. So at most 255 objects of at most 2²⁴ − 1 triangles each.
 pub const VISIBILITY_OBJECT_SHIFT: u32 = 24;
@@ -178,9 +184,10 @@ pub struct SelftestPush {
     pub count: u32,
 }
 
-/// The visibility buffer's push constants (`VisibilityPush`, both passes): the drawn object's index + 1 (the top
-/// bits of its samples' ids), and the constant background the objects' colours are drawn over (linear RGBA; zero
-/// where an environment is drawn behind them instead).
+/// The visibility buffer's push constants (`VisibilityPush`, every pass): the drawn object's index + 1 (the top
+/// bits of its samples' ids), the constant background the objects' colours are drawn over (linear RGBA; zero
+/// where an environment is drawn behind them instead), and which of a pixel's triangles an edge-pass dispatch
+/// shades (1: the second; 0 in the other passes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct VisibilityPush {
@@ -189,6 +196,7 @@ pub struct VisibilityPush {
     pub background_g: f32,
     pub background_b: f32,
     pub background_a: f32,
+    pub edge: u32,
 }
 
 // The push-constant blocks are generated from these structs by build.rs (PUSH_BLOCKS), which refuses a field GLSL
@@ -197,4 +205,4 @@ const _: () = assert!(std::mem::size_of::<MapPush>() == 24);
 const _: () = assert!(std::mem::size_of::<EvalPush>() == 4);
 const _: () = assert!(std::mem::size_of::<EnvMapPush>() == 72);
 const _: () = assert!(std::mem::size_of::<SelftestPush>() == 8);
-const _: () = assert!(std::mem::size_of::<VisibilityPush>() == 20);
+const _: () = assert!(std::mem::size_of::<VisibilityPush>() == 24);

@@ -189,8 +189,9 @@ impl Device {
             .dynamic_rendering(true)
             .maintenance4(true);
         let pipeline_statistics = features.pipeline_statistics_query == vk::TRUE;
-        let visibility_buffer =
-            features.geometry_shader == vk::TRUE && features.vertex_pipeline_stores_and_atomics == vk::TRUE;
+        let visibility_buffer = features.geometry_shader == vk::TRUE
+            && features.vertex_pipeline_stores_and_atomics == vk::TRUE
+            && features.fragment_stores_and_atomics == vk::TRUE;
         let base = vk::PhysicalDeviceFeatures::default()
             .pipeline_statistics_query(pipeline_statistics)
             .geometry_shader(visibility_buffer)

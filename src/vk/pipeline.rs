@@ -24,6 +24,8 @@ pub enum DescriptorWrite<'a> {
     UniformBuffer(u32, &'a Buffer),
     SampledImage(u32, &'a Image, &'a Sampler),
     StorageImage(u32, &'a Image),
+    /// A storage image known by its view only (a render target's, `render::TargetView::storage`).
+    StorageView(u32, vk::ImageView),
 }
 
 /// Specialization-constant values (id → 4-byte value), shared by every stage of a pipeline.
@@ -344,6 +346,9 @@ impl Context {
                 DescriptorWrite::StorageImage(_, i) => image_infos.push([vk::DescriptorImageInfo::default()
                     .image_view(i.view)
                     .image_layout(vk::ImageLayout::GENERAL)]),
+                DescriptorWrite::StorageView(_, view) => image_infos.push([vk::DescriptorImageInfo::default()
+                    .image_view(*view)
+                    .image_layout(vk::ImageLayout::GENERAL)]),
             }
         }
         let (mut bi, mut ii) = (buffer_infos.iter(), image_infos.iter());
@@ -364,7 +369,7 @@ impl Context {
                         .dst_binding(*b)
                         .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                         .image_info(ii.next().expect("one info per image write")),
-                    DescriptorWrite::StorageImage(b, _) => base
+                    DescriptorWrite::StorageImage(b, _) | DescriptorWrite::StorageView(b, _) => base
                         .dst_binding(*b)
                         .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                         .image_info(ii.next().expect("one info per image write")),
