@@ -928,12 +928,12 @@ impl SceneRenderer {
             writes
                 .push(DescriptorWrite::StorageView(BINDING_VISIBILITY_TARGET, target.resolve.unwrap_or(target.color)));
             ctx.bind(cmd, pipeline, &writes, &[]);
-            for k in 1..=state.edge_lists {
+            for k in 1..=state.edge_lists() {
                 if i > 0 || k > 1 {
                     ctx.barrier_memory(cmd, visibility::EDGES_ADDED, visibility::EDGES_NEXT);
                 }
                 let push = VisibilityPush { edge: k, ..push(i) };
-                let offset = u64::from(k - 1) * state.edge_list_bytes;
+                let offset = u64::from(k - 1) * visibility::edge_list_bytes(target.extent);
                 // SAFETY: cmd is recording outside a rendering scope with the edge pass bound; each list begins
                 // with its dispatch's size, which the shading pass counted.
                 unsafe {

@@ -164,11 +164,8 @@ pub(crate) struct VisibilityState {
     pub outputs: Vec<Buffer>,
     /// Per object where the frame has several samples (else empty): the pixels that see more than one of its
     /// triangles, listed by the shading pass for the edge pass, one list for each further triangle a pixel may
-    /// see (samples − 1 lists of [`Self::edge_list_bytes`]: `EDGES_EMPTY`'s header, then a pixel a word).
+    /// see ([`Self::edge_lists`] of [`edge_list_bytes`]: `EDGES_EMPTY`'s header, then a pixel a word).
     pub edges: Vec<Buffer>,
-    /// Lists in each of `edges`: one for each triangle after a pixel's first.
-    pub edge_lists: u32,
-    pub edge_list_bytes: u64,
 }
 
 impl VisibilityState {
@@ -224,10 +221,8 @@ impl VisibilityState {
             outputs.push(ctx.create_buffer(desc, &format!("object {i} vertex outputs"))?);
         }
         let mut edges = Guard::new(ctx, Vec::new());
-        let edge_lists = samples.as_raw() - 1;
-        let edge_list_bytes = 16 + 4 * u64::from(extent.width) * u64::from(extent.height);
         if multisampled {
-            let size = u64::from(edge_lists) * edge_list_bytes;
+            let size = u64::from(samples.as_raw() - 1) * edge_list_bytes(extent);
             let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::INDIRECT_BUFFER;
             for i in 0..meshes.len() {
                 edges.push(ctx.create_buffer(BufferDesc::gpu_only(size, usage), &format!("object {i} edge pixels"))?);
@@ -235,7 +230,7 @@ impl VisibilityState {
         }
         let (ids, sampler, coverage, outputs, edges) =
             (ids.keep(), sampler.keep(), coverage.keep(), outputs.keep(), edges.keep());
-        Ok(Self { ids, sampler, coverage, resolve, outputs, edges, edge_lists, edge_list_bytes })
+        Ok(Self { ids, sampler, coverage, resolve, outputs, edges })
     }
 
     /// # Safety
@@ -251,6 +246,11 @@ impl VisibilityState {
         }
     }
 
+    /// Lists in each of [`Self::edges`]: one for each triangle after a pixel's first.
+    pub fn edge_lists(&self) -> u32 {
+        self.ids.desc.samples.as_raw() - 1
+    }
+
     /// Empties every object's edge list (after the previous frame's edge pass has read it), before the shading
     /// pass appends to them.
     pub fn reset_edges(&self, ctx: &Context, cmd: vk::CommandBuffer) {
@@ -260,8 +260,8 @@ impl VisibilityState {
         // The previous frame's edge pass is done with them.
         ctx.barrier_memory(cmd, EDGES_NEXT, MemoryState::TRANSFER_WRITE);
         for lists in &self.edges {
-            for k in 0..u64::from(self.edge_lists) {
-                let offset = k * self.edge_list_bytes;
+            for k in 0..u64::from(self.edge_lists()) {
+                let offset = k * edge_list_bytes(self.ids.extent());
                 // SAFETY: cmd is recording outside a rendering scope; the list's header lies in the live buffer.
                 unsafe { ctx.device().cmd_update_buffer(cmd, lists.raw, offset, bytemuck::cast_slice(&EDGES_EMPTY)) };
             }
@@ -283,6 +283,11 @@ pub(crate) fn begin(
         vk::RenderingInfo::default().render_area(full).layer_count(1).color_attachments(color).depth_attachment(depth);
     // SAFETY: cmd is recording and the caller's attachments are in their attachment layouts.
     unsafe { super::begin_rendering_info(ctx, cmd, &info, extent, full) };
+}
+
+/// Bytes of one edge list for frames of `extent`: its header, then room for every pixel.
+pub(crate) fn edge_list_bytes(extent: vk::Extent2D) -> u64 {
+    16 + 4 * u64::from(extent.width) * u64::from(extent.height)
 }
 
 /// The depth resolve that tells covered pixels from empty ones: MIN, else AVERAGE (lavapipe's), else none.
