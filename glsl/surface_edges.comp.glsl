@@ -2,10 +2,9 @@
 // The visibility buffer's edge pass (`render::visibility`): dispatch k (visibility.edge) shades, for every pixel
 // listed as seeing more than k of the object's triangles (by the shading pass, which shaded the first, or by
 // dispatch k − 1), its (k + 1)-th at the pixel centre, weighed by its samples, adds it to the pixel, and lists
-// the pixel for dispatch k + 1 if it sees more. As a compute dispatch
-// over a list, its invocations are packed densely and each shades once: in the full-screen pass a second
-// shading ran for every block of pixels that held one edge pixel, and a loop over further triangles runs for
-// every group of lanes that holds one pixel with more.
+// the pixel for dispatch k + 1 if it sees more. As a compute dispatch over a list, its invocations are packed
+// densely and each shades once: in the full-screen pass a second shading ran for every block of pixels that held
+// one edge pixel, and a loop over further triangles runs for every group of lanes that holds one pixel with more.
 #define NO_DERIVATIVES
 #include "params.glsl"
 #include "spectrum.glsl"

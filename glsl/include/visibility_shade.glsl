@@ -17,9 +17,8 @@ layout(binding = BINDING_VISIBILITY_IDS) uniform usampler2DMS ids;
 // The object's pixels that see more than one of its triangles (`VisibilityState::edges`), appended by the shading
 // pass and the edge pass: one list for each further triangle (list k − 1 holds the pixels that see more than k
 // triangles, whose (k + 1)-th the edge pass's k-th dispatch shades and then lists the pixel in list k if it sees
-// more still), each of `edge_list_words()` words: the
-// indirect dispatch's work groups (x grows by one for every VISIBILITY_EDGE_GROUP pixels; y and z are 1), the
-// number of pixels, then each pixel as x | y << 16.
+// more still), each of `edge_list_words()` words: the indirect dispatch's work groups (x grows by one for every
+// VISIBILITY_EDGE_GROUP pixels; y and z are 1), the number of pixels, then each pixel as x | y << 16.
 layout(std430, binding = BINDING_VISIBILITY_EDGES) buffer VisibilityEdges {
     uint edge_words[];
 };

@@ -232,7 +232,7 @@ impl OffscreenTarget {
             Some(m) => (m.view, Some(self.color.view), m.desc.samples),
             None => (self.color.view, None, vk::SampleCountFlags::TYPE_1),
         };
-        // Without colour samples (`drop_color_samples`) the depth says how many the frame has.
+        // Without colour samples (`for_visibility_buffer`) the depth says how many the frame has.
         let samples = self.depth.as_ref().map_or(samples, |d| d.desc.samples);
         let storage = self.color.desc.usage.contains(vk::ImageUsageFlags::STORAGE).then_some(self.color.raw);
         let depth = self.depth.as_ref().map(|d| d.view);
