@@ -291,16 +291,8 @@ impl TableProposal {
     pub fn new(table: &BakedTable) -> Result<Self> {
         let g = &table.grid;
         let level = &table.levels[0];
-        let n = level.width * level.height;
-        let channels = crate::physics::baked::LAYER_CHANNELS;
-        let scalars = 3 * table.terms;
-        let weights: Vec<f64> = (0..n)
-            .map(|i| {
-                (0..scalars)
-                    .map(|s| f64::from(level.texels[((s / channels) * n + i) * channels + s % channels]).abs())
-                    .sum()
-            })
-            .collect();
+        let weights: Vec<f64> =
+            (0..level.width * level.height).map(|i| table.texel_coefficients(level, i).map(f64::abs).sum()).collect();
         let area = g.texel * g.texel;
         let (nu, nv) = (level.width, level.height);
         let distribution = Distribution2D::new(&weights, nu, nv, |_| area)

@@ -172,10 +172,14 @@ pub fn basis_colours() -> DMat3 {
 /// of [`MOMENT_TEXEL`] and spectral sums at [`MOMENT_LAMBDA_STEP_NM`] (built, or read from the cache), on a
 /// [`MOMENT_GRID`]² grid.
 pub fn moments_of(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> crate::Result<Moments> {
-    use crate::physics::baked::{load_or_build, TablePlan};
+    use crate::physics::baked::{load_or_build, TablePlan, TableRequest};
     use crate::shading::Reach;
     // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
-    let request = Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request();
+    // One segment of w: the moments read every texel once, so fewer layers a read would save nothing.
+    let request = TableRequest {
+        segments: Some(1),
+        ..Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request()
+    };
     let mut bands = Vec::new();
     for illuminant in basis() {
         let mut plan = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, illuminant)?;
@@ -410,33 +414,13 @@ fn moment_level(table: &BakedTable) -> (usize, f64) {
     (level, extent / table.levels[level].width as f64)
 }
 
-/// T_0..T_{n−1} at t, on the stack.
-fn chebyshev(t: f64, n: usize) -> [f64; crate::physics::baked::MAX_TERMS] {
-    let mut out = [0.0; crate::physics::baked::MAX_TERMS];
-    out[0] = 1.0;
-    if n > 1 {
-        out[1] = t;
-    }
-    for d in 2..n {
-        out[d] = 2.0 * t * out[d - 1] - out[d - 2];
-    }
-    out
-}
-
 /// Which texels of the moments' level hold any colour (the rest are skipped): a grating's light lies on a few
 /// lines of (u, v).
 fn bright_texels(table: &BakedTable) -> Vec<bool> {
     let (level, _) = moment_level(table);
     let l = &table.levels[level];
-    let n = l.width * l.height;
-    let channels = crate::physics::baked::LAYER_CHANNELS;
-    (0..n)
-        .map(|i| {
-            (0..3 * table.terms).any(|s| {
-                f64::from(l.texels[((s / channels) * n + i) * channels + s % channels]).abs()
-                    > crate::physics::baked::INVISIBLE
-            })
-        })
+    (0..l.width * l.height)
+        .map(|i| table.texel_coefficients(l, i).any(|c| c.abs() > crate::physics::baked::INVISIBLE))
         .collect()
 }
 
@@ -449,8 +433,6 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
     let (level, texel) = moment_level(table);
     let l = &table.levels[level];
     let (u0, v0) = (table.grid.u0, table.grid.v0);
-    let n = l.width * l.height;
-    let channels = crate::physics::baked::LAYER_CHANNELS;
     let mut sum = [DVec3::ZERO; MONOMIALS];
     let mut specular = DVec3::ZERO;
     // The specular disc's light leaves along the mirror direction: its factors there (a texel's centre can lie half
@@ -500,14 +482,7 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
             }
             // The texel's colour at its factors' mean w.
             let w = w_sum.1 / w_sum.0;
-            let t = chebyshev(table.grid.t_of(w), table.terms);
-            let mut xyz = [0.0; 3];
-            for s in 0..3 * table.terms {
-                let (layer, ch) = (s / channels, s % channels);
-                let c = f64::from(l.texels[(layer * n + b * l.width + a) * channels + ch]);
-                xyz[s % 3] += c * t[s / 3];
-            }
-            let rgb = xyz_to_linear_srgb(DVec3::from(xyz).max(DVec3::ZERO)) * gain;
+            let rgb = xyz_to_linear_srgb(table.level_xyz(level, a, b, w)) * gain;
             let (uc, vc) = (ua + 0.5 * texel, va + 0.5 * texel);
             if (uc * uc + vc * vc).sqrt() < SPECULAR_RADIUS {
                 specular += rgb * mirror_factor;

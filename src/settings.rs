@@ -53,6 +53,14 @@ mod check {
         }
     }
 
+    pub fn table_segments(v: &usize) -> Result<(), String> {
+        let most = crate::physics::baked::MAX_SEGMENTS;
+        match (1..=most).contains(v) {
+            true => Ok(()),
+            false => Err(format!("a table has 1 to {most} segments of w")),
+        }
+    }
+
     pub fn window_radius(v: &u32) -> Result<(), String> {
         match *v <= MAX_WINDOW_RADIUS {
             true => Ok(()),
@@ -461,6 +469,11 @@ settings! {
     /// default scene's frame at the same measured error; linear on a GPU)
     table_mips: value<TableMips> = TableMips::Auto, check any,
         flag "table-mips", value_name "FILTER";
+    /// Baked: equal segments of w, each with its own Chebyshev series: a read fetches one segment's layers, and a
+    /// series over a shorter interval needs fewer terms, for the memory of every segment; auto: two where w spans
+    /// more than 1.5 (the tables for any view) and they read fewer layers within twice the memory of one
+    table_segments: auto<usize> = None, check table_segments,
+        flag "table-segments", value_name "N";
 }
 
 /// A flag's help: the setting's doc on one line and its default.

@@ -99,17 +99,22 @@ impl Reach {
     /// What a baked table for these views must cover.
     pub fn table_request(&self) -> TableRequest {
         match *self {
-            Reach::Hemisphere { footprint } => {
-                TableRequest { domain: Domain::HEMISPHERE, footprint, aligned: false, centres_only: false }
-            }
+            Reach::Hemisphere { footprint } => TableRequest {
+                domain: Domain::HEMISPHERE,
+                footprint,
+                aligned: false,
+                centres_only: false,
+                segments: None,
+            },
             Reach::Map { light, size, filtered } => TableRequest {
                 domain: Domain::map(light),
                 footprint: 2.0 / f64::from(size.max(1)),
                 aligned: true,
                 centres_only: !filtered,
+                segments: None,
             },
             Reach::Seen { domain, footprint } => {
-                TableRequest { domain, footprint, aligned: false, centres_only: false }
+                TableRequest { domain, footprint, aligned: false, centres_only: false, segments: None }
             }
         }
     }
@@ -206,7 +211,13 @@ impl Material {
         let sigma_f = 1.0 / (2.0 * std::f64::consts::PI * sigma_s);
         let (gx, gy, spacing) = if s.approach == Approach::Gem { dominant_grating(hf) } else { (1.0, 0.0, 0.0) };
         let params = DiffractionParams {
-            patch_px: [hf.nx as i32, hf.ny as i32, layers as i32, 0],
+            // (w: the baked table's segments of w.)
+            patch_px: [
+                hf.nx as i32,
+                hf.ny as i32,
+                layers as i32,
+                baked.as_ref().map_or(1, |b| b.table.grid.segments as i32),
+            ],
             patch_um: [lx as f32, ly as f32, hf.dx_um as f32, hf.dy_um as f32],
             window: [window.sigma_x as f32, window.sigma_y as f32, sigma_f as f32, 0.0],
             spectral: [
@@ -377,13 +388,15 @@ struct Baked {
     cached: bool,
     /// The table's (u0, v0, width, height) in direction space.
     uv: [f32; 4],
-    /// The centre of its w range, 1 / its half-width, the texel size and the top mip level.
+    /// The lower end of its w range, its segments per unit of w (`baked.glsl`'s `table_segment`), the texel size
+    /// and the top mip level.
     w: [f32; 4],
 }
 
 impl Baked {
     fn prepare(hf: &HeightField, s: &Settings, reach: &Reach) -> Result<Self> {
-        let plan = TablePlan::new_under(hf, s.coherence_um, &reach.table_request(), s.table_tolerance, s.illuminant)?;
+        let request = TableRequest { segments: s.table_segments, ..reach.table_request() };
+        let plan = TablePlan::new_under(hf, s.coherence_um, &request, s.table_tolerance, s.illuminant)?;
         let start = Instant::now();
         let bar = Progress::new("baking the colour table", 0);
         let (table, cached) = baked::load_or_build(hf, &plan, Some(&|done, total| bar.set(done, total)))?;
@@ -394,11 +407,11 @@ impl Baked {
         }
         let ms = start.elapsed().as_secs_f64() * 1e3;
         let g = table.grid;
-        let half = 0.5 * (g.w.1 - g.w.0);
+        let length = g.w.1 - g.w.0;
         let uv = [g.u0 as f32, g.v0 as f32, (g.nu as f64 * g.texel) as f32, (g.nv as f64 * g.texel) as f32];
         let w = [
-            (0.5 * (g.w.0 + g.w.1)) as f32,
-            if half > 0.0 { (1.0 / half) as f32 } else { 0.0 },
+            g.w.0 as f32,
+            if length > 0.0 { (g.segments as f64 / length) as f32 } else { 0.0 },
             g.texel as f32,
             (table.levels.len() - 1) as f32,
         ];

@@ -64,6 +64,7 @@ fn map_table(hf: &HeightField, coherence_um: f64, size: u32) -> (TablePlan, diff
         footprint: 2.0 / f64::from(size),
         aligned: true,
         centres_only: false,
+        segments: None,
     };
     let plan = TablePlan::new(hf, coherence_um, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let table = build::build(hf, &plan, None).unwrap();
@@ -106,7 +107,7 @@ fn texel_averages_and_the_coarsest_level_equal_means_computed_directly() {
     let hf = tiled();
     let (lx, _) = hf.size_um();
     let domain = Domain { u: (-0.15, 0.15), v: (-0.15, 0.15), w: (-1.9, -1.7) };
-    let request = TableRequest { domain, footprint: 0.12, aligned: false, centres_only: false };
+    let request = TableRequest { domain, footprint: 0.12, aligned: false, centres_only: false, segments: None };
     let plan = TablePlan::new(&hf, lx, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     assert!(plan.lattice && !plan.point && plan.grid.texel > plan.lobe_width.1, "{}", plan.describe());
     let table = build::build(&hf, &plan, None).unwrap();
@@ -192,7 +193,14 @@ fn the_nearest_mip_filter_reads_the_level_nearest_the_lod_and_auto_takes_it_on_a
 fn deeper_structures_need_more_terms_in_w() {
     let shallow = HeightField::new(8, 8, 0.1, 0.1, noise(64, 3, 0.1)).unwrap().tiled(8, 8).unwrap();
     let deep = HeightField::new(8, 8, 0.1, 0.1, noise(64, 3, 0.8)).unwrap().tiled(8, 8).unwrap();
-    let request = TableRequest { domain: Domain::HEMISPHERE, footprint: 0.05, aligned: false, centres_only: false };
+    // One series over the whole interval (segments would each need fewer terms).
+    let request = TableRequest {
+        domain: Domain::HEMISPHERE,
+        footprint: 0.05,
+        aligned: false,
+        centres_only: false,
+        segments: Some(1),
+    };
     let plan = |hf: &HeightField| TablePlan::new(hf, 6.4, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let (a, b) = (plan(&shallow), plan(&deep));
     assert!(b.terms > a.terms + 4, "{} vs {}", a.describe(), b.describe());
@@ -270,6 +278,7 @@ fn a_map_read_at_pixel_centres_has_one_texel_per_pixel() {
         footprint: 2.0 / f64::from(size),
         aligned: true,
         centres_only,
+        segments: None,
     };
     let point = TablePlan::new(&hf, lx, &request(true), DEFAULT_TABLE_TOLERANCE).unwrap();
     let filtered = TablePlan::new(&hf, lx, &request(false), DEFAULT_TABLE_TOLERANCE).unwrap();

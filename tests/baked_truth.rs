@@ -288,10 +288,44 @@ fn a_held_out_sinusoid_any_view_table_is_within_its_certificate() {
 #[test]
 fn a_deep_sinusoid_under_short_coherence_is_within_its_certificate() {
     let g = Grating { px: 40, py: 1, p: 1, q: 0, a: 0.3, pixel: 0.05, tx: 10, ty: 40 };
-    let request = TableRequest { domain: Domain::HEMISPHERE, footprint: 0.0, aligned: false, centres_only: false };
+    let request = TableRequest { segments: Some(1), ..hemisphere() };
     let (plan, table) = check("sine 2 µm, 0.6 µm deep, any view, 10 µm", &g, 10.0, request, 10_000);
     assert!(!plan.lattice, "{}", plan.describe());
     assert!(table.terms >= 12, "{}", table.certificate.describe());
+}
+
+/// Every pair of directions, texels as fine as the lobes.
+fn hemisphere() -> TableRequest {
+    TableRequest { domain: Domain::HEMISPHERE, footprint: 0.0, aligned: false, centres_only: false, segments: None }
+}
+
+/// The same deep grating's table with w cut into 2 and 4 segments, each its own series: the certificate's claim
+/// holds at random w in every segment (between each one's nodes, and across their joins), each segment needs
+/// fewer terms than one series over the whole interval, and the plan cuts it in two itself.
+#[test]
+fn a_table_in_segments_of_w_is_within_its_certificate_and_reads_fewer_layers() {
+    let g = Grating { px: 40, py: 1, p: 1, q: 0, a: 0.3, pixel: 0.05, tx: 10, ty: 40 };
+    let one = TablePlan::new(
+        &g.heightfield(),
+        10.0,
+        &TableRequest { segments: Some(1), ..hemisphere() },
+        DEFAULT_TABLE_TOLERANCE,
+    )
+    .unwrap();
+    let mut terms = vec![one.terms];
+    for n in [2, 4] {
+        let request = TableRequest { segments: Some(n), ..hemisphere() };
+        let (plan, table) =
+            check(&format!("sine 2 µm, 0.6 µm deep, any view, 10 µm, {n} segments"), &g, 10.0, request, 6_000);
+        assert_eq!((plan.grid.segments, table.grid.segments, plan.segments.len()), (n, n, n));
+        assert_eq!(table.layers(), n * table.layers_per_read());
+        assert!(table.certificate.meets_tolerance(), "{}", table.certificate.describe());
+        terms.push(table.terms);
+    }
+    assert!(terms[1] < terms[0] && terms[2] < terms[1], "terms for 1, 2 and 4 segments: {terms:?}");
+    let auto = TablePlan::new(&g.heightfield(), 10.0, &hemisphere(), DEFAULT_TABLE_TOLERANCE).unwrap();
+    assert_eq!(auto.grid.segments, 2, "{}", auto.describe());
+    assert!(auto.describe().contains("in 2 segments"), "{}", auto.describe());
 }
 
 /// A scene's box of views (the default snake's at 200²) under a 1000 µm coherence, whose lobes are far
@@ -300,7 +334,8 @@ fn a_deep_sinusoid_under_short_coherence_is_within_its_certificate() {
 fn a_long_coherence_scene_table_is_within_its_certificate() {
     let g = Grating { px: 16, py: 1, p: 1, q: 0, a: 0.05, pixel: 0.05, tx: 16, ty: 16 };
     let domain = Domain { u: (-0.44, 0.74), v: (-1.02, 1.11), w: (-1.06, -0.001) };
-    let request = TableRequest { domain, footprint: 0.0113 * 3f64.sqrt(), aligned: false, centres_only: false };
+    let request =
+        TableRequest { domain, footprint: 0.0113 * 3f64.sqrt(), aligned: false, centres_only: false, segments: None };
     let (plan, table) = check("sine 0.8 µm, 0.1 µm deep, scene box, 1000 µm", &g, 1000.0, request, 10_000);
     assert!(plan.lattice && plan.grid.texel > 10.0 * plan.lobe_width.1, "{}", plan.describe());
     assert!(table.terms >= 3, "{}", table.certificate.describe());
@@ -312,12 +347,18 @@ fn a_long_coherence_scene_table_is_within_its_certificate() {
 fn a_rotated_lattice_is_within_its_certificate_in_a_map_and_a_scene() {
     let g = Grating { px: 24, py: 32, p: 1, q: 1, a: 0.15, pixel: 0.05, tx: 8, ty: 6 };
     let light = DVec3::new(0.5, 0.0, 0.75f64.sqrt());
-    let map = TableRequest { domain: Domain::map(light), footprint: 2.0 / 48.0, aligned: true, centres_only: false };
+    let map = TableRequest {
+        domain: Domain::map(light),
+        footprint: 2.0 / 48.0,
+        aligned: true,
+        centres_only: false,
+        segments: None,
+    };
     let (plan, _) = check("rotated lattice, map at 30°, 20 µm", &g, 20.0, map, 10_000);
     assert!(plan.point && plan.lattice, "{}", plan.describe());
     let g = Grating { tx: 4, ty: 3, ..g };
     let domain = Domain { u: (-0.9, 0.3), v: (-0.7, 0.7), w: (-1.9, -1.2) };
-    let scene = TableRequest { domain, footprint: 0.3, aligned: false, centres_only: false };
+    let scene = TableRequest { domain, footprint: 0.3, aligned: false, centres_only: false, segments: None };
     let (plan, _) = check("rotated lattice, scene box, 4 µm", &g, 4.0, scene, 10_000);
     assert!(!plan.lattice && plan.subsamples() > 1, "{}", plan.describe());
 }

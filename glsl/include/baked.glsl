@@ -3,7 +3,8 @@
 // Requires params.glsl (compiled with BAKED) and brdf.glsl.
 #include "footprint.glsl"
 
-// RGBA layers of the table: 3 channels × TERMS coefficients, four to a layer (`baked::layers_for`).
+// RGBA layers a read fetches: 3 channels × TERMS coefficients of one segment of w, four to a layer
+// (`baked::layers_for`). Segment s's layers are s·TABLE_LAYERS onwards (`Grid::segments`).
 const uint TABLE_LAYERS = (3u * TERMS + 3u) / 4u;
 // Texels a read of the table takes (`MipFilter::texels_per_read`: 8 trilinear, 4 from the nearest level): what
 // the counting variants add per read.
@@ -22,17 +23,28 @@ float table_lod(float footprint) {
     return clamp(log2(footprint / texel) - FOOTPRINT_LOD_BIAS, 0.0, params.table_w.w);
 }
 
+// The segment of w and t ∈ [−1, 1] within it (`Grid::segment_of`): params.table_w.x is the interval's lower end,
+// .y its segments per unit of w, params.patch_px.w the segments.
+uint table_segment(float w, out float t) {
+    uint segments = uint(params.patch_px.w);
+    float x = clamp((w - params.table_w.x) * params.table_w.y, 0.0, float(segments));
+    uint segment = min(uint(x), segments - 1u);
+    t = clamp(2.0 * (x - float(segment)) - 1.0, -1.0, 1.0);
+    return segment;
+}
+
 // XYZ relative to a D65 mirror, before the gain and the shadowing, at `uvw` and mip level `lod`
-// (`BakedTable::xyz`): trilinear samples of every layer, then Σ_d a_d·T_d(t) per channel, clamped at 0.
+// (`BakedTable::xyz`): samples of the layers of w's segment, then Σ_d a_d·T_d(t) per channel, clamped at 0.
 vec3 baked_xyz(vec3 uvw, float lod) {
-    float t = clamp((uvw.z - params.table_w.x) * params.table_w.y, -1.0, 1.0);
+    float t;
+    uint first = table_segment(uvw.z, t) * TABLE_LAYERS;
     float cheb[TERMS];
     cheb[0] = 1.0;
     for (uint d = 1u; d < TERMS; ++d) cheb[d] = d == 1u ? t : 2.0 * t * cheb[d - 1u] - cheb[d - 2u];
     vec2 coords = (uvw.xy - params.table_uv.xy) / params.table_uv.zw;
     vec3 xyz = vec3(0.0);
     for (uint layer = 0u; layer < TABLE_LAYERS; ++layer) {
-        vec4 c = textureLod(baked_table, vec3(coords, float(layer)), lod);
+        vec4 c = textureLod(baked_table, vec3(coords, float(first + layer)), lod);
         for (uint j = 0u; j < 4u; ++j) {
             uint s = 4u * layer + j;
             if (s < 3u * TERMS) xyz[s % 3u] += c[j] * cheb[s / 3u];

@@ -156,15 +156,24 @@ fn blazed_map_shows_the_first_order_spectrum_in_order() {
 fn baked_map_pixels_are_the_tables_values_read_as_the_cpu_twin_reads_them() {
     // The GPU's reads, LOD and Chebyshev sum against `BakedTable::xyz_filtered` (the shader's CPU twin), at the
     // table's finest level (pixel centres are texel centres) and filtered over each pixel's footprint, between the
-    // mip levels (trilinear) and from the nearest one.
+    // mip levels (trilinear) and from the nearest one; with w in one segment and in two or three (each read from
+    // its own layers, the segment chosen per pixel).
     let hf = elaphe(3);
     let light = direction(20.0, 0.0);
     let size = 49;
-    let cases = [(false, TableMips::Linear), (true, TableMips::Linear), (true, TableMips::Nearest)];
-    for (footprint, table_mips) in cases {
+    let cases = [
+        (false, TableMips::Linear, 1),
+        (true, TableMips::Linear, 1),
+        (true, TableMips::Nearest, 1),
+        (false, TableMips::Linear, 2),
+        (true, TableMips::Nearest, 3),
+    ];
+    for (footprint, table_mips, segments) in cases {
         let filter = table_mips.filter(true);
-        let settings = Settings { approach: Approach::Baked, table_mips, ..Settings::default() };
+        let table_segments = Some(segments);
+        let settings = Settings { approach: Approach::Baked, table_mips, table_segments, ..Settings::default() };
         let material = Material::prepare(&hf, settings, &Reach::Map { light, size, filtered: footprint }).unwrap();
+        assert_eq!(material.table.as_ref().unwrap().grid.segments, segments);
         let (image, bits) = gpu_test(|ctx| {
             let limits = &ctx.info.limits;
             let bits = (limits.sub_texel_precision_bits, limits.mipmap_precision_bits);

@@ -486,17 +486,40 @@ impl<'a> Pass<'a> {
 /// Builds the table `plan` describes for `hf`: node values at `plan.nodes` nodes in w, turned into Chebyshev
 /// coefficients and certified (`super::degree::certify`), the degree kept the certificate's.
 /// `progress(done, total)` counts wavelengths.
+/// A table of several segments of w is built segment after segment, each as a table of its own over its interval
+/// (the terms it may keep are what fits in memory beside the others), and then joined
+/// ([`BakedTable::from_segments`]); `progress` then counts every segment's wavelengths.
 pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>) -> Result<BakedTable> {
     let cell = Cell::new(hf, plan.cell);
-    let pass = Pass::new(hf, plan, &cell);
-    let mut values = pass.run(plan.lattice, progress);
-    let fit = degree::terms_that_fit(&plan.grid, plan.nodes.count);
-    let certificate = degree::certify(&mut values.data, fit, &plan.nodes, plan.tolerance)?;
-    let report = format!(
-        "{} path, {}{}",
-        if plan.lattice { "lattice" } else { "coherent" },
-        if plan.point { "texel-centre values" } else { "texel averages" },
-        if pass.subsamples > 1 { format!(" of {0}×{0} sub-samples", pass.subsamples) } else { String::new() },
-    );
-    Ok(BakedTable::from_coefficients(plan.grid, &values.data, 3 * values.nodes, certificate, report))
+    let segments = plan.grid.segments;
+    let mut parts = Vec::with_capacity(segments);
+    let mut report = String::new();
+    for segment in &plan.segments {
+        let one = plan.with_segment(segment);
+        let pass = Pass::new(hf, &one, &cell);
+        let total = pass.spectral.lambda_um.len();
+        let offset = parts.len() * total;
+        let shifted = |done: usize, _: usize| {
+            if let Some(p) = progress {
+                p(offset + done, total * segments)
+            }
+        };
+        let mut values = pass.run(one.lattice, Some(&shifted));
+        let fit = degree::terms_that_fit(&plan.grid, one.nodes.count);
+        let certificate = degree::certify(&mut values.data, fit, &one.nodes, one.tolerance)?;
+        report = format!(
+            "{} path, {}{}{}",
+            if plan.lattice { "lattice" } else { "coherent" },
+            if plan.point { "texel-centre values" } else { "texel averages" },
+            if pass.subsamples > 1 { format!(" of {0}×{0} sub-samples", pass.subsamples) } else { String::new() },
+            if segments > 1 { format!(", {segments} segments of w") } else { String::new() },
+        );
+        parts.push(BakedTable::from_coefficients(one.grid, &values.data, 3 * values.nodes, certificate, String::new()));
+    }
+    if segments == 1 {
+        let mut table = parts.pop().expect("one segment");
+        table.report = report;
+        return Ok(table);
+    }
+    Ok(BakedTable::from_segments(plan.grid, parts, report))
 }

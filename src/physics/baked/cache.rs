@@ -54,6 +54,12 @@ fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
     if plan.lambda_step_nm != super::TABLE_LAMBDA_STEP_NM {
         p.f64(plan.lambda_step_nm);
     }
+    if g.segments > 1 {
+        p.u64(g.segments as u64);
+        for s in &plan.segments {
+            p.u64(s.nodes.count as u64).u64(s.estimate.terms as u64);
+        }
+    }
     Stamp { kind: "baked", what: "baked table", version: VERSION, plan: p.0 }
 }
 
@@ -144,7 +150,7 @@ fn parse(bytes: &[u8], plan: &TablePlan) -> Option<BakedTable> {
     let needed = (needed != usize::MAX).then_some(needed);
     let certificate = Certificate { terms, needed, nodes, unseen, tail, tolerance };
     let report = r.string()?;
-    let layers = super::layers_for(terms);
+    let layers = super::layers_for(terms) * grid.segments;
     let mut out = Vec::with_capacity(levels);
     for &(w, h) in &grid.level_sizes() {
         let (width, height) = (usize::try_from(r.u64()?).ok()?, usize::try_from(r.u64()?).ok()?);

@@ -122,10 +122,14 @@ pub struct TableRequest {
     /// Aligned, and every read is a pixel centre's value (a map that is not filtered over each pixel's
     /// footprint): one texel per pixel holds it exactly, and finer texels would only be memory.
     pub centres_only: bool,
+    /// Equal segments of w, each with its own series ([`Grid::segments`]); None: chosen by the plan
+    /// ([`TablePlan::new`]: two where w spans more than 1.5 and they need fewer layers a read, within twice the
+    /// memory of one).
+    pub segments: Option<usize>,
 }
 
-/// The texel grid: texel (a, b) covers u ∈ [u0 + a·texel, u0 + (a + 1)·texel) and likewise v; w is mapped from
-/// `w` to t ∈ [−1, 1].
+/// The texel grid: texel (a, b) covers u ∈ [u0 + a·texel, u0 + (a + 1)·texel) and likewise v; `w` is cut into
+/// `segments` equal intervals, each mapped to t ∈ [−1, 1] and expanded in its own Chebyshev series.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grid {
     pub u0: f64,
@@ -134,6 +138,11 @@ pub struct Grid {
     pub nu: usize,
     pub nv: usize,
     pub w: (f64, f64),
+    /// Equal intervals of `w`, each with its own series: segment s holds the table's layers s·L .. (s + 1)·L
+    /// (L = the RGBA layers of its terms), so a read fetches L layers however many segments there are. A
+    /// series over half the interval needs fewer terms (its coefficients fall like J_d(Ω·ρ), ρ the half-width:
+    /// [`degree`]), at the price of the memory of every segment.
+    pub segments: usize,
 }
 
 impl Grid {
@@ -145,17 +154,30 @@ impl Grid {
         self.v0 + (b as f64 + 0.5) * self.texel
     }
 
-    /// t ∈ [−1, 1] of w (clamped: the series is never extrapolated).
-    pub fn t_of(&self, w: f64) -> f64 {
+    /// The segment of w and t ∈ [−1, 1] within it (clamped: the series is never extrapolated); the shader's
+    /// `table_segment` does the same in f32.
+    pub fn segment_of(&self, w: f64) -> (usize, f64) {
         let (w0, w1) = self.w;
+        let n = self.segments.max(1);
         if w1 <= w0 {
-            return 0.0;
+            return (0, 0.0);
         }
-        ((2.0 * w - w0 - w1) / (w1 - w0)).clamp(-1.0, 1.0)
+        let x = ((w - w0) / (w1 - w0) * n as f64).clamp(0.0, n as f64);
+        let segment = (x.floor() as usize).min(n - 1);
+        (segment, (2.0 * (x - segment as f64) - 1.0).clamp(-1.0, 1.0))
     }
 
-    /// w at t.
+    /// The w-interval of `segment`.
+    pub fn segment_w(&self, segment: usize) -> (f64, f64) {
+        let (w0, w1) = self.w;
+        let n = self.segments.max(1) as f64;
+        let at = |i: usize| if i >= self.segments { w1 } else { w0 + (w1 - w0) * i as f64 / n };
+        (at(segment), at(segment + 1))
+    }
+
+    /// w at t of a one-segment grid.
     pub fn w_of(&self, t: f64) -> f64 {
+        debug_assert_eq!(self.segments, 1, "w_of maps one segment");
         let (w0, w1) = self.w;
         0.5 * (w0 + w1) + 0.5 * (w1 - w0) * t
     }
@@ -169,10 +191,10 @@ impl Grid {
         sizes
     }
 
-    /// Bytes of `terms` coefficients per channel in RGBA32F layers, over every mip level.
+    /// Bytes of `terms` coefficients per channel and segment in RGBA32F layers, over every mip level.
     pub fn bytes(&self, terms: usize) -> u64 {
         let texels: u64 = self.level_sizes().iter().map(|&(w, h)| (w * h) as u64).sum();
-        texels * layers_for(terms) as u64 * (LAYER_CHANNELS * 4) as u64
+        texels * (layers_for(terms) * self.segments) as u64 * (LAYER_CHANNELS * 4) as u64
     }
 }
 
@@ -189,11 +211,14 @@ pub struct TablePlan {
     /// The (u, v, w) the table must serve, and its grid.
     pub domain: Domain,
     pub grid: Grid,
-    /// Chebyshev terms in w the grid is sized for: the estimate's.
+    /// Chebyshev terms in w the grid is sized for: the estimate's (the most any segment's needs).
     pub terms: usize,
     pub estimate: Estimate,
-    /// The nodes in w the build samples, and the bound on what they cannot see.
+    /// The nodes in w the build samples, and the bound on what they cannot see (over several segments: their
+    /// count summed, the largest bound).
     pub nodes: Nodes,
+    /// Each segment of w (`grid.segments` of them): its interval, nodes and estimate.
+    pub segments: Vec<Segment>,
     pub tolerance: f64,
     /// Standard deviation in u of the intensity lobes at λ = 380 nm and 780 nm.
     pub lobe_width: (f64, f64),
@@ -213,6 +238,23 @@ pub struct TablePlan {
     /// integrated further (the environment's moments) asks for a coarser one.
     pub lambda_step_nm: f64,
 }
+
+/// One segment of a table's w-interval ([`Grid::segments`]), planned like a table of its own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    pub w: (f64, f64),
+    pub nodes: Nodes,
+    pub estimate: Estimate,
+}
+
+/// Most segments of w a table may be cut into.
+pub const MAX_SEGMENTS: usize = 8;
+/// How much more memory than one segment's table the plan accepts for fewer layers a read when it chooses the
+/// segments itself.
+const SEGMENT_MEMORY_RATIO: f64 = 2.0;
+
+/// The shortest w-interval `auto` tries to cut in two: three quarters of every view's (the any-view tables').
+const SEGMENT_MIN_W: f64 = 1.5;
 
 /// Tiling strides (in window widths σ) beyond which neighbouring lobes no longer interfere: their cross term
 /// carries exp(−(T/σ)²/4) ≤ 10⁻¹².
@@ -253,13 +295,15 @@ impl TablePlan {
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
         let nodes = degree::nodes_for(hf, &window, cell, d.w, &illuminant)?;
+        let blank = Estimate { terms: 1, points: 0, every_lobe: true, tail: 0.0 };
         let mut plan = Self {
             domain: d,
             // Unsized until the estimate is in; the estimate reads only its w-interval, the domain's.
-            grid: Self::grid(d, 1.0, true),
+            grid: Self::grid(d, 1.0, true, 1),
             terms: 1,
-            estimate: Estimate { terms: 1, points: 0, every_lobe: true, tail: 0.0 },
+            estimate: blank,
             nodes,
+            segments: vec![Segment { w: d.w, nodes, estimate: blank }],
             tolerance,
             lobe_width,
             cell,
@@ -273,8 +317,77 @@ impl TablePlan {
         };
         plan.estimate = cache::estimate(hf, &plan, || degree::estimate(hf, &plan));
         plan.terms = plan.estimate.terms;
+        plan.segments[0].estimate = plan.estimate;
+        plan.size_grid(request);
+        let segments = match request.segments {
+            Some(n) if !(1..=MAX_SEGMENTS).contains(&n) => {
+                return Err(Error::Invalid(format!("a table has 1 to {MAX_SEGMENTS} segments of w, not {n}")))
+            }
+            Some(1) => return Ok(plan),
+            Some(n) => plan.segmented(hf, n)?,
+            // Two segments where they read fewer layers (a series over half the interval needs fewer terms)
+            // within SEGMENT_MEMORY_RATIO of one's memory on the same grid, never a coarser one. The layers are
+            // compared at a term more than each estimate: the certificate, made on every texel at 1 nm steps,
+            // has kept one more than the estimate in the shipped scenes' tables (docs/performance.md). Tried only
+            // on w-intervals longer than SEGMENT_MIN_W (the two segments' estimates cost time): a map's spans 1,
+            // the shipped scenes' frames about 1, and none of those read fewer layers in two.
+            None if plan.terms > 1 && d.w.1 - d.w.0 > SEGMENT_MIN_W => {
+                let two = plan.segmented(hf, 2)?;
+                let (bytes, one) = (two.grid.bytes(two.terms + 1), plan.grid.bytes(plan.terms + 1));
+                let fewer = layers_for(two.terms + 1) < layers_for(plan.terms + 1);
+                if !(fewer && bytes <= MAX_TABLE_BYTES && bytes as f64 <= SEGMENT_MEMORY_RATIO * one as f64) {
+                    return Ok(plan);
+                }
+                two
+            }
+            None => return Ok(plan),
+        };
+        let mut plan = segments;
+        plan.coarsened_from = None;
         plan.size_grid(request);
         Ok(plan)
+    }
+
+    /// This plan with its w-interval cut into `n` equal segments, each with its own nodes and estimate, the
+    /// grid's texels unchanged (the caller sizes it again where the memory calls for it).
+    fn segmented(&self, hf: &HeightField, n: usize) -> Result<Self> {
+        let grid = Grid { segments: n, ..self.grid };
+        let cell = self.cell;
+        let mut segments = Vec::with_capacity(n);
+        for s in 0..n {
+            let w = grid.segment_w(s);
+            let nodes = degree::nodes_for(hf, &self.window, cell, w, &self.illuminant)?;
+            let mut one = Segment { w, nodes, estimate: self.estimate };
+            let probe = self.with_segment(&one);
+            one.estimate = cache::estimate(hf, &probe, || degree::estimate(hf, &probe));
+            segments.push(one);
+        }
+        let estimate = Estimate {
+            terms: segments.iter().map(|s| s.estimate.terms).max().unwrap_or(1),
+            points: segments.iter().map(|s| s.estimate.points).sum(),
+            every_lobe: segments.iter().all(|s| s.estimate.every_lobe),
+            tail: segments.iter().map(|s| s.estimate.tail).fold(0.0, f64::max),
+        };
+        let nodes = Nodes {
+            count: segments.iter().map(|s| s.nodes.count).sum(),
+            unseen: std::array::from_fn(|c| segments.iter().map(|s| s.nodes.unseen[c]).fold(0.0, f64::max)),
+        };
+        Ok(Self { grid, terms: estimate.terms, estimate, nodes, segments, ..self.clone() })
+    }
+
+    /// The one-segment plan of `segment` (its w-interval, nodes and estimate on this plan's texels): what the
+    /// estimate and the build of that segment read.
+    pub fn with_segment(&self, segment: &Segment) -> Self {
+        let domain = Domain { w: segment.w, ..self.domain };
+        Self {
+            domain,
+            grid: Grid { w: segment.w, segments: 1, ..self.grid },
+            terms: segment.estimate.terms,
+            estimate: segment.estimate,
+            nodes: segment.nodes,
+            segments: vec![*segment],
+            ..self.clone()
+        }
     }
 
     /// Sub-samples per texel axis whose mean is a texel's value: on the coherent path, enough that their spacing is
@@ -297,30 +410,32 @@ impl TablePlan {
         let (d, finest) = (request.domain, self.lobe_width.0);
         let footprint = if request.aligned { request.footprint } else { request.footprint / 3f64.sqrt() };
         let fits = |g: &Grid| g.bytes(self.terms) <= MAX_TABLE_BYTES;
+        let segments = self.grid.segments;
         let mut grid;
         if request.aligned {
             let mut k = if request.centres_only { 1 } else { ((footprint / finest).ceil() as usize).max(1) | 1 };
-            grid = Self::grid(d, footprint / k as f64, true);
+            grid = Self::grid(d, footprint / k as f64, true, segments);
             while !fits(&grid) && k > 1 {
                 self.coarsened_from.get_or_insert(grid.texel);
                 k -= 2;
-                grid = Self::grid(d, footprint / k as f64, true);
+                grid = Self::grid(d, footprint / k as f64, true, segments);
             }
         } else {
-            grid = Self::grid(d, footprint.max(finest), false);
+            grid = Self::grid(d, footprint.max(finest), false, segments);
         }
         let mut scale = 1.0;
         while !fits(&grid) {
             self.coarsened_from.get_or_insert(grid.texel);
             scale *= 2f64.powf(0.25);
-            grid = Self::grid(d, footprint.max(if request.aligned { 0.0 } else { finest }) * scale, request.aligned);
+            let texel = footprint.max(if request.aligned { 0.0 } else { finest }) * scale;
+            grid = Self::grid(d, texel, request.aligned, segments);
         }
         self.grid = grid;
     }
 
     /// The grid of `texel` over `d`: aligned to d's lower corner (maps), else widened by a texel and snapped to
     /// multiples of the texel (so that nearby views give the same table).
-    fn grid(d: Domain, texel: f64, aligned: bool) -> Grid {
+    fn grid(d: Domain, texel: f64, aligned: bool, segments: usize) -> Grid {
         let (u0, v0, u1, v1) = if aligned {
             (d.u.0, d.v.0, d.u.1, d.v.1)
         } else {
@@ -329,7 +444,7 @@ impl TablePlan {
             (lo(d.u.0), lo(d.v.0), hi(d.u.1), hi(d.v.1))
         };
         let n = |a: f64, b: f64| (((b - a) / texel).round() as usize).max(1);
-        Grid { u0, v0, texel, nu: n(u0, u1), nv: n(v0, v1), w: d.w }
+        Grid { u0, v0, texel, nu: n(u0, u1), nv: n(v0, v1), w: d.w, segments }
     }
 
     /// One line for users: grid, lobes, degree, memory.
@@ -350,8 +465,8 @@ impl TablePlan {
             )
         };
         format!(
-            "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]; {}×{} texels of {:.5} ({}{}); \
-             {} path, {}; about {} terms in w (estimated at {}, tail {:.1e} there; the build certifies the degree \
+            "baked table: u ∈ [{:.3}, {:.3}], v ∈ [{:.3}, {:.3}], w ∈ [{:.3}, {:.3}]{}; {}×{} texels of {:.5} ({}{}); \
+             {} path, {}; about {} terms in w{} (estimated at {}, tail {:.1e} there; the build certifies the degree \
              against a tolerance of {:.0e} of each texel's brightest value + 1e-10 from {} nodes in w); {:.1} MiB",
             g.u0,
             g.u0 + g.nu as f64 * g.texel,
@@ -359,6 +474,7 @@ impl TablePlan {
             g.v0 + g.nv as f64 * g.texel,
             g.w.0,
             g.w.1,
+            if g.segments > 1 { format!(" in {} segments", g.segments) } else { String::new() },
             g.nu,
             g.nv,
             g.texel,
@@ -369,6 +485,7 @@ impl TablePlan {
             if self.lattice { "lattice" } else { "coherent" },
             if self.point { "texel-centre values" } else { "texel averages" },
             self.terms,
+            if g.segments > 1 { " each" } else { "" },
             if self.estimate.every_lobe {
                 format!("{} lobe centres{}", self.estimate.points, if self.lattice { "" } else { " and midpoints" })
             } else {
@@ -458,7 +575,13 @@ pub struct BakedTable {
 }
 
 impl BakedTable {
+    /// Layers of the texture array: every segment's.
     pub fn layers(&self) -> usize {
+        self.layers_per_read() * self.grid.segments
+    }
+
+    /// Layers one read fetches: one segment's.
+    pub fn layers_per_read(&self) -> usize {
         layers_for(self.terms)
     }
 
@@ -491,6 +614,40 @@ impl BakedTable {
             let next = downsample(levels.last().expect("level 0"), w, h, layers);
             levels.push(next);
         }
+        Self { grid, terms, levels, certificate, report }
+    }
+
+    /// One table of `grid`'s segments from a table per segment (each built on the same texels over its own
+    /// w-interval), in order: segment s's layers follow segment s − 1's, each padded with zero coefficients to the
+    /// most terms any keeps. The certificate holds for every segment: the most terms, the largest tail and bound,
+    /// the nodes summed.
+    pub fn from_segments(grid: Grid, parts: Vec<BakedTable>, report: String) -> Self {
+        assert_eq!(parts.len(), grid.segments, "one table per segment");
+        let terms = parts.iter().map(|p| p.terms).max().unwrap_or(1);
+        let layers = layers_for(terms);
+        let c: Vec<Certificate> = parts.iter().map(|p| p.certificate).collect();
+        let certificate = Certificate {
+            terms,
+            needed: c.iter().map(|c| c.needed).collect::<Option<Vec<_>>>().and_then(|n| n.into_iter().max()),
+            nodes: c.iter().map(|c| c.nodes).sum(),
+            unseen: c.iter().map(|c| c.unseen).fold(0.0, f64::max),
+            tail: c.iter().map(|c| c.tail).fold(0.0, f64::max),
+            tolerance: c[0].tolerance,
+        };
+        let levels = grid
+            .level_sizes()
+            .iter()
+            .enumerate()
+            .map(|(l, &(width, height))| {
+                let per_layer = width * height * LAYER_CHANNELS;
+                let mut texels = vec![0f32; grid.segments * layers * per_layer];
+                for (s, part) in parts.iter().enumerate() {
+                    let own = &part.levels[l].texels;
+                    texels[s * layers * per_layer..][..own.len()].copy_from_slice(own);
+                }
+                TableLevel { width, height, texels }
+            })
+            .collect();
         Self { grid, terms, levels, certificate, report }
     }
 }
@@ -543,7 +700,7 @@ mod tests {
 
     #[test]
     fn mip_levels_keep_the_mean_and_end_in_one_texel() {
-        let grid = Grid { u0: -1.0, v0: -1.0, texel: 0.1, nu: 7, nv: 5, w: (-2.0, -1.0) };
+        let grid = Grid { u0: -1.0, v0: -1.0, texel: 0.1, nu: 7, nv: 5, w: (-2.0, -1.0), segments: 1 };
         assert_eq!(grid.level_sizes(), vec![(7, 5), (3, 2), (1, 1)]);
         let terms = 2;
         let coef: Vec<f64> = (0..3 * terms * 35).map(|i| ((i * 37) % 11) as f64).collect();
@@ -565,7 +722,7 @@ mod tests {
 
     #[test]
     fn a_table_that_misses_its_tolerance_warns_or_is_refused_when_strict() {
-        let grid = Grid { u0: 0.0, v0: 0.0, texel: 0.1, nu: 2, nv: 2, w: (-2.0, -1.0) };
+        let grid = Grid { u0: 0.0, v0: 0.0, texel: 0.1, nu: 2, nv: 2, w: (-2.0, -1.0), segments: 1 };
         let table = |terms, needed, tail| {
             let certificate = Certificate { terms, needed, nodes: 24, unseen: 1e-12, tail, tolerance: 1e-4 };
             BakedTable::from_coefficients(grid, &[0.0; 4 * 192], 192, certificate, String::new())
@@ -593,6 +750,7 @@ mod tests {
             footprint: pixel,
             aligned: true,
             centres_only: false,
+            segments: None,
         };
         let plan = TablePlan::new(&hf, 65.0, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
         assert!(plan.point && plan.terms >= 1 && plan.estimate.every_lobe && plan.estimate.points > 0);

@@ -105,32 +105,62 @@ impl BakedTable {
         let (lo, frac) = (lod.floor() as usize, lod - lod.floor());
         let (x, y) = self.texel_coords(uvw.x, uvw.y);
         let (nx, ny) = (x / self.grid.nu as f64, y / self.grid.nv as f64);
-        let mut scalars = self.bilinear(&self.levels[lo], nx, ny);
+        let (segment, t) = self.grid.segment_of(uvw.z);
+        let mut scalars = self.bilinear(&self.levels[lo], nx, ny, segment);
         if frac > 0.0 && lo + 1 < self.levels.len() {
-            let hi = self.bilinear(&self.levels[lo + 1], nx, ny);
+            let hi = self.bilinear(&self.levels[lo + 1], nx, ny, segment);
             for (s, h) in scalars.iter_mut().zip(hi) {
                 *s += frac * (h - *s);
             }
         }
-        self.sum(&scalars, uvw.z)
+        self.sum(&scalars, t)
+    }
+
+    /// Texel (a, b) of mip level `level` at w, without filtering.
+    pub fn level_xyz(&self, level: usize, a: usize, b: usize, w: f64) -> DVec3 {
+        let level = &self.levels[level];
+        let (segment, t) = self.grid.segment_of(w);
+        let i = b * level.width + a;
+        // Σ_d a_d·T_d(t) with the recurrence on the stack (the moments call this for every texel and view).
+        let (mut previous, mut current) = (1.0, 1.0);
+        let mut xyz = [0.0; 3];
+        for d in 0..self.terms {
+            let td = match d {
+                0 => 1.0,
+                1 => t,
+                _ => 2.0 * t * current - previous,
+            };
+            if d > 0 {
+                (previous, current) = (current, td);
+            }
+            for (c, v) in xyz.iter_mut().enumerate() {
+                *v += self.scalar(level, i, segment, 3 * d + c) * td;
+            }
+        }
+        DVec3::from(xyz).max(DVec3::ZERO)
     }
 
     /// The level-0 texel (a, b) at w, without filtering.
     pub fn texel_xyz(&self, a: usize, b: usize, w: f64) -> DVec3 {
-        let level = &self.levels[0];
+        self.level_xyz(0, a, b, w)
+    }
+
+    /// Scalar `s` (coefficient s / 3 of channel s % 3) of `segment` in texel `i` (row-major) of `level`.
+    fn scalar(&self, level: &TableLevel, i: usize, segment: usize, s: usize) -> f64 {
         let n = level.width * level.height;
-        let scalars: Vec<f64> = (0..3 * self.terms)
-            .map(|s| {
-                let (layer, ch) = (s / LAYER_CHANNELS, s % LAYER_CHANNELS);
-                f64::from(level.texels[(layer * n + b * level.width + a) * LAYER_CHANNELS + ch])
-            })
-            .collect();
-        self.sum(&scalars, w)
+        let layer = segment * self.layers_per_read() + s / LAYER_CHANNELS;
+        f64::from(level.texels[(layer * n + i) * LAYER_CHANNELS + s % LAYER_CHANNELS])
+    }
+
+    /// Every stored coefficient of texel `i` (row-major) of `level`, over every segment.
+    pub fn texel_coefficients<'a>(&'a self, level: &'a TableLevel, i: usize) -> impl Iterator<Item = f64> + 'a {
+        (0..self.grid.segments)
+            .flat_map(move |segment| (0..3 * self.terms).map(move |s| self.scalar(level, i, segment, s)))
     }
 
     /// Σ_d a_d·T_d(t) per channel, clamped at 0 (XYZ of light is never negative; interpolation can ring).
-    fn sum(&self, scalars: &[f64], w: f64) -> DVec3 {
-        let t = chebyshev::polynomials(self.grid.t_of(w), self.terms);
+    fn sum(&self, scalars: &[f64], t: f64) -> DVec3 {
+        let t = chebyshev::polynomials(t, self.terms);
         let mut xyz = [0.0; 3];
         for (s, &a) in scalars.iter().enumerate().take(3 * self.terms) {
             xyz[s % 3] += a * t[s / 3];
@@ -138,19 +168,18 @@ impl BakedTable {
         DVec3::from(xyz).max(DVec3::ZERO)
     }
 
-    /// Every scalar of a level at normalised coordinates, bilinear between texel centres, edges clamped.
-    fn bilinear(&self, level: &TableLevel, nx: f64, ny: f64) -> Vec<f64> {
+    /// Every scalar of a segment of a level at normalised coordinates, bilinear between texel centres, edges
+    /// clamped.
+    fn bilinear(&self, level: &TableLevel, nx: f64, ny: f64, segment: usize) -> Vec<f64> {
         let (w, h) = (level.width, level.height);
         let (fx, fy) = (nx * w as f64 - 0.5, ny * h as f64 - 0.5);
         let (x0, y0) = (fx.floor(), fy.floor());
         let (tx, ty) = (fx - x0, fy - y0);
         let clamp = |i: f64, n: usize| (i.max(0.0) as usize).min(n - 1);
         let (xa, xb, ya, yb) = (clamp(x0, w), clamp(x0 + 1.0, w), clamp(y0, h), clamp(y0 + 1.0, h));
-        let n = w * h;
         (0..3 * self.terms)
             .map(|s| {
-                let (layer, ch) = (s / LAYER_CHANNELS, s % LAYER_CHANNELS);
-                let at = |x: usize, y: usize| f64::from(level.texels[(layer * n + y * w + x) * LAYER_CHANNELS + ch]);
+                let at = |x: usize, y: usize| self.scalar(level, y * w + x, segment, s);
                 let top = at(xa, ya) + tx * (at(xb, ya) - at(xa, ya));
                 let bottom = at(xa, yb) + tx * (at(xb, yb) - at(xa, yb));
                 top + ty * (bottom - top)
