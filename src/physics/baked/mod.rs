@@ -335,13 +335,13 @@ impl TablePlan {
                 let two = plan.segmented(hf, 2)?;
                 let (bytes, one) = (two.grid.bytes(two.terms + 1), plan.grid.bytes(plan.terms + 1));
                 let fewer = layers_for(two.terms + 1) < layers_for(plan.terms + 1);
-                if !(fewer && bytes <= MAX_TABLE_BYTES && bytes as f64 <= SEGMENT_MEMORY_RATIO * one as f64) {
-                    return Ok(plan);
-                }
-                two
+                // On the same texels as the one segment's plan, which were sized (and coarsened) for fewer bytes.
+                let keep = fewer && bytes <= MAX_TABLE_BYTES && bytes as f64 <= SEGMENT_MEMORY_RATIO * one as f64;
+                return Ok(if keep { two } else { plan });
             }
             None => return Ok(plan),
         };
+        // Segments the user asked for: texels sized again for their memory.
         let mut plan = segments;
         plan.coarsened_from = None;
         plan.size_grid(request);
