@@ -493,7 +493,15 @@ pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>)
     let cell = Cell::new(hf, plan.cell);
     let segments = plan.grid.segments;
     let mut parts = Vec::with_capacity(segments);
-    let mut report = String::new();
+    // The segments share the grid, so their sub-samples too.
+    let subsamples = plan.subsamples();
+    let report = format!(
+        "{} path, {}{}{}",
+        if plan.lattice { "lattice" } else { "coherent" },
+        if plan.point { "texel-centre values" } else { "texel averages" },
+        if subsamples > 1 { format!(" of {subsamples}×{subsamples} sub-samples") } else { String::new() },
+        if segments > 1 { format!(", {segments} segments of w") } else { String::new() },
+    );
     for segment in &plan.segments {
         let one = plan.with_segment(segment);
         let pass = Pass::new(hf, &one, &cell);
@@ -507,13 +515,6 @@ pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>)
         let mut values = pass.run(one.lattice, Some(&shifted));
         let fit = degree::terms_that_fit(&plan.grid, one.nodes.count);
         let certificate = degree::certify(&mut values.data, fit, &one.nodes, one.tolerance)?;
-        report = format!(
-            "{} path, {}{}{}",
-            if plan.lattice { "lattice" } else { "coherent" },
-            if plan.point { "texel-centre values" } else { "texel averages" },
-            if pass.subsamples > 1 { format!(" of {0}×{0} sub-samples", pass.subsamples) } else { String::new() },
-            if segments > 1 { format!(", {segments} segments of w") } else { String::new() },
-        );
         parts.push(BakedTable::from_coefficients(one.grid, &values.data, 3 * values.nodes, certificate, String::new()));
     }
     if segments == 1 {
