@@ -36,6 +36,11 @@ use crate::physics::spectrum::Sampling;
 /// Bytes of accumulators a band of texel rows may hold (about what a core's L2 cache keeps).
 const BAND_BYTES: usize = 512 << 10;
 
+/// Bytes the coherent path's sums along u may hold at once, over all threads: they bound the wavelengths a
+/// batch takes (at most [`MAX_BATCH`]).
+const BATCH_BYTES: usize = 256 << 20;
+const MAX_BATCH: usize = 8;
+
 /// Progress callback: (steps done, steps in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
@@ -392,7 +397,9 @@ impl Pass<'_> {
     }
 
     /// Coherent path: P at every sub-sample by the separable windowed sum, |P|² averaged into its texel; in
-    /// parallel over the nodes in w, one wavelength after another.
+    /// parallel over the nodes in w, a batch of wavelengths at a time. A node sums a batch's wavelengths row by
+    /// row of texels before it adds them to its plane of node values, so that plane (megabytes) is read and
+    /// written once a batch rather than once a wavelength.
     fn coherent(&self, progress: Option<Progress<'_>>, offset: usize, total: usize) -> NodeValues {
         let (nu, nv, s) = (self.grid.nu, self.grid.nv, self.subsamples);
         let (px, py) = (self.cell.px, self.cell.py);
@@ -400,39 +407,87 @@ impl Pass<'_> {
         let mut planes: Vec<Vec<f64>> = (0..self.nodes).map(|_| vec![0.0; nu * nv * 3]).collect();
         let done = AtomicUsize::new(0);
         let share = 1.0 / (s * s) as f64;
-        for (l, &lambda) in self.spectral.lambda_um.iter().enumerate() {
-            let weight = self.spectral.weight[l];
-            let (columns, rows) = (self.ax.taps(lambda, s, px), self.ay.taps(lambda, s, py));
+        let lambdas: Vec<usize> = (0..self.spectral.lambda_um.len()).collect();
+        // A wavelength's sums along u (one line per spectrum row) take this much memory while its batch runs.
+        let sums = py * nu * s * std::mem::size_of::<Complex64>();
+        let batch = (BATCH_BYTES / (sums * rayon::current_num_threads()).max(1)).clamp(1, MAX_BATCH);
+        for chunk in lambdas.chunks(batch) {
+            // Each wavelength's taps along u and v at the sub-samples (shared by every node).
+            let taps: Vec<_> = chunk
+                .iter()
+                .map(|&l| {
+                    let lambda = self.spectral.lambda_um[l];
+                    (self.ax.taps(lambda, s, px), self.ay.taps(lambda, s, py))
+                })
+                .collect();
             planes.par_iter_mut().zip(&ws).for_each(|(plane, &w)| {
                 let mut scratch = Vec::new();
-                let a = self.cell.amplitudes(2.0 * std::f64::consts::PI * w / lambda, &mut scratch);
-                // Rows of the spectrum that carry anything (an AFM scan's all do; a 1D grating's one).
-                let q: Vec<Option<Vec<Complex64>>> = (0..py)
-                    .map(|r| {
-                        let line = &a[r * px..][..px];
-                        (line.iter().map(|c| c.norm()).sum::<f64>() >= INVISIBLE * 1e-3)
-                            .then(|| columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect())
+                // Per wavelength, the rows of the spectrum that carry anything (an AFM scan's all do; a 1D
+                // grating's one), summed along u at every sub-sample column (zero where the lookup is out of
+                // band).
+                let q: Vec<Vec<Option<Vec<Complex64>>>> = chunk
+                    .iter()
+                    .zip(&taps)
+                    .map(|(&l, (columns, _))| {
+                        let kappa = 2.0 * std::f64::consts::PI * w / self.spectral.lambda_um[l];
+                        let a = self.cell.amplitudes(kappa, &mut scratch);
+                        (0..py)
+                            .map(|r| {
+                                let line = &a[r * px..][..px];
+                                (line.iter().map(|c| c.norm_sqr().sqrt()).sum::<f64>() >= INVISIBLE * 1e-3).then(|| {
+                                    columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect()
+                                })
+                            })
+                            .collect()
                     })
                     .collect();
-                for (j, taps) in rows.iter().enumerate() {
-                    let live: Vec<(&Vec<Complex64>, f64)> =
-                        taps.iter().filter_map(|&(k, g)| q[k].as_ref().map(|line| (line, g))).collect();
-                    if live.is_empty() {
-                        continue;
-                    }
-                    for (i, taps) in columns.iter().enumerate() {
-                        if taps.is_empty() {
-                            continue;
+                // P along one sub-sample row; Σ|P|² over a texel row's s×s sub-samples at one wavelength; the
+                // batch's colour in that texel row.
+                let mut p = vec![Complex64::default(); nu * s];
+                let mut texels = vec![0.0; nu];
+                let mut colour = vec![0.0; nu * 3];
+                for row in 0..nv {
+                    let mut touched = false;
+                    for ((&l, (_, rows)), q) in chunk.iter().zip(&taps).zip(&q) {
+                        let mut any = false;
+                        for taps in &rows[row * s..(row + 1) * s] {
+                            let mut live = taps.iter().filter_map(|&(k, g)| q[k].as_ref().map(|line| (line, g)));
+                            let Some((line, g)) = live.next() else { continue };
+                            for (p, &a) in p.iter_mut().zip(line) {
+                                *p = a * g;
+                            }
+                            for (line, g) in live {
+                                for (p, &a) in p.iter_mut().zip(line) {
+                                    *p += a * g;
+                                }
+                            }
+                            for (sum, p) in texels.iter_mut().zip(p.chunks_exact(s)) {
+                                *sum += p.iter().map(|p| p.norm_sqr()).sum::<f64>();
+                            }
+                            any = true;
                         }
-                        let p: Complex64 = live.iter().map(|(line, g)| line[i] * *g).sum();
-                        let t = ((j / s) * nu + i / s) * 3;
-                        for ch in 0..3 {
-                            plane[t + ch] += weight[ch] * p.norm_sqr() * share;
+                        if any {
+                            let weight = self.spectral.weight[l].map(|c| c * share);
+                            for (texel, sum) in colour.chunks_exact_mut(3).zip(&mut texels) {
+                                for ch in 0..3 {
+                                    texel[ch] += weight[ch] * *sum;
+                                }
+                                *sum = 0.0;
+                            }
+                            touched = true;
+                        }
+                    }
+                    if touched {
+                        for (dst, c) in plane[row * nu * 3..][..nu * 3].iter_mut().zip(&mut colour) {
+                            *dst += *c;
+                            *c = 0.0;
                         }
                     }
                 }
             });
-            Self::tick(progress, &done, offset, total);
+            for _ in chunk {
+                Self::tick(progress, &done, offset, total);
+            }
         }
         let stride = self.nodes * 3;
         let mut data = vec![0.0; nu * nv * stride];
