@@ -147,6 +147,16 @@ for size in "${frames[@]}"; do
     sed -n '/^| configuration/,$p' "$out/$name.md"
   done
 done
+# The viewer's and sequences' table (any light and view) at the first size, as the window draws it: in one or two
+# segments of w (6 RGBA layers a read against 9; `auto` takes two) and read from its nearest mip level or
+# trilinearly (`auto`: nearest on a CPU device, trilinear on a GPU, which was not measured when that was chosen).
+size=${frames[0]} w=${size%x*} h=${size#*x}
+"$bin" profile "${device_args[@]}" --width "$w" --height "$h" --frames "$scene_frames" --warmup "$scene_warmup" \
+  --no-reference --samples 1 --any-view --sweep target=display table_segments=1,2 table_mips=linear,nearest \
+  --csv "$out/any-view-$size.csv" >"$out/any-view-$size.md" 2>"$out/any-view-$size.err" \
+  || { echo "FAIL  timing any-view $size"; cat "$out/any-view-$size.err"; failures=$((failures + 1)); }
+echo "-- default scene's any-view table at $size (the viewer's frames), by segments of w and mip filter"
+sed -n '/^| configuration/,$p' "$out/any-view-$size.md"
 "$bin" profile "${device_args[@]}" --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 \
   --height-um 0.375 --tile 10 --exposure 8 --frames "$map_frames" --warmup "$map_warmup" --reference-pixels 2000 \
   --roofline \
