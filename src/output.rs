@@ -15,7 +15,7 @@ use std::sync::Mutex;
 
 use crate::error::{Error, Result};
 
-/// The prefix of every temporary file diffract writes (then the writer's process id, a counter and the name).
+/// The prefix of every temporary file diffract writes (then the writer's process id, random letters and the name).
 pub(crate) const TEMP_PREFIX: &str = ".diffract-tmp-";
 /// The most bytes of the target's name a temporary file's name repeats (names stay under the 255-byte limit).
 const TEMP_NAME_BYTES: usize = 128;
@@ -30,8 +30,10 @@ static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 pub(crate) fn install_interrupt_cleanup() {
     // A second handler (tests, a library user's own) is theirs to keep.
     let _ = ctrlc::set_handler(|| {
-        let files = WRITING.lock().map(|w| w.clone().unwrap_or_default()).unwrap_or_default();
-        for f in files {
+        // The lock is held until the process ends: a write that has created its temporary file has registered it
+        // (both happen under this lock), and no write can create another after this snapshot.
+        let writing = WRITING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        for f in writing.iter().flatten() {
             let _ = std::fs::remove_file(f);
         }
         // SAFETY: _exit ends the process at once, without running destructors of state other threads hold.
@@ -50,30 +52,24 @@ pub(crate) fn write_atomic(file: &Path, bytes: &[u8]) -> std::io::Result<()> {
     // `File::create` gives (0666 less the umask), not tempfile's private 0600: the file becomes the user's output.
     let target = file.file_name().map(|f| f.as_bytes()).unwrap_or_default();
     let suffix = [b"-", &target[..target.len().min(TEMP_NAME_BYTES)]].concat();
+    // Created and registered under one lock: a Ctrl-C handled in between would otherwise miss the new file.
+    let mut writing = WRITING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let mut tmp = tempfile::Builder::new()
         .prefix(&format!("{TEMP_PREFIX}{}-", std::process::id()))
         .suffix(OsStr::from_bytes(&suffix))
         .permissions(std::fs::Permissions::from_mode(0o666))
         .tempfile_in(dir)?;
     let path = tmp.path().to_path_buf();
-    set_writing(&path, true);
+    writing.get_or_insert_with(HashSet::new).insert(path.clone());
+    drop(writing);
     let result = tmp
         .write_all(bytes)
         .and_then(|()| tmp.as_file().sync_all())
         .and_then(|()| tmp.persist(file).map(drop).map_err(|e| e.error));
-    set_writing(&path, false);
-    result
-}
-
-fn set_writing(tmp: &Path, on: bool) {
-    if let Ok(mut w) = WRITING.lock() {
-        let set = w.get_or_insert_with(HashSet::new);
-        if on {
-            set.insert(tmp.to_path_buf());
-        } else {
-            set.remove(tmp);
-        }
+    if let Some(set) = WRITING.lock().unwrap_or_else(std::sync::PoisonError::into_inner).as_mut() {
+        set.remove(&path);
     }
+    result
 }
 
 /// Removes the temporary files in `dir` left by diffract processes that no longer run (once per folder and
