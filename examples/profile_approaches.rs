@@ -6,9 +6,10 @@
 
 use diffract::generate::{generate, PatchKind, PatchSpec};
 use diffract::physics::optics;
+use diffract::profile;
 use diffract::profile::run::{run, Options, Progress, ReferenceOptions, Subject};
-use diffract::profile::{self, Config};
-use diffract::shading::{Approach, Settings, SettingsPatch};
+use diffract::profile::Config;
+use diffract::settings::{Approach, Settings, SettingsPatch};
 use diffract::vk::{Context, ContextDesc, DeviceSelector};
 
 fn main() -> diffract::Result<()> {

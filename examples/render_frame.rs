@@ -8,7 +8,7 @@ use diffract::exposure::AutoExposure;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::shading::SettingsPatch;
+use diffract::settings::SettingsPatch;
 use diffract::vk::{Context, ContextDesc, DeviceSelector};
 
 fn main() -> diffract::Result<()> {

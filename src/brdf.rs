@@ -100,7 +100,7 @@ pub fn prepare<'a>(
         _ => {}
     }
     let radius = window.radius_x.max(window.radius_y);
-    let limit = crate::shading::MAX_WINDOW_RADIUS;
+    let limit = crate::settings::MAX_WINDOW_RADIUS;
     if evaluator == Evaluator::Gpu && radius > i64::from(limit) {
         return Err(Error::Invalid(format!(
             "--gpu: this patch's full window has {radius} taps either side of the nearest bin and the shaders take \

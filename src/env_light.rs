@@ -213,7 +213,7 @@ impl EnvLight {
         let weights: Vec<f64> = radiance
             .iter()
             .enumerate()
-            .map(|(i, t)| crate::exposure::luminance([t[0], t[1], t[2]]).max(0.0) * solid_angle(i))
+            .map(|(i, t)| crate::physics::spectrum::luminance([t[0], t[1], t[2]]).max(0.0) * solid_angle(i))
             .collect();
         let distribution = Distribution2D::new(&weights, width as usize, height as usize, solid_angle)
             .ok_or_else(|| Error::Invalid("the environment gives no light (every texel is black)".into()))?;
@@ -413,8 +413,8 @@ impl Integrator<'_> {
     /// [`Self::pass`] repeated with `replicates` independent shifts drawn from `seed` (randomised quasi-Monte
     /// Carlo): their mean, and its standard error from their spread.
     pub fn pixel(&self, omega_r: DVec3, rho: impl Fn(DVec3, DVec3) -> DMat3, seed: u64, replicates: u32) -> Estimate {
-        let mut rng = SplitMix(seed);
-        let mut word = || (rng.uniform() * 4_294_967_296.0) as u32;
+        let mut rng = fastrand::Rng::with_seed(seed);
+        let mut word = || rng.u32(..);
         let passes: Vec<DVec3> = (0..replicates.max(2))
             .map(|_| {
                 let shifts = std::array::from_fn(|_| [word(), word()]);
@@ -434,148 +434,6 @@ fn above(x: f64, y: f64) -> Option<DVec3> {
     (r2 < 1.0).then(|| DVec3::new(x, y, (1.0 - r2).sqrt()))
 }
 
-/// The wavelength step of the reference's spectral sums, nm (the table is built at 1 nm). Measured on the blazed
-/// grating under a clear sky (tests/gpu/env_map.rs' 24 pixels): 1 nm steps change no pixel's luminance by more than
-/// 0.12 % and the baked map's mean ΔE00 against the reference from 0.430 to 0.424, at five times the cost.
-pub const REFERENCE_STEP_NM: f64 = 5.0;
-/// Independent passes the reference's samples are split into (its standard error is their spread's).
-pub const REFERENCE_REPLICATES: u32 = 8;
-
-/// The exact BRDF integrated over an environment: the estimator above with the exact BRDF (f64, the full coherence
-/// window, [`REFERENCE_STEP_NM`] steps: `Reference::flss_xyz_bands`), in [`REFERENCE_REPLICATES`] independently shifted
-/// passes, a table only proposing where to look. Each estimate carries its standard error (from the passes' spread).
-pub struct ExactEnv {
-    reference: crate::physics::Reference,
-    /// The spectral basis' samplings (`env_prefilter::basis`), each with its gain (`env_gain`).
-    bands: [(crate::physics::spectrum::Sampling, f64); 3],
-    /// A⁻¹: the environment's RGB → the basis' coefficients (`env_prefilter::basis_colours`).
-    to_light: DMat3,
-}
-
-impl ExactEnv {
-    /// The reference of `hf` under `settings`' coherence length; the environment's light is upsampled to spectra
-    /// in the basis frames use (`env_prefilter::basis`, in physical units), whatever light `settings` names.
-    pub fn new(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> Result<Self> {
-        use crate::physics::spectrum::Sampling;
-        // Every view of the hemisphere: |w| up to 2.
-        let (reference, _) = crate::profile::exact_image::exact_reference(hf, settings.coherence_um, 2.0)?;
-        let mut bands = Vec::new();
-        for illuminant in crate::env_prefilter::basis() {
-            let sampling = Sampling::visible_under(REFERENCE_STEP_NM, illuminant);
-            bands.push((sampling, env_gain(&sampling, settings.coherence_um)?));
-        }
-        let to_light = crate::env_prefilter::basis_colours().inverse();
-        Ok(Self { reference, bands: [bands[0], bands[1], bands[2]], to_light })
-    }
-
-    /// The radiance towards `omega_r` (patch frame, whose axes in the environment's frame are `frame`'s columns)
-    /// under `env`, from `samples` samples (half from the BRDF's strategies, half from the environment's).
-    pub fn estimate(
-        &self,
-        env: &EnvLight,
-        proposal: &TableProposal,
-        frame: DMat3,
-        omega_r: DVec3,
-        samples: u32,
-        seed: u64,
-    ) -> Estimate {
-        let per_pass = (samples / REFERENCE_REPLICATES).max(2);
-        let n_brdf = per_pass / 2;
-        let integrator = Integrator { env, proposal, n_brdf, n_env: per_pass - n_brdf, frame };
-        let samplings = self.bands.map(|(sampling, _)| sampling);
-        let rho = |omega_i: DVec3, omega_r: DVec3| {
-            if !(omega_i.z > 0.0 && omega_r.z > 0.0) {
-                return DMat3::ZERO;
-            }
-            let xyz = self.reference.flss_xyz_bands(omega_i, omega_r, &samplings);
-            let rgb: [DVec3; 3] =
-                std::array::from_fn(|k| crate::physics::spectrum::xyz_to_linear_srgb(xyz[k]) * self.bands[k].1);
-            DMat3::from_cols(rgb[0], rgb[1], rgb[2]) * self.to_light
-        };
-        integrator.pixel(omega_r, rho, seed, REFERENCE_REPLICATES)
-    }
-}
-
-/// The exact reference of a BRDF map `size` pixels across under `env` ([`ExactEnv`]) at each of `pixels`,
-/// `samples` per pixel.
-pub fn reference_map_pixels(
-    hf: &crate::physics::HeightField,
-    settings: &crate::settings::Settings,
-    proposal: &TableProposal,
-    env: &EnvLight,
-    size: u32,
-    pixels: &[(u32, u32)],
-    samples: u32,
-) -> Result<Vec<Option<Estimate>>> {
-    use rayon::prelude::*;
-    let exact = ExactEnv::new(hf, settings)?;
-    Ok(pixels
-        .par_iter()
-        .map(|&(x, y)| {
-            map_view(size, x, y).map(|omega_r| {
-                let seed = 0x5eed_0000_0000 ^ (u64::from(y) << 20) ^ u64::from(x);
-                exact.estimate(env, proposal, MAP_FRAME, omega_r, samples, seed)
-            })
-        })
-        .collect())
-}
-
-/// `count` distinct random pixels of a `size`-pixel map's disk (fewer where the disk has fewer), from `seed`.
-pub fn random_map_pixels(size: u32, count: usize, seed: u64) -> Vec<(u32, u32)> {
-    let mut all: Vec<(u32, u32)> =
-        (0..size * size).map(|i| (i % size, i / size)).filter(|&(x, y)| map_view(size, x, y).is_some()).collect();
-    let mut rng = SplitMix(seed);
-    // A partial Fisher–Yates shuffle.
-    let count = count.min(all.len());
-    for i in 0..count {
-        let j = i + ((rng.uniform() * (all.len() - i) as f64) as usize).min(all.len() - i - 1);
-        all.swap(i, j);
-    }
-    all.truncate(count);
-    all
-}
-
-/// A map against the reference at some of its pixels.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Comparison {
-    pub mean: f64,
-    pub worst: f64,
-    /// The median of the reference's standard error over its luminance.
-    pub median_relative_error: f64,
-}
-
-/// ΔE00 of `map` against `reference` (as [`reference_map_pixels`] returns it for `pixels`) at `exposure_ev`.
-pub fn compare(
-    map: &crate::render::diffraction::MapImage,
-    pixels: &[(u32, u32)],
-    reference: &[Option<Estimate>],
-    exposure_ev: f64,
-) -> Comparison {
-    use crate::physics::spectrum::linear_srgb_to_xyz;
-    let mut errors = Vec::new();
-    let mut relative = Vec::new();
-    for (&(x, y), r) in pixels.iter().zip(reference) {
-        let Some(r) = r else { continue };
-        let e = crate::profile::exact_image::delta_e(
-            linear_srgb_to_xyz(map.pixel(x, y)),
-            linear_srgb_to_xyz(r.rgb),
-            exposure_ev,
-        );
-        errors.push(e);
-        let y_ref = linear_srgb_to_xyz(r.rgb).y;
-        if y_ref > 0.0 {
-            relative.push(linear_srgb_to_xyz(r.std_error).y.abs() / y_ref);
-        }
-    }
-    relative.sort_by(f64::total_cmp);
-    let n = errors.len().max(1) as f64;
-    Comparison {
-        mean: errors.iter().sum::<f64>() / n,
-        worst: errors.iter().copied().fold(0.0, f64::max),
-        median_relative_error: relative.get(relative.len() / 2).copied().unwrap_or(0.0),
-    }
-}
-
 /// ω_r of BRDF-map pixel (x, y) of a `size`-pixel map (`glsl/include/map_pixel.glsl`); None outside the disk.
 pub fn map_view(size: u32, x: u32, y: u32) -> Option<DVec3> {
     let half = f64::from(size) / 2.0;
@@ -590,20 +448,6 @@ enum Strategy {
     Floor,
     Table,
     Env,
-}
-
-/// SplitMix64 (Steele et al. 2014): the reference's stream of uniform numbers in [0, 1).
-pub struct SplitMix(pub u64);
-
-impl SplitMix {
-    pub fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
 }
 
 #[cfg(test)]
@@ -653,8 +497,8 @@ mod tests {
 
     #[test]
     fn halving_keeps_the_light() {
-        let mut rng = SplitMix(11);
-        let rgb = (0..64 * 32).map(|_| [rng.uniform() as f32, 1.0, 2.0]).collect();
+        let mut rng = fastrand::Rng::with_seed(11);
+        let rgb = (0..64 * 32).map(|_| [rng.f32(), 1.0, 2.0]).collect();
         let map = EnvironmentMap { width: 64, height: 32, rgb };
         let power = |m: &EnvironmentMap| -> f64 {
             (0..m.rgb.len()).map(|i| f64::from(m.rgb[i][0]) * texel_solid_angle(i as u32 / m.width, m.width)).sum()

@@ -33,35 +33,6 @@ use glam::{DMat3, DVec3};
 use crate::physics::baked::BakedTable;
 use crate::physics::sh::Irradiance;
 
-/// Where a frame evaluates the environment's diffraction (the `sky_at` setting).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum SkyAt {
-    /// The diffracted part at the mesh's vertices, interpolated across each triangle; the specular part per pixel.
-    Vertex,
-    /// All of it per pixel: the prefiltered model exactly as [`Moments::radiance`] states it.
-    Pixel,
-}
-
-impl SkyAt {
-    pub const ALL: [SkyAt; 2] = [SkyAt::Vertex, SkyAt::Pixel];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            SkyAt::Vertex => "vertex",
-            SkyAt::Pixel => "pixel",
-        }
-    }
-
-    /// The value of the `SKY_DIFFRACTION` specialization constant for a material with moments.
-    pub fn spec(self) -> u32 {
-        match self {
-            SkyAt::Vertex => crate::shaders::interface::SKY_DIFFRACTION_VERTEX,
-            SkyAt::Pixel => crate::shaders::interface::SKY_DIFFRACTION_PIXEL,
-        }
-    }
-}
-
 /// Points of the moments' grid per axis of ω_r.xy ∈ [−1, 1]².
 pub const MOMENT_GRID: usize = crate::shaders::interface::MOMENT_GRID as usize;
 /// The nine monomials' count.
@@ -167,72 +138,18 @@ pub fn basis_colours() -> DMat3 {
     DMat3::from_cols(b0, b1, b2)
 }
 
-/// The moments of `hf`'s BRDF under `settings`' coherence length and table tolerance (their light is the basis',
-/// whatever `settings` names): from a baked table per band of the basis, for every pair of directions with texels
-/// of [`MOMENT_TEXEL`] and spectral sums at [`MOMENT_LAMBDA_STEP_NM`] (built, or read from the cache), on a
-/// [`MOMENT_GRID`]² grid.
-pub fn moments_of(hf: &crate::physics::HeightField, settings: &crate::settings::Settings) -> crate::Result<Moments> {
-    use crate::physics::baked::{load_or_build, TablePlan, TableRequest};
-    use crate::shading::Reach;
-    // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
-    // One segment of w: the moments read every texel once, so fewer layers a read would save nothing.
-    let request = TableRequest {
-        segments: Some(1),
-        ..Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request()
-    };
-    let mut bands = Vec::new();
-    for illuminant in basis() {
-        let mut plan = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, illuminant)?;
-        plan.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
-        let sampling = crate::physics::spectrum::Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
-        let gain = crate::env_light::env_gain(&sampling, settings.coherence_um)?;
-        bands.push((plan, gain));
-    }
-    // Cached beside the tables: keyed by their plans and everything below.
-    let mut p = crate::cache::PlanBytes::default();
-    for (plan, gain) in &bands {
-        p.0.extend(crate::physics::baked::cache::table_identity(hf, plan));
-        p.f64(*gain);
-    }
-    p.u64(MOMENT_GRID as u64).f64(MOMENT_TEXEL).f64(SPECULAR_RADIUS).u64(FACTOR_SUBSAMPLES as u64);
-    let stamp =
-        crate::cache::Stamp { kind: "moments", what: "environment moments", version: MOMENTS_VERSION, plan: p.0 };
-    let dir = crate::cache::default_dir();
-    let cached = dir.as_deref().and_then(|dir| {
-        let bytes = crate::cache::load(dir, &stamp, (MOMENT_GRID * MOMENT_GRID * 90 * 8 + 8) as u64)?;
-        Moments::from_bytes(&bytes).filter(|m| m.grid == MOMENT_GRID)
-    });
-    if let Some(moments) = cached {
-        return Ok(moments);
-    }
-    let bar = crate::progress::Progress::new("the environment's moments: baking the spectral bands", bands.len());
-    let mut tables = Vec::new();
-    for (plan, gain) in &bands {
-        tables.push((load_or_build(hf, plan, None)?.0, *gain));
-        bar.step();
-    }
-    bar.finish();
-    let moments = Moments::new(
-        &[(&tables[0].0, tables[0].1), (&tables[1].0, tables[1].1), (&tables[2].0, tables[2].1)],
-        MOMENT_GRID,
-    );
-    if let Some(dir) = dir.as_deref() {
-        // A cache that cannot be written costs time, not correctness.
-        if let Err(e) =
-            std::fs::create_dir_all(dir).and_then(|()| crate::cache::store(dir, &stamp, &moments.to_bytes()))
-        {
-            eprintln!("warning: could not cache the environment moments in {}: {e}", dir.display());
-        }
-    }
-    Ok(moments)
-}
-
 /// The wavelength step of the moments' tables, nm: the moments integrate each table over the whole hemisphere,
 /// where each wavelength's lobes only need their mass (the exact references sum at the same step).
 pub const MOMENT_LAMBDA_STEP_NM: f64 = 5.0;
 
 /// Bumped whenever the moments' definition changes: cached moments of other versions are recomputed.
-const MOMENTS_VERSION: u64 = 2;
+pub(crate) const MOMENTS_VERSION: u64 = 2;
+
+/// Appends to a cache key what the moments depend on beyond their tables: the grid and the sizes that
+/// [`Moments::new`] integrates with.
+pub(crate) fn key_tail(p: &mut crate::cache::PlanBytes) {
+    p.u64(MOMENT_GRID as u64).f64(MOMENT_TEXEL).f64(SPECULAR_RADIUS).u64(FACTOR_SUBSAMPLES as u64);
+}
 
 /// The shaders' `sky_quadratic` (off) for an environment whose irradiance is `sky_sh` (`SurfaceUniforms::sky_sh`):
 /// all zero where it is (no environment).
@@ -287,7 +204,7 @@ impl Moments {
 
     /// The cache's payload: the grid, then every point's moments and specular reflectance, each matrix column by
     /// column (f64, little-endian).
-    fn to_bytes(&self) -> Vec<u8> {
+    pub(crate) fn to_bytes(&self) -> Vec<u8> {
         let mut p = crate::cache::PlanBytes::default();
         p.u64(self.grid as u64);
         for (values, specular) in self.values.iter().zip(&self.specular) {
@@ -301,7 +218,7 @@ impl Moments {
     }
 
     /// The moments [`Self::to_bytes`] wrote; None for anything else.
-    fn from_bytes(bytes: &[u8]) -> Option<Self> {
+    pub(crate) fn from_bytes(bytes: &[u8]) -> Option<Self> {
         let mut r = crate::cache::Reader::new(bytes);
         let grid = usize::try_from(r.u64()?).ok().filter(|&g| (2..=1024).contains(&g))?;
         let mut matrix = || {

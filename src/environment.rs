@@ -133,7 +133,7 @@ impl EnvironmentMap {
         let (i, y) = self
             .rgb
             .iter()
-            .map(|&t| crate::exposure::luminance(t))
+            .map(|&t| crate::physics::spectrum::luminance(t))
             .enumerate()
             .fold((0, f64::MIN), |best, (i, y)| if y > best.1 { (i, y) } else { best });
         let (x, row) = (i as u32 % self.width, i as u32 / self.width);

@@ -6,7 +6,7 @@
 //! brightest half percent (glints) may clip, the rest of the image keeps its ratios. A sequence measures its
 //! first frame and keeps that exposure for every frame, so that brightness changes between frames stay visible.
 
-use crate::physics::spectrum::display_encode;
+use crate::physics::spectrum::{display_encode, luminance};
 
 /// The quantile of the lit pixels' luminance that auto exposure places at [`AUTO_TARGET`].
 pub const AUTO_QUANTILE: f64 = 0.995;
@@ -20,11 +20,6 @@ pub const BLACK_CODE: u8 = 12;
 pub const BLACK_FRACTION: f64 = 0.99;
 /// A frame is "mostly white" when at least this fraction of its lit pixels clip (a channel at 254 or 255).
 pub const WHITE_FRACTION: f64 = 0.5;
-
-/// Relative luminance Y of linear sRGB (IEC 61966-2-1's second row of the RGB → XYZ matrix).
-pub fn luminance(rgb: [f32; 3]) -> f64 {
-    0.2126 * f64::from(rgb[0]) + 0.7152 * f64::from(rgb[1]) + 0.0722 * f64::from(rgb[2])
-}
 
 /// An exposure measured from a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -36,7 +36,7 @@ use crate::mesh::shapes::Shape;
 use crate::mesh::{obj, Mesh};
 use crate::physics::illuminant::Illuminant;
 use crate::physics::{HeightField, PngScale};
-use crate::shading::{Approach, Settings, SettingsPatch};
+use crate::settings::{Approach, Settings, SettingsPatch};
 
 /// The scene `diffract render` draws when given none: the snake with the measured Elaphe scan under the clear
 /// sky (built in, with the files it names, so it works from any folder).

@@ -17,14 +17,90 @@
 //! An entry with `set_in "[light]"` is the light's, not a material's: a scene sets it once, in that table, for
 //! every material, so a material table does not take its key.
 
-use crate::env_prefilter::SkyAt;
 use crate::error::{Error, Result};
 use crate::physics::baked::sample::TableMips;
 use crate::physics::baked::DEFAULT_TABLE_TOLERANCE;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::taylor::DEFAULT_TOLERANCE;
 use crate::physics::window::DEFAULT_COHERENCE_UM;
-use crate::shading::Approach;
+use crate::shaders::interface;
+
+/// The thesis's shading approaches (model.md §3.1–§3.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Approach {
+    /// Full λ-space sampling: every wavelength step, the Taylor sum with the Gaussian window (the reference)
+    Flss,
+    /// One wavelength per DFT bin crossed, with the dλ Jacobian the thesis left out (model.md §3.2)
+    Nmm,
+    /// The periodic-tiling (Dirichlet) factor with the patch's exact DTFT kernel (model.md §1.11, §1.12)
+    Pq,
+    /// Stam's analytic grating: only the dominant spacing, no height field (GPU Gems ch. 8)
+    Gem,
+    /// The spectrally integrated colour baked over (u, v) with its w-dependence as a Chebyshev series, filtered
+    /// over each pixel's footprint: a handful of fetches per pixel
+    Baked,
+}
+
+impl Approach {
+    pub const ALL: [Approach; 5] = [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem, Approach::Baked];
+
+    /// The value of the `APPROACH` specialization constant.
+    pub fn id(self) -> u32 {
+        match self {
+            Approach::Flss => interface::APPROACH_FLSS,
+            Approach::Nmm => interface::APPROACH_NMM,
+            Approach::Pq => interface::APPROACH_PQ,
+            Approach::Gem => interface::APPROACH_GEM,
+            Approach::Baked => interface::APPROACH_BAKED,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Approach::Flss => "flss",
+            Approach::Nmm => "nmm",
+            Approach::Pq => "pq",
+            Approach::Gem => "gem",
+            Approach::Baked => "baked",
+        }
+    }
+
+    /// Whether the approach samples the Taylor terms (flss, nmm, pq).
+    pub fn uses_terms(self) -> bool {
+        !matches!(self, Approach::Gem | Approach::Baked)
+    }
+}
+
+/// Where a frame evaluates the environment's diffraction (the `sky_at` setting).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SkyAt {
+    /// The diffracted part at the mesh's vertices, interpolated across each triangle; the specular part per pixel.
+    Vertex,
+    /// All of it per pixel: the prefiltered model exactly as [`Moments::radiance`] states it.
+    Pixel,
+}
+
+impl SkyAt {
+    pub const ALL: [SkyAt; 2] = [SkyAt::Vertex, SkyAt::Pixel];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SkyAt::Vertex => "vertex",
+            SkyAt::Pixel => "pixel",
+        }
+    }
+
+    /// The value of the `SKY_DIFFRACTION` specialization constant for a material with moments.
+    pub fn spec(self) -> u32 {
+        match self {
+            SkyAt::Vertex => interface::SKY_DIFFRACTION_VERTEX,
+            SkyAt::Pixel => interface::SKY_DIFFRACTION_PIXEL,
+        }
+    }
+}
 
 /// Largest window radius (taps (2r+1)² per term and wavelength; the shaders' loops are bounded by it).
 pub const MAX_WINDOW_RADIUS: u32 = 16;

@@ -11,63 +11,18 @@ use std::time::Instant;
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
+use crate::env_prefilter::Moments;
 use crate::error::{Error, Result};
-use crate::physics::baked::{self, BakedTable, Domain, TablePlan, TableRequest};
+use crate::physics::baked;
+use crate::physics::baked::{BakedTable, Domain, TablePlan, TableRequest};
 use crate::physics::exact::window_gain;
-use crate::physics::spectrum::{self, Sampling};
+use crate::physics::spectrum;
+use crate::physics::spectrum::Sampling;
 use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms};
 use crate::physics::window::Window;
 use crate::physics::HeightField;
 use crate::progress::Progress;
-use crate::shaders::interface;
-
-/// The thesis's shading approaches (model.md §3.1–§3.4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
-#[serde(rename_all = "lowercase")]
-pub enum Approach {
-    /// Full λ-space sampling: every wavelength step, the Taylor sum with the Gaussian window (the reference)
-    Flss,
-    /// One wavelength per DFT bin crossed, with the dλ Jacobian the thesis left out (model.md §3.2)
-    Nmm,
-    /// The periodic-tiling (Dirichlet) factor with the patch's exact DTFT kernel (model.md §1.11, §1.12)
-    Pq,
-    /// Stam's analytic grating: only the dominant spacing, no height field (GPU Gems ch. 8)
-    Gem,
-    /// The spectrally integrated colour baked over (u, v) with its w-dependence as a Chebyshev series, filtered
-    /// over each pixel's footprint: a handful of fetches per pixel
-    Baked,
-}
-
-impl Approach {
-    pub const ALL: [Approach; 5] = [Approach::Flss, Approach::Nmm, Approach::Pq, Approach::Gem, Approach::Baked];
-
-    /// The value of the `APPROACH` specialization constant.
-    pub fn id(self) -> u32 {
-        match self {
-            Approach::Flss => interface::APPROACH_FLSS,
-            Approach::Nmm => interface::APPROACH_NMM,
-            Approach::Pq => interface::APPROACH_PQ,
-            Approach::Gem => interface::APPROACH_GEM,
-            Approach::Baked => interface::APPROACH_BAKED,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Approach::Flss => "flss",
-            Approach::Nmm => "nmm",
-            Approach::Pq => "pq",
-            Approach::Gem => "gem",
-            Approach::Baked => "baked",
-        }
-    }
-
-    /// Whether the approach samples the Taylor terms (flss, nmm, pq).
-    pub fn uses_terms(self) -> bool {
-        !matches!(self, Approach::Gem | Approach::Baked)
-    }
-}
+use crate::settings::{Approach, Settings, MAX_WINDOW_RADIUS};
 
 /// The views a material must serve: what sizes its Taylor plan (the largest |w|) and its baked table (the box of
 /// (u, v, w) and the smallest pixel footprint).
@@ -119,8 +74,6 @@ impl Reach {
         }
     }
 }
-
-pub use crate::settings::{Settings, SettingsPatch, MAX_WINDOW_RADIUS};
 
 /// The window weight at which the default render window stops (the first tap left out weighs less).
 pub(crate) const RENDER_WINDOW_CUTOFF: f64 = 1e-3;
@@ -185,7 +138,7 @@ pub struct Material {
     pub table_cached: bool,
     /// The BRDF's moments against the environment's light (`env_prefilter`): where a scene's environment
     /// diffracts (set by [`Material::prepare_moments`]).
-    pub moments: Option<crate::env_prefilter::Moments>,
+    pub moments: Option<Moments>,
 }
 
 impl Material {
@@ -270,7 +223,7 @@ impl Material {
     /// pair of directions with texels of `env_prefilter::MOMENT_TEXEL` (built or read from the cache like any
     /// other). The light must be in physical units.
     pub fn prepare_moments(&mut self, hf: &HeightField) -> Result<()> {
-        self.moments = Some(crate::env_prefilter::moments_of(hf, &self.settings)?);
+        self.moments = Some(moments_of(hf, &self.settings)?);
         Ok(())
     }
 
@@ -329,6 +282,66 @@ impl Material {
             table.certificate.describe()
         ))
     }
+}
+
+/// The moments of `hf`'s BRDF under `settings`' coherence length and table tolerance (their light is the basis',
+/// whatever `settings` names): from a baked table per band of the basis, for every pair of directions with texels
+/// of `MOMENT_TEXEL` and spectral sums at `MOMENT_LAMBDA_STEP_NM` (built, or read from the cache), on a
+/// `MOMENT_GRID`² grid.
+pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
+    use crate::env_prefilter::{basis, key_tail, MOMENTS_VERSION, MOMENT_GRID, MOMENT_LAMBDA_STEP_NM, MOMENT_TEXEL};
+    use crate::physics::baked::load_or_build;
+    // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
+    // One segment of w: the moments read every texel once, so fewer layers a read would save nothing.
+    let request = TableRequest {
+        segments: Some(1),
+        ..Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request()
+    };
+    let mut bands = Vec::new();
+    for illuminant in basis() {
+        let mut plan = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, illuminant)?;
+        plan.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
+        let sampling = Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
+        let gain = crate::env_light::env_gain(&sampling, settings.coherence_um)?;
+        bands.push((plan, gain));
+    }
+    // Cached beside the tables: keyed by their plans and everything below.
+    let mut p = crate::cache::PlanBytes::default();
+    for (plan, gain) in &bands {
+        p.0.extend(crate::physics::baked::cache::table_identity(hf, plan));
+        p.f64(*gain);
+    }
+    key_tail(&mut p);
+    let stamp =
+        crate::cache::Stamp { kind: "moments", what: "environment moments", version: MOMENTS_VERSION, plan: p.0 };
+    let dir = crate::cache::default_dir();
+    let cached = dir.as_deref().and_then(|dir| {
+        let bytes = crate::cache::load(dir, &stamp, (MOMENT_GRID * MOMENT_GRID * 90 * 8 + 8) as u64)?;
+        Moments::from_bytes(&bytes).filter(|m| m.grid == MOMENT_GRID)
+    });
+    if let Some(moments) = cached {
+        return Ok(moments);
+    }
+    let bar = crate::progress::Progress::new("the environment's moments: baking the spectral bands", bands.len());
+    let mut tables = Vec::new();
+    for (plan, gain) in &bands {
+        tables.push((load_or_build(hf, plan, None)?.0, *gain));
+        bar.step();
+    }
+    bar.finish();
+    let moments = Moments::new(
+        &[(&tables[0].0, tables[0].1), (&tables[1].0, tables[1].1), (&tables[2].0, tables[2].1)],
+        MOMENT_GRID,
+    );
+    if let Some(dir) = dir.as_deref() {
+        // A cache that cannot be written costs time, not correctness.
+        if let Err(e) =
+            std::fs::create_dir_all(dir).and_then(|()| crate::cache::store(dir, &stamp, &moments.to_bytes()))
+        {
+            eprintln!("warning: could not cache the environment moments in {}: {e}", dir.display());
+        }
+    }
+    Ok(moments)
 }
 
 /// The wavelengths of `s`'s step, refused when the step or the window radius is out of range.

@@ -24,7 +24,8 @@ use diffract::brdf::Evaluator;
 use diffract::physics::{HeightField, Method, PngScale, Query, Sample};
 use diffract::profile::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
 use diffract::render::diffraction;
-use diffract::shading::{Approach, Material, Reach, Settings};
+use diffract::settings::{Approach, Settings};
+use diffract::shading::{Material, Reach};
 use diffract::vk::Context;
 
 /// The tolerance on |P − P_N| every evaluation is asked for (the CLI's default).

@@ -8,7 +8,7 @@ use clap::Args;
 
 use super::parse;
 use crate::physics::{HeightField, PngScale};
-use crate::shading::{Settings, SettingsPatch};
+use crate::settings::{Settings, SettingsPatch};
 
 /// A height field and its physical units, shared by every command that reads one.
 #[derive(Args, Debug, Clone)]

@@ -12,7 +12,8 @@ use super::GpuArgs;
 use crate::physics::optics;
 use crate::physics::spectrum::Sampling;
 use crate::render::diffraction;
-use crate::shading::{Approach, Material, Reach};
+use crate::settings::Approach;
+use crate::shading::{Material, Reach};
 
 #[derive(Args, Debug)]
 pub struct MapArgs {
@@ -81,7 +82,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let start = Instant::now();
     let material = Material::prepare(
         &hf,
-        args.material.patch.apply(crate::shading::Settings::default()),
+        args.material.patch.apply(crate::settings::Settings::default()),
         &Reach::Map { light, size: args.size, filtered: args.footprint },
     )?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -153,7 +154,7 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     let mut settings = args
         .material
         .patch
-        .apply(crate::shading::Settings { approach: Approach::Baked, ..crate::shading::Settings::default() });
+        .apply(crate::settings::Settings { approach: Approach::Baked, ..crate::settings::Settings::default() });
     if settings.approach != Approach::Baked {
         anyhow::bail!(
             "--environment needs --approach baked: {} evaluates one pair of directions per pixel, and an environment \
@@ -208,10 +209,10 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     if let Some(count) = args.env_reference {
         let table = material.table.as_ref().context("the baked material has a table")?;
         let proposal = TableProposal::new(table)?;
-        let pixels = crate::env_light::random_map_pixels(args.size, count as usize, 0x5eed);
+        let pixels = crate::profile::env_reference::random_map_pixels(args.size, count as usize, 0x5eed);
         let start = Instant::now();
         let samples = crate::env_light::REFERENCE_SAMPLES;
-        let reference = crate::env_light::reference_map_pixels(
+        let reference = crate::profile::env_reference::reference_map_pixels(
             &hf,
             &material.settings,
             &proposal,
@@ -220,12 +221,12 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
             &pixels,
             samples,
         )?;
-        let check = crate::env_light::compare(&image, &pixels, &reference, exposure);
+        let check = crate::profile::env_reference::compare(&image, &pixels, &reference, exposure);
         println!(
             "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
              {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
             pixels.len(),
-            crate::env_light::REFERENCE_STEP_NM,
+            crate::profile::env_reference::REFERENCE_STEP_NM,
             start.elapsed().as_secs_f64(),
             check.mean,
             check.worst,

@@ -14,7 +14,8 @@ use std::process::ExitCode;
 
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
-use crate::vk::{self, ContextDesc, DeviceSelector};
+use crate::vk;
+use crate::vk::{ContextDesc, DeviceSelector};
 
 const EXAMPLES: &str = "\
 Examples:

@@ -10,12 +10,14 @@ use clap::Args;
 use super::args::{HeightFieldArgs, SceneOverrideArgs};
 use super::{parse, GpuArgs};
 use crate::physics::optics;
-use crate::profile::run::{self, Options, Progress, ReferenceOptions, Report, Subject};
-use crate::profile::{self as prof, exact_image, Config, Row, Sweep};
+use crate::profile as prof;
+use crate::profile::run;
+use crate::profile::run::{Options, Progress, ReferenceOptions, Report, Subject};
+use crate::profile::{exact_image, Config, Row, Sweep};
 use crate::render::profile::{fetch_probe, ProbeResult};
 use crate::render::surface::FrameTarget;
 use crate::scene::Scene;
-use crate::shading::Settings;
+use crate::settings::Settings;
 use crate::vk::Context;
 
 #[derive(Args, Debug)]

@@ -8,7 +8,8 @@ use clap::{Args, ValueEnum};
 use super::args::SceneOverrideArgs;
 use super::GpuArgs;
 use crate::scene::Scene;
-use crate::view::{self, ViewOptions};
+use crate::view;
+use crate::view::ViewOptions;
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
 pub enum OnOff {

@@ -138,6 +138,11 @@ pub fn white_rgb(illuminant: Illuminant) -> DVec3 {
     xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible_under(1.0, illuminant.light()), |_| 1.0))
 }
 
+/// Relative luminance Y of linear sRGB (IEC 61966-2-1's second row of the RGB → XYZ matrix).
+pub fn luminance(rgb: [f32; 3]) -> f64 {
+    0.2126 * f64::from(rgb[0]) + 0.7152 * f64::from(rgb[1]) + 0.0722 * f64::from(rgb[2])
+}
+
 pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
     let m = XYZ_TO_LINEAR_SRGB;
     DVec3::new(

@@ -11,6 +11,7 @@
 //! - [`plot`]: time against error as a picture.
 //! - here: the configurations and sweeps, the rows and their CSV and markdown.
 
+pub mod env_reference;
 pub mod exact_image;
 pub mod plot;
 pub mod run;
@@ -22,7 +23,7 @@ use crate::render::diffraction::{MapShader, Upload};
 use crate::render::pass;
 use crate::render::surface::FrameTarget;
 use crate::render::visibility::ShadingPath;
-use crate::shading::{Approach, Settings, SettingsPatch};
+use crate::settings::{Approach, Settings, SettingsPatch};
 use crate::stats::Spread;
 
 /// One configuration of a profile: the settings it sets for every material (the rest are each material's own;

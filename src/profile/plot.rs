@@ -11,7 +11,7 @@ use plotters::style::FontStyle;
 use super::exact_image::ImageError;
 use super::Row;
 use crate::error::{Error, Result};
-use crate::shading::Approach;
+use crate::settings::Approach;
 
 /// Where the plot looks for a font when none is given (Debian's fonts-dejavu-core first).
 const FONT_CANDIDATES: [&str; 5] = [

@@ -22,7 +22,8 @@ use crate::render::surface::FrameTarget;
 use crate::render::visibility::ShadingPath;
 use crate::render::SceneView;
 use crate::scene::Scene;
-use crate::shading::{Material, Reach, Settings};
+use crate::settings::Settings;
+use crate::shading::{Material, Reach};
 use crate::stats::Spread;
 use crate::vk::Context;
 
@@ -276,7 +277,7 @@ fn scene_pixels(
                 return Ok(None);
             }
             let settings = Settings { coherence_um, illuminant, ..m.settings };
-            crate::env_prefilter::moments_of(&m.heightfield, &settings).map(Some)
+            crate::shading::moments_of(&m.heightfield, &settings).map(Some)
         })
         .collect::<Result<_>>()?;
     Ok(gbuffer
@@ -491,7 +492,7 @@ fn measure_config(
         // reads have no probe of their own, and a share of the wrong roof (it read 116–196 % on lavapipe) is none.
         roofline_fraction: fetches_per_s
             .zip(options.probe.as_ref())
-            .filter(|_| m.settings.approach != crate::shading::Approach::Baked)
+            .filter(|_| m.settings.approach != crate::settings::Approach::Baked)
             .map(|(rate, p)| rate / p.fetches_per_s),
         error,
         table: TableSummary::of(m),

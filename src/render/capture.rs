@@ -10,7 +10,8 @@ use crate::camera::Camera;
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::scene::Scene;
-use crate::shading::{Material, Reach, SettingsPatch};
+use crate::settings::SettingsPatch;
+use crate::shading::{Material, Reach};
 use crate::vk::{Context, Guard};
 
 /// What a matte material's (undrawn) patch is prepared for: one point, coarsely.

@@ -7,7 +7,8 @@ use winit::keyboard::{Key, ModifiersState, NamedKey};
 
 use crate::camera::Camera;
 use crate::scene::Scene;
-use crate::shading::{Approach, Material, SettingsPatch, MAX_WINDOW_RADIUS};
+use crate::settings::{Approach, SettingsPatch, MAX_WINDOW_RADIUS};
+use crate::shading::Material;
 
 /// The key bindings, as `H` prints them and docs/usage.md lists them.
 pub const BINDINGS: &str = "\
@@ -207,7 +208,8 @@ mod tests {
 
     use super::*;
     use crate::physics::heightfield::HeightField;
-    use crate::shading::{Reach, Settings};
+    use crate::settings::Settings;
+    use crate::shading::Reach;
 
     /// A small grating, prepared as the viewer would for its first material.
     fn material(settings: Settings) -> Material {

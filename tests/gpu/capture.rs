@@ -5,7 +5,8 @@ use ash::vk::SampleCountFlags;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::{Frame, SceneView};
 use diffract::scene::Scene;
-use diffract::shading::{Material, SettingsPatch};
+use diffract::settings::SettingsPatch;
+use diffract::shading::Material;
 use diffract::vk::Context;
 
 use crate::harness::gpu_test;

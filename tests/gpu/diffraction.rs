@@ -5,7 +5,8 @@ use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
 use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
 use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader, MapSpec};
-use diffract::shading::{Approach, Material, Reach, Settings};
+use diffract::settings::{Approach, Settings};
+use diffract::shading::{Material, Reach};
 use glam::DVec3;
 
 use crate::golden;

@@ -1,17 +1,19 @@
 //! The BRDF map under an environment (`render::env_map`, `env_light`): the furnace, a disc against the directional
 //! sun it stands for, and the baked map against the exact BRDF integrated over the same sky.
 
-use diffract::env_light::{env_of_patch, map_view, reference_map_pixels, EnvLight, SplitMix, TableProposal};
+use diffract::env_light::{env_of_patch, map_view, EnvLight, TableProposal};
 use diffract::environment::{direction_at, texel_solid_angle, EnvironmentMap};
 use diffract::physics::illuminant::Illuminant;
 use diffract::physics::optics::{direction, fresnel_ratio, normal_reflectance, SKIN_INDEX, SUN_SOLID_ANGLE};
 use diffract::physics::sky::Sky;
 use diffract::physics::spectrum::{linear_srgb_to_xyz, white_rgb};
 use diffract::physics::HeightField;
+use diffract::profile::env_reference::reference_map_pixels;
 use diffract::profile::exact_image::delta_e;
 use diffract::render::diffraction::{render_map, MapImage};
 use diffract::render::env_map::{render_env_map, EnvMapSpec};
-use diffract::shading::{Approach, Material, Reach, Settings};
+use diffract::settings::{Approach, Settings};
+use diffract::shading::{Material, Reach};
 use glam::DVec3;
 
 use crate::diffraction::blazed;
@@ -144,10 +146,10 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
     let env = EnvLight::new(&map, 1.0 / sky.sun_xyz().y, 0.0).unwrap();
     let gpu = env_map(&material, &env, size, 16384);
     let (ev, _) = diffract::exposure::measure(&gpu.rgba, "the map");
-    let mut rng = SplitMix(42);
+    let mut rng = fastrand::Rng::with_seed(42);
     let mut pixels = Vec::new();
     while pixels.len() < 24 {
-        let (x, y) = ((rng.uniform() * f64::from(size)) as u32, (rng.uniform() * f64::from(size)) as u32);
+        let (x, y) = (rng.u32(..size), rng.u32(..size));
         if map_view(size, x, y).is_some() {
             pixels.push((x, y));
         }
@@ -196,7 +198,7 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
             .collect(),
     };
     let start = std::time::Instant::now();
-    let moments = diffract::env_prefilter::moments_of(&hf, &material.settings).unwrap();
+    let moments = diffract::shading::moments_of(&hf, &material.settings).unwrap();
     assert_eq!(moments.grid, MOMENT_GRID);
     eprintln!("moments: {:.1} s", start.elapsed().as_secs_f64());
     // The map's frame: patch x, y, z are the environment's x, −z, y (env_light::env_of_patch).
@@ -244,9 +246,9 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
 #[test]
 fn the_moments_of_a_mirror_are_its_reflectance() {
     let hf = HeightField::new(64, 64, 0.1, 0.1, vec![0.1; 64 * 64]).unwrap();
-    let m = diffract::env_prefilter::moments_of(&hf, &physical()).unwrap();
+    let m = diffract::shading::moments_of(&hf, &physical()).unwrap();
     let tungsten = Settings { illuminant: Illuminant::named("A").unwrap().physical(), ..physical() };
-    assert!(diffract::env_prefilter::moments_of(&hf, &tungsten).unwrap() == m, "the sun's illuminant changed them");
+    assert!(diffract::shading::moments_of(&hf, &tungsten).unwrap() == m, "the sun's illuminant changed them");
     // (Up to 70°: beyond, the narrow-lobe limit R(θ) itself is off by percents, model.md §1.5.)
     for theta in [0.0f64, 20.0, 45.0, 60.0, 70.0] {
         for phi in [0.0f64, 30.0, 45.0, 90.0, 200.0] {
@@ -269,7 +271,7 @@ fn the_elaphe_scans_moments_conserve_energy() {
     let scale = diffract::physics::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
     let afm = crate::harness::place::afm("elaphe-100px.png");
     let hf = diffract::physics::formats::load(&afm, Some(scale)).unwrap().tiled(10, 10).unwrap();
-    let m = diffract::env_prefilter::moments_of(&hf, &physical()).unwrap();
+    let m = diffract::shading::moments_of(&hf, &physical()).unwrap();
     for theta in [0.0f64, 30.0, 60.0, 75.0] {
         let omega_r = direction(theta, 0.0);
         let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
@@ -292,10 +294,10 @@ fn the_elaphe_scans_moments_conserve_energy() {
 /// each pixel's whole colour compared at the frame's exposure.
 #[test]
 fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
-    use diffract::env_light::ExactEnv;
-    use diffract::env_prefilter::SkyAt;
+    use diffract::profile::env_reference::ExactEnv;
     use diffract::render::gbuffer::GBuffer;
-    use diffract::shading::SettingsPatch;
+    use diffract::settings::SettingsPatch;
+    use diffract::settings::SkyAt;
     let path = crate::harness::place::assets().join("scenes/elaphe-snake.toml");
     let scene = diffract::scene::Scene::load(&path).unwrap();
     let (w, h) = (64u32, 64u32);
@@ -347,12 +349,12 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
         apart[apart.len() - 1]
     );
     assert!(apart_mean < 0.3, "the vertices' interpolation costs mean ΔE00 {apart_mean}");
-    let mut rng = SplitMix(9);
+    let mut rng = fastrand::Rng::with_seed(9);
     let (mut vertex_errors, mut pixel_errors) = (Vec::new(), Vec::new());
     let mut done = std::collections::HashSet::new();
     let start = std::time::Instant::now();
     while vertex_errors.len() < 12 {
-        let i = (rng.uniform() * f64::from(w * h)) as usize;
+        let i = rng.usize(..(w * h) as usize);
         let Some(seen) = gbuffer.pixels[i] else { continue };
         if seen.omega_r.z <= 0.0 || !done.insert(i) {
             continue;

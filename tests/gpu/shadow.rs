@@ -6,7 +6,7 @@
 use diffract::physics::optics::SUN_SOLID_ANGLE;
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::shading::SettingsPatch;
+use diffract::settings::SettingsPatch;
 use glam::{DVec3, Vec4};
 
 use crate::capture::{capture_views, scene_materials};

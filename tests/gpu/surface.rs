@@ -6,7 +6,8 @@ use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
 use diffract::physics::{Method, PngScale, Reference};
 use diffract::render::surface::render_surface;
 use diffract::render::SceneView;
-use diffract::shading::{Material, Reach, Settings};
+use diffract::settings::Settings;
+use diffract::shading::{Material, Reach};
 use glam::{DVec3, Vec3, Vec4};
 
 use crate::harness::gpu_test;

@@ -6,7 +6,7 @@
 use diffract::render::capture::SceneCapture;
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::shading::SettingsPatch;
+use diffract::settings::SettingsPatch;
 
 use crate::capture::scene_materials;
 use crate::harness::gpu_test;

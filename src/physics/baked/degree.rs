@@ -21,7 +21,7 @@
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::build::{lattice_taps, Cell, Spectral};
+use super::lobes::{lattice_taps, Cell, Spectral};
 use super::{Grid, TablePlan, INVISIBLE, MAX_TABLE_BYTES, MAX_TERMS, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM};
 use crate::error::{Error, Result};
 use crate::physics::chebyshev;

@@ -28,6 +28,7 @@
 pub mod build;
 pub mod cache;
 pub mod degree;
+mod lobes;
 pub mod sample;
 
 pub use degree::{Certificate, Estimate, Nodes};

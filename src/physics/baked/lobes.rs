@@ -1,0 +1,139 @@
+//! What the table's build and its degree estimate share: a patch's tiling cell with the amplitudes
+//! A_k = DFT(exp(i·κ·h))(k) of its FFT, the wavelengths with their colour weights under an illuminant, and the
+//! coherence window's taps on the tiling lattice (the reference's taps, `physics::exact`).
+
+use std::sync::Arc;
+
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
+
+use crate::physics::heightfield::HeightField;
+use crate::physics::illuminant::Illuminant;
+use crate::physics::spectrum::Sampling;
+
+/// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ under the illuminant S: Σ_λ |P|²·weight is XYZ
+/// relative to a mirror under S, as `spectrum::reflectance_to_xyz` sums it.
+pub(super) struct Spectral {
+    pub(super) lambda_um: Vec<f64>,
+    pub(super) weight: Vec<[f64; 3]>,
+}
+
+impl Spectral {
+    pub(super) fn new(step_nm: f64, illuminant: &Illuminant) -> Self {
+        let sampling = Sampling::visible_under(step_nm, *illuminant);
+        let norm = sampling.y_norm();
+        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
+        for l in sampling.wavelengths() {
+            let s = sampling.weights_at(l);
+            let w = [s[0], s[1], s[2]].map(|c| c * s[3] * step_nm / norm);
+            if w.iter().any(|&c| c != 0.0) {
+                lambda_um.push(l * 1e-3);
+                weight.push(w);
+            }
+        }
+        Self { lambda_um, weight }
+    }
+}
+
+/// The patch's tiling cell and its FFT plans.
+pub(super) struct Cell {
+    pub(super) px: usize,
+    pub(super) py: usize,
+    /// Tiling strides: full-patch bin = stride × cell bin.
+    pub(super) tx: i64,
+    pub(super) ty: i64,
+    heights: Vec<f64>,
+    /// Distinct heights and each pixel's index among them, where they are few (an 8-bit scan has ≤ 256): the
+    /// phases exp(i·κ·h) are then computed once per distinct height.
+    distinct: Option<(Vec<f64>, Vec<u32>)>,
+    fx: Arc<dyn Fft<f64>>,
+    fy: Arc<dyn Fft<f64>>,
+}
+
+impl Cell {
+    pub(super) fn new(hf: &HeightField, (px, py): (usize, usize)) -> Self {
+        // Centred on the whole patch's mean, as the reference centres it.
+        let mean = hf.mean();
+        let heights: Vec<f64> = hf.corner(px, py).heights_um.iter().map(|h| h - mean).collect();
+        let mut values = heights.clone();
+        values.sort_by(f64::total_cmp);
+        values.dedup();
+        let distinct = (values.len() * 8 <= heights.len()).then(|| {
+            let index = heights.iter().map(|h| values.partition_point(|v| v < h) as u32).collect();
+            (values, index)
+        });
+        let mut planner = FftPlanner::new();
+        Self {
+            px,
+            py,
+            tx: (hf.nx / px) as i64,
+            ty: (hf.ny / py) as i64,
+            heights,
+            distinct,
+            fx: planner.plan_fft_inverse(px),
+            fy: planner.plan_fft_inverse(py),
+        }
+    }
+
+    /// A_k for every cell bin, row-major in FFT order (index k mod n), normalised so that a flat patch has
+    /// A_0 = 1: the centred inverse DFT of exp(i·κ·h) of `physics::taylor` (+i exponent, 1/N²).
+    pub(super) fn amplitudes(&self, kappa: f64, scratch: &mut Vec<Complex64>) -> Vec<Complex64> {
+        let (px, py) = (self.px, self.py);
+        let norm = 1.0 / (px * py) as f64;
+        let mut a: Vec<Complex64> = match &self.distinct {
+            Some((values, index)) => {
+                let phases: Vec<Complex64> = values.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect();
+                index.iter().map(|&i| phases[i as usize]).collect()
+            }
+            None => self.heights.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect(),
+        };
+        self.fx.process(&mut a);
+        scratch.resize(px * py, Complex64::default());
+        for r in 0..py {
+            for c in 0..px {
+                scratch[c * py + r] = a[r * px + c];
+            }
+        }
+        self.fy.process(scratch);
+        for c in 0..px {
+            for r in 0..py {
+                a[r * px + c] = scratch[c * py + r];
+            }
+        }
+        a
+    }
+
+    /// The centred bin of FFT index `i` of an `n`-point axis (DC at ⌊n/2⌋ in the centred array, so indices
+    /// from n − ⌊n/2⌋ on are negative frequencies).
+    pub(super) fn bin(i: usize, n: usize) -> i64 {
+        if i < n - n / 2 {
+            i as i64
+        } else {
+            i as i64 - n as i64
+        }
+    }
+}
+
+/// The window's taps at `s` bins of the whole patch, as the reference takes them: the tiling lattice's bins (every
+/// `stride`-th) within `radius` of the nearest bin and inside the patch's `pixels`-bin spectrum, as (cell index in
+/// FFT order of a `cells`-bin cell, weight exp(−½((j − s)/σ)²)).
+pub(super) fn lattice_taps(
+    s: f64,
+    pixels: usize,
+    stride: i64,
+    radius: i64,
+    sigma: f64,
+    cells: usize,
+) -> Vec<(usize, f64)> {
+    let half = (pixels / 2) as i64;
+    let (lo, hi) = (-half, pixels as i64 - 1 - half);
+    let nearest = (s + 0.5).floor() as i64;
+    let first = -(-(nearest - radius).max(lo)).div_euclid(stride);
+    let last = (nearest + radius).min(hi).div_euclid(stride);
+    (first..=last)
+        .map(|k| {
+            let d = (k * stride) as f64 - s;
+            (k.rem_euclid(cells as i64) as usize, (-0.5 * d * d / (sigma * sigma)).exp())
+        })
+        .collect()
+}
