@@ -9,7 +9,8 @@
 
 use std::time::Instant;
 
-use diffract::physics::{HeightField, TaylorTerms};
+use diffract::physics::heightfield::HeightField;
+use diffract::physics::taylor::TaylorTerms;
 
 /// A deterministic rough surface (an LCG): the timing does not depend on the heights.
 fn patch(n: usize) -> HeightField {
@@ -41,7 +42,7 @@ fn main() {
                     start.elapsed().as_secs_f64() * 1e3
                 })
                 .collect();
-            let ms = diffract::stats::median(&times).expect("at least one run");
+            let ms = diffract::io::stats::median(&times).expect("at least one run");
             let mib = (terms * n * n * 8) as f64 / (1 << 20) as f64;
             println!("| {n}² | {terms} | {runs} | {ms:.1} | {:.2} | {mib:.0} |", ms / terms as f64);
         }

@@ -4,10 +4,10 @@
 //!
 //! Run: `cargo run --release --example exact_brdf`
 
-use diffract::brdf::{evaluate, Evaluator};
-use diffract::generate::{generate, PatchKind, PatchSpec};
-use diffract::physics::{Method, Query};
-use diffract::settings::Settings;
+use diffract::material::Settings;
+use diffract::physics::exact::{Method, Query};
+use diffract::physics::generate::{generate, PatchKind, PatchSpec};
+use diffract::reference::brdf::{evaluate, Evaluator};
 
 fn main() -> diffract::Result<()> {
     // A 16 µm square of the grating, 0.1 µm pixels: its grooves run along y, so it diffracts along x (φ = 0°).

@@ -4,13 +4,13 @@
 //!
 //! Run: `cargo run --release --example profile_approaches`
 
-use diffract::generate::{generate, PatchKind, PatchSpec};
+use diffract::gpu::vk::{Context, ContextDesc, DeviceSelector};
+use diffract::material::{Approach, Settings, SettingsPatch};
+use diffract::physics::generate::{generate, PatchKind, PatchSpec};
 use diffract::physics::optics;
-use diffract::profile;
-use diffract::profile::run::{run, Options, Progress, ReferenceOptions, Subject};
-use diffract::profile::Config;
-use diffract::settings::{Approach, Settings, SettingsPatch};
-use diffract::vk::{Context, ContextDesc, DeviceSelector};
+use diffract::reference::profiler;
+use diffract::reference::profiler::run::{run, Options, Progress, ReferenceOptions, Subject};
+use diffract::reference::profiler::Config;
 
 fn main() -> diffract::Result<()> {
     // A blazed grating of 2.5 µm period, 0.25 µm deep, on a 16 µm square; lit under 16 µm coherence.
@@ -49,9 +49,9 @@ fn main() -> diffract::Result<()> {
         }
     })?;
     println!("{} on {}\n", subject.describe(), ctx.info.name);
-    print!("{}", profile::markdown(&report.rows));
+    print!("{}", profiler::markdown(&report.rows));
     println!();
-    print!("{}", profile::markdown_passes(&report.rows));
+    print!("{}", profiler::markdown_passes(&report.rows));
     let (flss, baked) = (&report.rows[0], &report.rows[1]);
     if let (Some(f), Some(b)) = (flss.gpu_ms, baked.gpu_ms) {
         println!("\nbaked is {:.0}× faster than FLSS here", f.median / b.median);

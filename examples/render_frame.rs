@@ -4,12 +4,12 @@
 //! Run: `cargo run --release --example render_frame [OUT.png]` (default `frame.png` in the system's temporary
 //! folder); `DIFFRACT_VALIDATION=1` turns the Khronos validation layer on.
 
-use diffract::exposure::AutoExposure;
+use diffract::display::AutoExposure;
+use diffract::gpu::vk::{Context, ContextDesc, DeviceSelector};
+use diffract::material::SettingsPatch;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::settings::SettingsPatch;
-use diffract::vk::{Context, ContextDesc, DeviceSelector};
 
 fn main() -> diffract::Result<()> {
     let out = std::env::args().nth(1).map_or_else(|| std::env::temp_dir().join("frame.png"), Into::into);
@@ -34,7 +34,7 @@ fn main() -> diffract::Result<()> {
     // The scene's exposure, else one measured from the frame (its lit pixels' 99.5th percentile shown at 0.9).
     let exposure_ev = scene.render.exposure_ev.or_else(|| AutoExposure::of(linear).map(|a| a.ev)).unwrap_or(0.0);
     let rgba8 = diffract::physics::spectrum::linear_to_rgba8(linear, exposure_ev);
-    diffract::output::write_png_rgba8(&out, width, height, &rgba8)?;
+    diffract::io::output::write_png_rgba8(&out, width, height, &rgba8)?;
     let passes = frame.times.map_or("no timestamps on this device".into(), |t| t.describe());
     println!("wrote {} ({width}×{height} on {}; GPU {passes})", out.display(), ctx.info.name);
     Ok(())

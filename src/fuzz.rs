@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::physics::formats::gsf;
-use crate::physics::PngScale;
+use crate::physics::formats::png::PngScale;
 
 /// A Gwyddion Simple Field height field.
 pub fn gsf(bytes: &[u8]) {
@@ -24,7 +24,7 @@ pub fn png_heightfield(bytes: &[u8]) {
 
 /// A Wavefront OBJ mesh (tobj, then normals and tangents).
 pub fn obj(bytes: &[u8]) {
-    if let Ok(mesh) = crate::mesh::obj::parse(Path::new("fuzz.obj"), bytes) {
+    if let Ok(mesh) = crate::scene::mesh::obj::parse(Path::new("fuzz.obj"), bytes) {
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
         for v in &mesh.vertices {
             assert!(finite(&v.position) && finite(&v.normal) && finite(&v.tangent), "{v:?}");

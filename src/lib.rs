@@ -2,46 +2,25 @@
 //!
 //! A Vulkan renderer of the colours that nanostructures make by diffraction, after J. Stam's *Diffraction
 //! Shaders* (SIGGRAPH 1999) and M. Single's thesis / Dhillon et al., *Interactive Diffraction from Biological
-//! Nanostructures* (CGF 2014). The method, with the errors found in the thesis, is restated in the repository's
-//! `docs/model.md`, which comments cite as `model.md §N`.
+//! Nanostructures* (CGF 2014), in physical units, with an exact CPU reference of the BRDF to check every shader
+//! against. The method is restated in the repository's `docs/model.md`, which comments cite as `model.md §N`.
 //!
-//! ## Architecture
-//! From the top down (each layer uses only those below it):
-//! - `cli`: the `diffract` command line (a thin binary calls `cli::main`), behind the default feature `cli`:
-//!   `clap` and `anyhow` live only there, and a library user can leave both out (`default-features = false`).
-//! - `view`: the interactive viewer (winit window, input, live settings); it draws through
-//!   `render::window::WindowTarget`.
-//! - [`profile`]: the profiler's configurations, sweeps, exact reference images, tables and plots;
-//!   [`brdf`]: the BRDF at chosen directions by any evaluator (exact, Taylor in f64 or f32, or the GPU's compute
-//!   shader through [`render`]), with the refusals every command shares.
-//! - [`render`]: frames, speaking in the project's terms: offscreen and window targets, passes (map, G-buffer, surface,
-//!   preview), scene capture, readback.
-//! - [`scene`]: scene files (camera, light, objects, materials); [`camera`], [`mesh`]: geometry on the CPU
-//!   (built-in shapes, the procedural snake, OBJ meshes).
-//! - [`shading`]: approaches, the settings that trade speed for accuracy and the prepared material a pass
-//!   uploads.
-//! - [`physics`]: height fields and their file formats, the Taylor-term precomputation, the baked table and the
-//!   exact CPU reference of the BRDF (no GPU); [`generate`]: nanostructure generators in µm.
-//! - [`vk`]: the Vulkan backend, and the only module that creates or destroys Vulkan objects: a [`vk::Context`]
-//!   (instance, device, allocator, queue) and leaf objects (buffers, images, pipelines, timestamp queries) that
-//!   are destroyed explicitly. Validation is on demand and every message is counted. `shaders`: the SPIR-V
-//!   that `build.rs` compiled from `glsl/`.
-//! - Shared services: `input` (bounded reading of user files), [`output`] (PNG and EXR; every write through
-//!   a recognisable temporary file and a rename), `cache` (the on-disk cache of tables and references, each
-//!   entry verified before use), [`stats`] (quantiles, the finite-pixel check), `progress`
-//!   (progress bars on stderr), [`error`], and [`fuzz`] (the fuzz targets' entry points).
+//! ## Where to start
+//! - **Load a scan**: [`physics::formats::load`] (a PNG of heights with its scale, or a Gwyddion `.gsf`), or build
+//!   a [`physics::heightfield::HeightField`] from heights in µm; [`physics::generate`] makes gratings and patches.
+//! - **Evaluate the BRDF** at chosen directions: [`reference::brdf::evaluate`] (exact, Taylor in f64 or f32, or
+//!   the GPU's compute shader), or [`physics::exact::Reference`] directly. No GPU is needed for the CPU's.
+//! - **Render a scene offscreen**: [`scene::Scene::load`], [`render::capture::prepare_materials`],
+//!   [`render::capture::SceneCapture`] on a [`gpu::vk::Context`] (the repository's `examples/render_frame.rs`).
+//! - **Measure speed against accuracy**: [`reference::profiler`].
 //!
-//! Errors are [`error::Error`]: each renders as one line a user can act on.
-//!
-//! ## Example
-//! The exact BRDF of a height field at chosen directions, on the CPU (no GPU needed): a flat mirror sends all of
-//! the light into the mirror direction, where |P|² is 1 (the reflectance adds Stam's geometric factor, which is
-//! 1 at normal incidence).
 //! ```
-//! use diffract::brdf::{evaluate, Evaluator};
-//! use diffract::settings::Settings;
-//! use diffract::physics::{HeightField, Method, Query};
+//! use diffract::material::Settings;
+//! use diffract::physics::exact::{Method, Query};
+//! use diffract::physics::heightfield::HeightField;
+//! use diffract::reference::brdf::{evaluate, Evaluator};
 //!
+//! // A flat mirror sends all of the light into the mirror direction, where |P|² is 1.
 //! let mirror = HeightField::new(64, 64, 0.1, 0.1, vec![0.0; 64 * 64])?; // 6.4 µm square, 0.1 µm pixels
 //! let mirror_view = Query { lambda_nm: 550.0, theta_i: 30.0, phi_i: 0.0, theta_r: 30.0, phi_r: 180.0 };
 //! let accuracy = Settings { tolerance: 1e-4, coherence_um: 6.4, ..Settings::default() };
@@ -49,37 +28,38 @@
 //! assert!((p.samples[0].power - 1.0).abs() < 1e-9);
 //! # Ok::<(), diffract::Error>(())
 //! ```
-//! The repository's `examples/` go further: `exact_brdf` (a grating's first order where the grating equation
-//! puts it), `render_frame` (bake the tables a frame needs and render it offscreen to PNG) and
-//! `profile_approaches` (two approaches timed pass by pass and measured against the exact reference).
+//!
+//! ## Layers
+//! Each folder of `src/` is a layer that uses only the layers listed before it (ARCHITECTURE.md draws them):
+//! 1. [`error`]: one error type; every variant renders as one line a user can act on.
+//! 2. [`io`]: bounded reads of user files, atomic writes, the verified on-disk cache, progress, statistics.
+//! 3. [`gpu`]: the Vulkan backend ([`gpu::vk`], the only code that creates or destroys Vulkan objects), the
+//!    shaders' SPIR-V and [`gpu::interface`], the numbers and layouts the shaders and the Rust side share.
+//! 4. [`physics`]: the CPU truth: height fields, the coherence window, Taylor terms, the exact BRDF, spectra,
+//!    colour, illuminants, the sky and the baked table (no Vulkan).
+//! 5. [`light`]: environment maps, their sampling against the BRDF, the prefiltered moments.
+//! 6. [`material`]: the settings that trade speed for accuracy and a patch prepared under them.
+//! 7. [`scene`]: scene files, the camera, meshes (shapes, the procedural snake, OBJ).
+//! 8. [`display`]: exposure and the verdict on a frame.
+//! 9. [`render`]: frames: targets, passes, scene capture, readback.
+//! 10. [`reference`](mod@reference): the BRDF by every evaluator, exact reference images, the profiler.
+//! 11. `view` and `cli` (feature `cli`): the viewer's window and the `diffract` command line.
 
-pub mod brdf;
-pub(crate) mod cache;
-pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
-pub mod env_light;
-pub mod env_prefilter;
-pub mod environment;
+pub mod display;
 pub mod error;
-pub mod exposure;
 #[doc(hidden)] // the fuzz targets' entry points (fuzz/), not an API
 pub mod fuzz;
-pub mod generate;
-pub(crate) mod input;
-pub mod mesh;
-pub mod output;
+pub mod gpu;
+pub mod io;
+pub mod light;
+pub mod material;
 pub mod physics;
-pub mod profile;
-pub(crate) mod progress;
+pub mod reference;
 pub mod render;
 pub mod scene;
-pub mod settings;
-pub(crate) mod shaders;
-pub mod shading;
-pub mod stats;
 #[cfg(feature = "cli")]
 pub(crate) mod view;
-pub mod vk;
 
 pub use error::{Error, Result};

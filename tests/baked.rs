@@ -7,8 +7,10 @@ use diffract::physics::baked::sample::{MipFilter, TableMips};
 use diffract::physics::baked::{
     build, cache, Domain, Grid, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE, FOOTPRINT_LOD_BIAS,
 };
+use diffract::physics::coherence::CoherenceWindow;
+use diffract::physics::exact::{Method, Query, Reference};
+use diffract::physics::heightfield::HeightField;
 use diffract::physics::spectrum::Sampling;
-use diffract::physics::{HeightField, Method, Query, Reference, Window};
 use glam::DVec3;
 
 #[path = "common/place.rs"]
@@ -40,7 +42,7 @@ fn dense() -> HeightField {
 
 fn reference(hf: &HeightField, coherence_um: f64, method: Method) -> Reference {
     let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, coherence_um, None).unwrap();
+    let window = CoherenceWindow::new(lx, ly, coherence_um, None).unwrap();
     let plan = match method {
         Method::Exact => None,
         _ => {
@@ -256,7 +258,7 @@ fn between_texel_centres_the_table_interpolates_within_a_colour_difference_of_on
         for a in (2..g.nu - 2).step_by(g.nu / 24) {
             let uvw = DVec3::new(g.u_centre(a) + 0.5 * g.texel, g.v_centre(b) + 0.5 * g.texel, w);
             let de =
-                diffract::profile::exact_image::delta_e(table.xyz(uvw, 0.0), exact.spectral_xyz(uvw, &sampling), 4.0);
+                diffract::reference::exact_image::delta_e(table.xyz(uvw, 0.0), exact.spectral_xyz(uvw, &sampling), 4.0);
             des.push(de);
         }
     }

@@ -11,12 +11,12 @@
 //! (peak: the texel's brightest value over w), plus 10⁻¹⁰ for the lobes below 10⁻¹⁰ the build leaves out and
 //! 10⁻⁶·peak for the table's f32 storage.
 
+use diffract::material::Reach;
 use diffract::physics::baked::{
     build, BakedTable, Domain, Grid, TablePlan, TableRequest, DEFAULT_TABLE_TOLERANCE, INVISIBLE,
 };
+use diffract::physics::heightfield::HeightField;
 use diffract::physics::spectrum::{reflectance_to_xyz, Sampling};
-use diffract::physics::HeightField;
-use diffract::shading::Reach;
 use glam::DVec3;
 
 /// A phase grating h = a·(1 + sin 2π(p·x/px + q·y/py)) on a px×py cell of `pixel` µm, tiled tx×ty.

@@ -8,7 +8,7 @@ use std::process::Output;
 
 use common::{assert_one_line_error, diffract};
 use diffract::physics::formats::gsf;
-use diffract::physics::HeightField;
+use diffract::physics::heightfield::HeightField;
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("cli_brdf", name)

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use common::{assert_one_line_error, diffract};
-use diffract::profile::csv_columns;
+use diffract::reference::profiler::csv_columns;
 
 fn scratch(name: &str) -> PathBuf {
     common::scratch("cli_profile", name)

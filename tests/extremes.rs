@@ -20,13 +20,15 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use diffract::brdf::Evaluator;
-use diffract::physics::{HeightField, Method, PngScale, Query, Sample};
-use diffract::profile::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
+use diffract::gpu::vk::Context;
+use diffract::material::{Approach, Settings};
+use diffract::material::{Material, Reach};
+use diffract::physics::exact::{Method, Query, Sample};
+use diffract::physics::formats::png::PngScale;
+use diffract::physics::heightfield::HeightField;
+use diffract::reference::brdf::Evaluator;
+use diffract::reference::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
 use diffract::render::diffraction;
-use diffract::settings::{Approach, Settings};
-use diffract::shading::{Material, Reach};
-use diffract::vk::Context;
 
 /// The tolerance on |P − P_N| every evaluation is asked for (the CLI's default).
 const TOLERANCE: f64 = 1e-4;
@@ -163,7 +165,7 @@ fn brdf_point(
         .collect();
     let point = format!("{}, L = {coherence_um} µm, θ_i = {theta_i}°, λ = {lambda_nm} nm", patch.label);
     let acc = accuracy(coherence_um);
-    let run = |e: Evaluator| diffract::brdf::evaluate(&patch.hf, &queries, e, &acc, Some(ctx));
+    let run = |e: Evaluator| diffract::reference::brdf::evaluate(&patch.hf, &queries, e, &acc, Some(ctx));
     let record = |e: Evaluator, outcome: Outcome| Record {
         point: point.clone(),
         evaluator: e.name().to_string(),

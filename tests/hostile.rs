@@ -47,10 +47,10 @@ fn fixtures() -> &'static Path {
             if let Some(b) = bad {
                 rgba[4 * 5 + 1] = b;
             }
-            diffract::output::write_exr_rgb(&dir.join(name), width, height, &rgba).unwrap();
+            diffract::io::output::write_exr_rgb(&dir.join(name), width, height, &rgba).unwrap();
         };
         env("env-good.exr", 16, 8, None);
-        diffract::output::write_exr_rgb(&dir.join("env-black.exr"), 16, 8, &[0.0; 16 * 8 * 4]).unwrap();
+        diffract::io::output::write_exr_rgb(&dir.join("env-black.exr"), 16, 8, &[0.0; 16 * 8 * 4]).unwrap();
         env("env-3to1.exr", 24, 8, None);
         env("env-nan.exr", 16, 8, Some(f32::NAN));
         env("env-negative.exr", 16, 8, Some(-2.0));

@@ -1,8 +1,11 @@
 //! The CPU reference against closed-form optics (no GPU): Jacobi–Anger orders of a sinusoidal phase grating,
 //! the grating equation for a blazed grating, a flat mirror, and the Taylor series against the exact method.
 
+use diffract::physics::coherence::{CoherenceWindow, Lookup};
 use diffract::physics::exact::window_gain;
-use diffract::physics::{HeightField, HeightStats, Lookup, Method, Query, Reference, TaylorPlan, Window};
+use diffract::physics::exact::{Method, Query, Reference};
+use diffract::physics::heightfield::HeightField;
+use diffract::physics::taylor::{HeightStats, TaylorPlan};
 
 #[path = "common/place.rs"]
 mod place;
@@ -29,7 +32,7 @@ fn sinusoid(a_um: f64, period_px: usize, periods: usize, dx_um: f64) -> HeightFi
 
 fn reference(hf: &HeightField, method: Method, queries: &[Query], order: Option<usize>) -> Reference {
     let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, 65.0, None).unwrap();
+    let window = CoherenceWindow::new(lx, ly, 65.0, None).unwrap();
     let plan = match method {
         Method::Exact => None,
         _ => Some(Reference::plan_for(hf, &window, queries, 1e-8, order).unwrap()),
@@ -168,7 +171,7 @@ fn grazing_angles_stay_finite() {
 }
 
 fn elaphe(tile: usize) -> HeightField {
-    let scale = diffract::physics::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
+    let scale = diffract::physics::formats::png::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
     diffract::physics::formats::load(&place::afm("elaphe-100px.png"), Some(scale)).unwrap().tiled(tile, tile).unwrap()
 }
 
@@ -189,7 +192,7 @@ fn probe_points(hf: &HeightField) -> Vec<(Lookup, f64)> {
 fn taylor_error_falls_with_n_within_the_bound() {
     let hf = elaphe(2);
     let (lx, ly) = hf.size_um();
-    let window = Window::new(lx, ly, 65.0, None).unwrap();
+    let window = CoherenceWindow::new(lx, ly, 65.0, None).unwrap();
     let exact = Reference::new(&hf, window, Method::Exact, None).unwrap();
     let points = probe_points(&hf);
     let truth: Vec<_> = points.iter().map(|&(at, kw)| exact.amplitude(at, kw)).collect();
@@ -222,7 +225,7 @@ fn the_f32_estimate_tracks_the_observed_f32_error() {
         let heights = base.heights_um.iter().map(|h| scale * h).collect();
         let hf = HeightField::new(base.nx, base.ny, base.dx_um, base.dy_um, heights).unwrap();
         let (lx, ly) = hf.size_um();
-        let window = Window::new(lx, ly, 65.0, None).unwrap();
+        let window = CoherenceWindow::new(lx, ly, 65.0, None).unwrap();
         let plan = TaylorPlan::new(0.38, 2.0, &HeightStats::of(&hf), window_gain(&window, &hf), 1e-4, None).unwrap();
         let f32 = Reference::new(&hf, window, Method::TaylorF32, Some(plan)).unwrap();
         let exact = Reference::new(&hf, window, Method::Exact, None).unwrap();
@@ -289,7 +292,8 @@ fn a_flat_mirror_reflects_its_fresnel_fraction_at_every_coherence_length() {
     let (lx, ly) = hf.size_um();
     let r0 = diffract::physics::optics::normal_reflectance(diffract::physics::optics::SKIN_INDEX);
     for coherence in [4.0, 65.0, 1000.0] {
-        let r = Reference::new(&hf, Window::new(lx, ly, coherence, None).unwrap(), Method::Exact, None).unwrap();
+        let r =
+            Reference::new(&hf, CoherenceWindow::new(lx, ly, coherence, None).unwrap(), Method::Exact, None).unwrap();
         for lambda_nm in [400.0, 700.0] {
             let k_sigma = std::f64::consts::TAU / (lambda_nm * 1e-3) * coherence / 4.0;
             for theta_i in [0.0f64, 40.0, 70.0] {
@@ -321,7 +325,8 @@ fn grating_orders_carry_bessel_energy_whatever_the_coherence() {
     let normal = diffract::physics::optics::direction(0.0, 0.0);
     let r0 = diffract::physics::optics::normal_reflectance(diffract::physics::optics::SKIN_INDEX);
     for coherence in [16.0, 32.0, 65.0] {
-        let r = Reference::new(&hf, Window::new(lx, ly, coherence, None).unwrap(), Method::Exact, None).unwrap();
+        let r =
+            Reference::new(&hf, CoherenceWindow::new(lx, ly, coherence, None).unwrap(), Method::Exact, None).unwrap();
         let k_sigma = k * coherence / 4.0;
         for m in 0..=2 {
             let u = m as f64 * lambda_nm * 1e-3 / d_um;

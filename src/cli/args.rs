@@ -6,9 +6,10 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::Args;
 
-use super::parse;
-use crate::physics::{HeightField, PngScale};
-use crate::settings::{Settings, SettingsPatch};
+use crate::cli::parse;
+use crate::material::{Settings, SettingsPatch};
+use crate::physics::formats::png::PngScale;
+use crate::physics::heightfield::HeightField;
 
 /// A height field and its physical units, shared by every command that reads one.
 #[derive(Args, Debug, Clone)]
@@ -105,7 +106,7 @@ impl SceneOverrideArgs {
     /// device cannot.
     pub fn sample_count(
         &self,
-        ctx: &crate::vk::Context,
+        ctx: &crate::gpu::vk::Context,
         scene: &crate::scene::Scene,
         format: ash::vk::Format,
     ) -> crate::error::Result<ash::vk::SampleCountFlags> {

@@ -5,10 +5,12 @@ use std::io::Write;
 use anyhow::{bail, Context as _};
 use clap::{Args, ValueEnum};
 
-use super::args::{HeightFieldArgs, LightArgs, MaterialArgs};
-use super::parse;
-use crate::brdf::Evaluator;
-use crate::physics::{HeightField, Method, Query, Window};
+use crate::cli::args::{HeightFieldArgs, LightArgs, MaterialArgs};
+use crate::cli::parse;
+use crate::physics::coherence::CoherenceWindow;
+use crate::physics::exact::{Method, Query};
+use crate::physics::heightfield::HeightField;
+use crate::reference::brdf::Evaluator;
 
 #[derive(Copy, Clone, Debug, ValueEnum)]
 pub enum MethodArg {
@@ -54,7 +56,7 @@ pub const BRDF_SETTINGS: [&str; 5] = ["order", "tolerance", "coherence_um", "win
 pub const TERMS_SETTINGS: [&str; 6] =
     ["order", "tolerance", "coherence_um", "window_radius", "table_tolerance", "strict_table"];
 
-pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::process::ExitCode> {
+pub fn brdf(gpu: &crate::cli::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::process::ExitCode> {
     let hf = args.heightfield.load()?;
     let lambdas = parse::values(&args.lambda).map_err(|e| anyhow::anyhow!("--lambda {e}"))?;
     let views: Vec<(f64, f64)> = match &args.view_theta {
@@ -92,9 +94,9 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         (false, MethodArg::TaylorF32) => Evaluator::Cpu(Method::TaylorF32),
     };
     // Every refusal comes before the device is opened (a machine without one still hears why).
-    let prepared = crate::brdf::prepare(&hf, &queries, evaluator, &acc)?;
+    let prepared = crate::reference::brdf::prepare(&hf, &queries, evaluator, &acc)?;
     let ctx = match evaluator {
-        Evaluator::Gpu => Some(crate::vk::Context::new(&gpu.context_desc())?),
+        Evaluator::Gpu => Some(crate::gpu::vk::Context::new(&gpu.context_desc())?),
         Evaluator::Cpu(_) => None,
     };
     let evaluation = prepared.run(ctx.as_ref())?;
@@ -109,13 +111,13 @@ pub fn brdf(gpu: &super::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::proces
         Some(ctx) => {
             let log = ctx.validation();
             drop(ctx);
-            Ok(super::validation_status(&log))
+            Ok(crate::cli::validation_status(&log))
         }
         None => Ok(std::process::ExitCode::SUCCESS),
     }
 }
 
-fn write_csv(hf: &HeightField, samples: &[crate::physics::Sample]) -> anyhow::Result<()> {
+fn write_csv(hf: &HeightField, samples: &[crate::physics::exact::Sample]) -> anyhow::Result<()> {
     let out_of_band = samples.iter().filter(|s| !s.in_band).count();
     if out_of_band > 0 {
         eprintln!(
@@ -179,12 +181,12 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     }
     let (lx, ly) = hf.size_um();
     let acc = args.material.settings("terms", &TERMS_SETTINGS)?;
-    let window = Window::new(lx, ly, acc.coherence_um, acc.window_radius)?;
+    let window = CoherenceWindow::new(lx, ly, acc.coherence_um, acc.window_radius)?;
     let gain = crate::physics::exact::window_gain(&window, &hf);
-    let plan = crate::physics::TaylorPlan::new(
+    let plan = crate::physics::taylor::TaylorPlan::new(
         args.lambda_min * 1e-3,
         args.w_max,
-        &crate::physics::HeightStats::of(&hf),
+        &crate::physics::taylor::HeightStats::of(&hf),
         gain,
         acc.tolerance,
         acc.order,
@@ -196,7 +198,7 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
         window.sigma_x, window.sigma_y, acc.coherence_um
     );
-    let (gx, gy, spacing) = crate::shading::dominant_grating(&hf);
+    let (gx, gy, spacing) = crate::material::dominant_grating(&hf);
     if spacing > 0.0 {
         println!("dominant spacing: {spacing:.4} µm along ({gx:.3}, {gy:.3}) (what the gem approach uses)");
     }
@@ -205,11 +207,11 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
     println!("GPU texture: {} RG32F layers, {mib:.1} MiB", plan.order + 1);
     if args.compute {
         let start = std::time::Instant::now();
-        crate::physics::TaylorTerms::compute(&hf, plan.order, None)?;
+        crate::physics::taylor::TaylorTerms::compute(&hf, plan.order, None)?;
         println!("precomputed {} terms in {:.1} ms", plan.order + 1, start.elapsed().as_secs_f64() * 1e3);
     }
     // The table `view` and rendered sequences use: any light and view, as fine as the lobes within 256 MiB.
-    let request = crate::shading::Reach::ANY.table_request();
+    let request = crate::material::Reach::ANY.table_request();
     let table = crate::physics::baked::TablePlan::new(&hf, acc.coherence_um, &request, acc.table_tolerance)?;
     println!("any light and view: {}", table.describe());
     if args.compute {

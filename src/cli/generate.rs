@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, Subcommand};
 
-use super::parse;
-use crate::generate::{generate, PatchKind, PatchSpec};
-use crate::mesh::snake::{Pattern, SnakeSpec};
+use crate::cli::parse;
 use crate::physics::formats::gsf;
+use crate::physics::generate::{generate, PatchKind, PatchSpec};
+use crate::scene::mesh::snake::{Pattern, SnakeSpec};
 
 #[derive(Subcommand, Debug)]
 pub enum GenCommand {
@@ -142,7 +142,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     }
     let png = png_path(&args.out);
     let hdr = args.out.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
-    crate::output::check_path(
+    crate::io::output::check_path(
         &args.out,
         if png {
             "png"
@@ -154,9 +154,9 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     )?;
     let sky = crate::physics::sky::Sky::at(args.turbidity, args.sun_elevation_deg, args.sun_azimuth_deg)?;
     let map = if args.no_sun {
-        crate::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?
+        crate::light::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?
     } else {
-        crate::environment::EnvironmentMap::of_sky_and_sun(&sky, args.width, args.ground_albedo)?
+        crate::light::environment::EnvironmentMap::of_sky_and_sun(&sky, args.width, args.ground_albedo)?
     };
     let (sun, sky_lux) = sky.horizontal_illuminance(180);
     println!(
@@ -173,20 +173,20 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     let rgba = map.to_rgba();
     if png {
         let ev = args.exposure.unwrap_or_else(|| {
-            let (ev, line) = crate::exposure::measure(&rgba, "the map");
+            let (ev, line) = crate::display::measure(&rgba, "the map");
             println!("{line}");
             ev
         });
-        crate::output::write_png_rgba8(
+        crate::io::output::write_png_rgba8(
             &args.out,
             map.width,
             map.height,
             &crate::physics::spectrum::linear_to_rgba8(&rgba, ev),
         )?;
     } else if hdr {
-        crate::output::write_hdr_rgb(&args.out, map.width, map.height, &rgba)?;
+        crate::io::output::write_hdr_rgb(&args.out, map.width, map.height, &rgba)?;
     } else {
-        crate::output::write_exr_rgb(&args.out, map.width, map.height, &rgba)?;
+        crate::io::output::write_exr_rgb(&args.out, map.width, map.height, &rgba)?;
     }
     let without = if args.no_sun { ", without its sun" } else { "" };
     println!("wrote {} ({}×{} texels{without})", args.out.display(), map.width, map.height);
@@ -197,7 +197,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
 const MAX_SCALES: u64 = 200_000;
 
 fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
-    crate::output::check_path(&args.out, "obj")?;
+    crate::io::output::check_path(&args.out, "obj")?;
     if !(args.length.is_finite() && args.length > 0.0 && args.length <= 1e6)
         || args.scale_rows > 10_000
         || args.scales_around > 1000
@@ -220,16 +220,16 @@ fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
         pattern: args.pattern,
         ..Default::default()
     };
-    let mesh = crate::mesh::snake::snake(&spec);
-    crate::mesh::obj::save(&args.out, &mesh, "diffract gen snake: tangents along the body follow increasing u")?;
+    let mesh = crate::scene::mesh::snake::snake(&spec);
+    crate::scene::mesh::obj::save(&args.out, &mesh, "diffract gen snake: tangents along the body follow increasing u")?;
     println!("wrote {} ({} vertices, {} triangles)", args.out.display(), mesh.vertices.len(), mesh.indices.len() / 3);
     Ok(())
 }
 
 fn patch(args: &PatchArgs) -> anyhow::Result<()> {
-    crate::output::check_path(&args.out, "gsf")?;
+    crate::io::output::check_path(&args.out, "gsf")?;
     if let Some(p) = &args.preview {
-        crate::output::check_png_path(p)?;
+        crate::io::output::check_png_path(p)?;
     }
     let mut spec = PatchSpec::new(args.kind, args.size_um, args.pixel_um);
     spec.period_um = args.period_um.unwrap_or(spec.period_um);
@@ -241,7 +241,7 @@ fn patch(args: &PatchArgs) -> anyhow::Result<()> {
         let (lo, hi) = hf.range();
         let span = (hi - lo).max(1e-12);
         let grey = hf.heights_um.iter().map(|h| ((h - lo) / span * 65535.0).round() as u16).collect();
-        crate::output::write_png_gray16(p, hf.nx as u32, hf.ny as u32, grey)?;
+        crate::io::output::write_png_gray16(p, hf.nx as u32, hf.ny as u32, grey)?;
     }
     let (lo, hi) = hf.range();
     println!(

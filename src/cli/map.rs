@@ -6,14 +6,14 @@ use std::time::Instant;
 use anyhow::Context as _;
 use clap::Args;
 
-use super::args::{HeightFieldArgs, MaterialArgs};
-use super::parse;
-use super::GpuArgs;
+use crate::cli::args::{HeightFieldArgs, MaterialArgs};
+use crate::cli::parse;
+use crate::cli::GpuArgs;
+use crate::material::Approach;
+use crate::material::{Material, Reach};
 use crate::physics::optics;
 use crate::physics::spectrum::Sampling;
 use crate::render::diffraction;
-use crate::settings::Approach;
-use crate::shading::{Material, Reach};
 
 #[derive(Args, Debug)]
 pub struct MapArgs {
@@ -37,8 +37,8 @@ pub struct MapArgs {
     #[arg(value_parser = parse::finite, long, value_name = "X", default_value_t = 1.0, requires = "environment")]
     pub env_intensity: f64,
     /// Samples per pixel of the environment's integral (half drawn from the BRDF, half from the environment)
-    #[arg(long, value_name = "N", default_value_t = crate::env_light::DEFAULT_ENV_SAMPLES, requires = "environment",
-          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::env_light::MAX_ENV_SAMPLES)))]
+    #[arg(long, value_name = "N", default_value_t = crate::light::sampling::DEFAULT_ENV_SAMPLES, requires = "environment",
+          value_parser = clap::value_parser!(u32).range(2..=i64::from(crate::light::sampling::MAX_ENV_SAMPLES)))]
     pub env_samples: u32,
     /// Also integrate the exact BRDF (f64, on the CPU) over the environment at N random pixels and print the mean
     /// ΔE00 of the map against it, with the reference's standard error
@@ -65,9 +65,9 @@ pub struct MapArgs {
 }
 
 pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCode> {
-    crate::output::check_png_path(&args.out)?;
+    crate::io::output::check_png_path(&args.out)?;
     if let Some(exr) = &args.exr {
-        crate::output::check_exr_path(exr)?;
+        crate::io::output::check_exr_path(exr)?;
     }
     if args.material.patch.sky_at.is_some() {
         anyhow::bail!("--sky-at has no effect on `diffract map` (a map's pixels are views of one patch, not a mesh's)");
@@ -82,11 +82,11 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let start = Instant::now();
     let material = Material::prepare(
         &hf,
-        args.material.patch.apply(crate::settings::Settings::default()),
+        args.material.patch.apply(crate::material::Settings::default()),
         &Reach::Map { light, size: args.size, filtered: args.footprint },
     )?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let ctx = crate::gpu::vk::Context::new(&gpu.context_desc())?;
     let map =
         diffraction::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
     write_map(args, &map)?;
@@ -118,7 +118,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     );
     let log = ctx.validation();
     drop(ctx);
-    Ok(super::validation_status(&log))
+    Ok(crate::cli::validation_status(&log))
 }
 
 /// Writes the map's PNG (at --exposure, else one measured from it) and EXR; refuses a map with non-finite pixels.
@@ -131,17 +131,17 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
     let exposure = match args.exposure {
         Some(ev) => ev,
         None => {
-            let (ev, line) = crate::exposure::measure(&map.rgba, "the map");
+            let (ev, line) = crate::display::measure(&map.rgba, "the map");
             eprintln!("{line}");
             ev
         }
     };
-    if let Some(line) = crate::exposure::verdict(&map.rgba, exposure) {
+    if let Some(line) = crate::display::verdict(&map.rgba, exposure) {
         eprintln!("{line}");
     }
-    crate::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
+    crate::io::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
     if let Some(exr) = &args.exr {
-        crate::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
+        crate::io::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
     }
     Ok(exposure)
 }
@@ -149,12 +149,12 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
 /// The map under the environment in `path` (`env_light`): a table for every pair of directions, the GPU's
 /// estimate, and with --env-reference the exact BRDF's at random pixels.
 fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
-    use crate::env_light::{EnvLight, TableProposal};
+    use crate::light::sampling::{EnvLight, TableProposal};
     // Baked unless another approach is asked for (and refused).
     let mut settings = args
         .material
         .patch
-        .apply(crate::settings::Settings { approach: Approach::Baked, ..crate::settings::Settings::default() });
+        .apply(crate::material::Settings { approach: Approach::Baked, ..crate::material::Settings::default() });
     if settings.approach != Approach::Baked {
         anyhow::bail!(
             "--environment needs --approach baked: {} evaluates one pair of directions per pixel, and an environment \
@@ -163,7 +163,7 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
         );
     }
     settings.illuminant = settings.illuminant.physical();
-    let map = crate::environment::EnvironmentMap::load(path)?;
+    let map = crate::light::environment::EnvironmentMap::load(path)?;
     if args.env_intensity <= 0.0 {
         anyhow::bail!("--env-intensity must be positive, got {}", args.env_intensity);
     }
@@ -178,10 +178,10 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     let start = Instant::now();
     // Texels no wider than the map's pixels, nor than ENV_TABLE_TEXEL: the integral's accuracy depends on them
     // (coarse texels spread each lobe over angles where the gain and cos θ_i differ).
-    let footprint = (2.0 / f64::from(args.size)).min(crate::env_light::ENV_TABLE_FOOTPRINT);
+    let footprint = (2.0 / f64::from(args.size)).min(crate::light::sampling::ENV_TABLE_FOOTPRINT);
     let material = Material::prepare(&hf, settings, &Reach::Hemisphere { footprint })?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let ctx = crate::gpu::vk::Context::new(&gpu.context_desc())?;
     let n_brdf = args.env_samples / 2;
     let spec = crate::render::env_map::EnvMapSpec {
         material: &material,
@@ -209,10 +209,10 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     if let Some(count) = args.env_reference {
         let table = material.table.as_ref().context("the baked material has a table")?;
         let proposal = TableProposal::new(table)?;
-        let pixels = crate::profile::env_reference::random_map_pixels(args.size, count as usize, 0x5eed);
+        let pixels = crate::reference::exact_env::random_map_pixels(args.size, count as usize, 0x5eed);
         let start = Instant::now();
-        let samples = crate::env_light::REFERENCE_SAMPLES;
-        let reference = crate::profile::env_reference::reference_map_pixels(
+        let samples = crate::light::sampling::REFERENCE_SAMPLES;
+        let reference = crate::reference::exact_env::reference_map_pixels(
             &hf,
             &material.settings,
             &proposal,
@@ -221,12 +221,12 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
             &pixels,
             samples,
         )?;
-        let check = crate::profile::env_reference::compare(&image, &pixels, &reference, exposure);
+        let check = crate::reference::exact_env::compare(&image, &pixels, &reference, exposure);
         println!(
             "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
              {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
             pixels.len(),
-            crate::profile::env_reference::REFERENCE_STEP_NM,
+            crate::reference::exact_env::REFERENCE_STEP_NM,
             start.elapsed().as_secs_f64(),
             check.mean,
             check.worst,
@@ -235,5 +235,5 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     }
     let log = ctx.validation();
     drop(ctx);
-    Ok(super::validation_status(&log))
+    Ok(crate::cli::validation_status(&log))
 }

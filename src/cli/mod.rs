@@ -14,8 +14,8 @@ use std::process::ExitCode;
 
 use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
-use crate::vk;
-use crate::vk::{ContextDesc, DeviceSelector};
+use crate::gpu::vk;
+use crate::gpu::vk::{ContextDesc, DeviceSelector};
 
 const EXAMPLES: &str = "\
 Examples:
@@ -152,7 +152,7 @@ pub fn main() -> ExitCode {
     // the next print into a panic.
     // SAFETY: restoring a signal's default disposition at start-up, before any other thread exists.
     unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
-    crate::output::install_interrupt_cleanup();
+    crate::io::output::install_interrupt_cleanup();
     let matches = match command().try_get_matches() {
         Ok(m) => m,
         Err(e) => return usage_error(e),

@@ -1,5 +1,5 @@
 //! `diffract profile`: GPU timings, fetch counts and the error against an exact reference for a list of
-//! settings. This file parses and prints; the loop is [`crate::profile::run`].
+//! settings. This file parses and prints; the loop is [`crate::reference::profiler::run`].
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -7,18 +7,19 @@ use std::process::ExitCode;
 use anyhow::{bail, Context as _};
 use clap::Args;
 
-use super::args::{HeightFieldArgs, SceneOverrideArgs};
-use super::{parse, GpuArgs};
+use crate::cli::args::{HeightFieldArgs, SceneOverrideArgs};
+use crate::cli::{parse, GpuArgs};
+use crate::gpu::vk::Context;
+use crate::material::Settings;
 use crate::physics::optics;
-use crate::profile as prof;
-use crate::profile::run;
-use crate::profile::run::{Options, Progress, ReferenceOptions, Report, Subject};
-use crate::profile::{exact_image, Config, Row, Sweep};
-use crate::render::profile::{fetch_probe, ProbeResult};
+use crate::reference::exact_image;
+use crate::reference::profiler as prof;
+use crate::reference::profiler::run;
+use crate::reference::profiler::run::{Options, Progress, ReferenceOptions, Report, Subject};
+use crate::reference::profiler::{Config, Row, Sweep};
 use crate::render::surface::FrameTarget;
+use crate::render::workload::{fetch_probe, ProbeResult};
 use crate::scene::Scene;
-use crate::settings::Settings;
-use crate::vk::Context;
 
 #[derive(Args, Debug)]
 pub struct ProfileArgs {
@@ -37,7 +38,7 @@ pub struct ProfileArgs {
     #[arg(value_parser = parse::finite, long, value_name = "H", requires = "heightfield")]
     pub height_um: Option<f64>,
     /// Repeat the patch NX times along x and NY along y
-    #[arg(long, value_name = "NX[,NY]", value_parser = super::parse::tile, requires = "heightfield")]
+    #[arg(long, value_name = "NX[,NY]", value_parser = crate::cli::parse::tile, requires = "heightfield")]
     pub tile: Option<(usize, usize)>,
     /// BRDF map: light inclination θ_i in degrees
     #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
@@ -111,10 +112,10 @@ pub struct ProfileArgs {
 
 pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.csv {
-        crate::output::check_path(path, "csv")?;
+        crate::io::output::check_path(path, "csv")?;
     }
     if let Some(p) = &args.plot {
-        crate::output::check_png_path(p)?;
+        crate::io::output::check_png_path(p)?;
         prof::plot::register_font(args.plot_font.as_deref())?;
     }
     let sweeps: Vec<Sweep> = args.sweep_groups.iter().map(|items| Sweep::parse(items)).collect::<crate::Result<_>>()?;
@@ -152,7 +153,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     let samples = ctx.sample_count(frame_samples, crate::render::LINEAR_FORMAT)?;
     let probe = if args.roofline { roofline(&ctx, args.frames)? } else { None };
     let options = Options { frames: args.frames, warmup: args.warmup, exposure, samples, reference, probe };
-    let bar = crate::progress::Progress::new("profiling", configs.len());
+    let bar = crate::io::progress::Progress::new("profiling", configs.len());
     let report = run::run(&ctx, &subject, &configs, &options, &|p| match p {
         Progress::Step { index, count: _, label, what } => {
             bar.set(index - 1, configs.len());
@@ -164,7 +165,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     print_report(&ctx, args, &subject, &options, &report)?;
     let log = ctx.validation();
     drop(ctx);
-    Ok(super::validation_status(&log))
+    Ok(crate::cli::validation_status(&log))
 }
 
 fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
@@ -276,7 +277,7 @@ fn print_report(
     if let Some(path) = &args.csv {
         let mut all = comments.clone();
         all.push(format!("command: diffract {}", std::env::args().skip(1).collect::<Vec<_>>().join(" ")));
-        crate::output::write_file(path, prof::csv(&all, rows).as_bytes())?;
+        crate::io::output::write_file(path, prof::csv(&all, rows).as_bytes())?;
         eprintln!("wrote {}", path.display());
     }
     if let Some(path) = &args.plot {

@@ -8,14 +8,14 @@ use anyhow::Context as _;
 use clap::Args;
 use glam::{Mat4, Quat, Vec3};
 
-use super::args::SceneOverrideArgs;
-use super::GpuArgs;
-use crate::mesh::Mesh;
-use crate::progress::Progress;
+use crate::cli::args::SceneOverrideArgs;
+use crate::cli::GpuArgs;
+use crate::io::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
 use crate::render::visibility::ShadingPath;
 use crate::render::SceneView;
+use crate::scene::mesh::Mesh;
 use crate::scene::Scene;
 
 #[derive(Args, Debug)]
@@ -138,7 +138,7 @@ fn frame_angle(turn_deg: f32, f: u32, n: u32) -> f32 {
 }
 
 /// Camera and light of frame `f` of `n`.
-fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::camera::Camera, Vec3) {
+fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::scene::camera::Camera, Vec3) {
     let angle = frame_angle(args.turn_deg, f, args.frames);
     let turn = Quat::from_axis_angle(scene.camera.up.normalize(), angle);
     let mut camera = scene.camera;
@@ -153,9 +153,9 @@ fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::camera::Came
 }
 
 pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::ExitCode> {
-    crate::output::check_png_path(&args.out)?;
+    crate::io::output::check_png_path(&args.out)?;
     if let Some(exr) = &args.exr {
-        crate::output::check_exr_path(exr)?;
+        crate::io::output::check_exr_path(exr)?;
     }
     if args.turn_deg < 360.0 && !(args.orbit || args.light_sweep) {
         anyhow::bail!("--turn-deg {} needs --orbit or --light-sweep (what should turn?)", args.turn_deg);
@@ -171,7 +171,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
     let exposure = args.settings.exposure.or(scene.render.exposure_ev);
-    let ctx = crate::vk::Context::new(&gpu.context_desc())?;
+    let ctx = crate::gpu::vk::Context::new(&gpu.context_desc())?;
     if args.preview {
         let samples = args.settings.sample_count(&ctx, &scene, crate::render::COLOR_FORMAT)?;
         return preview(&ctx, &scene, args, (width, height), samples);
@@ -182,7 +182,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     let reaches = if args.frames == 1 {
         scene_reaches(&ctx, &scene, &[(scene.camera, scene.light_dir)], width, height)?
     } else {
-        vec![crate::shading::Reach::ANY]
+        vec![crate::material::Reach::ANY]
     };
     let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
     if let Some(environment) = &scene.environment {
@@ -218,12 +218,12 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     // SAFETY: every frame was waited for.
     unsafe { capture.destroy(&ctx) };
     let times = result?;
-    let totals: Vec<f64> = times.iter().map(crate::vk::FrameTimes::total_ms).collect();
+    let totals: Vec<f64> = times.iter().map(crate::gpu::vk::FrameTimes::total_ms).collect();
     // A lone frame pays the driver's first-use costs (lavapipe compiles its shader variants and its resolve while
     // drawing it: the default scene at 256² took 116 ms alone and 41 per frame in a four-frame orbit), which the
     // line says.
     let lone = totals.len() == 1;
-    let median = crate::stats::median(&totals)
+    let median = crate::io::stats::median(&totals)
         .map(|ms| format!(", GPU {ms:.1} ms {}", if lone { "for its one frame" } else { "per frame (median)" }))
         .unwrap_or_default();
     let first_use = if lone && !median.is_empty() {
@@ -246,17 +246,17 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let log = ctx.validation();
     drop(ctx);
-    Ok(super::validation_status(&log))
+    Ok(crate::cli::validation_status(&log))
 }
 
 fn render_frames(
-    ctx: &crate::vk::Context,
+    ctx: &crate::gpu::vk::Context,
     scene: &Scene,
     args: &RenderArgs,
     capture: &mut SceneCapture,
     (width, height): (u32, u32),
     exposure: Option<f64>,
-) -> anyhow::Result<Vec<crate::vk::FrameTimes>> {
+) -> anyhow::Result<Vec<crate::gpu::vk::FrameTimes>> {
     let bar = Progress::new_if(args.frames > 1, "rendering frames", args.frames as usize);
     let mut times = Vec::new();
     // Set by the flag or the scene, else measured from the first frame and kept for the sequence.
@@ -269,18 +269,23 @@ fn render_frames(
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
         let ev = *exposure.get_or_insert_with(|| {
-            let (ev, line) = crate::exposure::measure(linear, "the first frame");
+            let (ev, line) = crate::display::measure(linear, "the first frame");
             bar.line(&line);
             ev
         });
         // One verdict per sequence is enough: the rest would repeat it.
-        if let Some(line) = crate::exposure::verdict(linear, ev).filter(|_| !warned) {
+        if let Some(line) = crate::display::verdict(linear, ev).filter(|_| !warned) {
             bar.line(&format!("{line} (frame {})", f + 1));
             warned = true;
         }
-        crate::output::write_png_rgba8(&png, width, height, &crate::physics::spectrum::linear_to_rgba8(linear, ev))?;
+        crate::io::output::write_png_rgba8(
+            &png,
+            width,
+            height,
+            &crate::physics::spectrum::linear_to_rgba8(linear, ev),
+        )?;
         if let Some(exr) = &args.exr {
-            crate::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
+            crate::io::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
         }
         times.extend(frame.times);
         bar.detail(png.display().to_string());
@@ -292,7 +297,7 @@ fn render_frames(
 
 /// Where a frame's GPU time went, pass by pass (medians over the frames), and what uploading the materials'
 /// textures cost once: None where the device has no timestamps.
-fn pass_line(times: &[crate::vk::FrameTimes], uploads: &[crate::render::diffraction::Upload]) -> Option<String> {
+fn pass_line(times: &[crate::gpu::vk::FrameTimes], uploads: &[crate::render::diffraction::Upload]) -> Option<String> {
     let passes = crate::render::pass_medians(times)?;
     let bytes: u64 = uploads.iter().map(|u| u.bytes).sum();
     let gpu: Option<f64> = uploads.iter().map(|u| u.gpu_ms).sum();
@@ -304,7 +309,7 @@ fn pass_line(times: &[crate::vk::FrameTimes], uploads: &[crate::render::diffract
 
 /// The scene lit without diffraction: every object merged into one preview mesh.
 fn preview(
-    ctx: &crate::vk::Context,
+    ctx: &crate::gpu::vk::Context,
     scene: &Scene,
     args: &RenderArgs,
     (width, height): (u32, u32),
@@ -334,7 +339,7 @@ fn preview(
             background: [bg[0], bg[1], bg[2], 1.0],
         };
         let frame = render_offscreen(ctx, &preview, width, height, samples)?;
-        crate::output::write_png_rgba8(
+        crate::io::output::write_png_rgba8(
             &numbered(&args.out, f, args.frames),
             width,
             height,
@@ -342,7 +347,7 @@ fn preview(
         )?;
     }
     println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
-    Ok(super::validation_status(&ctx.validation()))
+    Ok(crate::cli::validation_status(&ctx.validation()))
 }
 
 #[cfg(test)]

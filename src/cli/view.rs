@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::bail;
 use clap::{Args, ValueEnum};
 
-use super::args::SceneOverrideArgs;
-use super::GpuArgs;
+use crate::cli::args::SceneOverrideArgs;
+use crate::cli::GpuArgs;
 use crate::scene::Scene;
 use crate::view;
 use crate::view::ViewOptions;
@@ -51,7 +51,7 @@ pub struct ViewArgs {
 
 pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::ExitCode> {
     if let Some(p) = &args.screenshot {
-        crate::output::check_png_path(p)?;
+        crate::io::output::check_png_path(p)?;
     }
     let no_display = std::env::var_os("DISPLAY").is_none_or(|d| d.is_empty())
         && std::env::var_os("WAYLAND_DISPLAY").is_none_or(|d| d.is_empty());
@@ -78,5 +78,5 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         soak: args.soak,
         samples: args.settings.samples,
     };
-    Ok(super::validation_count_status(view::run(options)?))
+    Ok(crate::cli::validation_count_status(view::run(options)?))
 }

@@ -1,7 +1,7 @@
 //! Chebyshev series on an interval: the nodes a function is sampled at, the coefficients of its interpolant,
 //! their evaluation, and the bound that sizes a series for a band-limited function.
 //!
-//! The baked table ([`super::baked`]) stores each colour's dependence on w as Σ_d a_d·T_d(t), t the position
+//! The baked table ([`crate::physics::baked`]) stores each colour's dependence on w as Σ_d a_d·T_d(t), t the position
 //! in the table's w-interval mapped to [−1, 1]. Why Chebyshev: every quantity diffract integrates is a sum of
 //! pure frequencies e^{i·ω·w} with |ω| ≤ Ω = 2π·(h_max − h_min)/λ_min (|P|² pairs the phases k·w·h of two
 //! heights), and e^{iωρt} = Σ_d (2 − δ_d0)·i^d·J_d(ωρ)·T_d(t) (Jacobi–Anger): the coefficients fall like

@@ -3,7 +3,7 @@
 //!
 //! Source: the CIE data tables (CIE 018:2019 for the 1931 observer; CIE S 014-2/ISO 11664-2 for D65), as
 //! transcribed in the `colorimetry` crate 0.1.0 (MIT OR Apache-2.0, Harbers Bik LLC), from which this file was
-//! extracted verbatim. Checked in `super::spectrum`: the D65 white point computed from them is the published one.
+//! extracted verbatim. Checked in `crate::physics::spectrum`: the D65 white point computed from them is the published one.
 
 /// First wavelength of the tables, nm.
 pub const TABLE_LAMBDA_MIN_NM: f64 = 380.0;

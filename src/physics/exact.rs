@@ -2,9 +2,9 @@
 //! shaders against. (The profiler's reference image, built from it, is `profile::exact_image`.)
 //!
 //! `power` = |P(u/λ, v/λ)|², where P is the coherence-windowed DTFT of p = exp(i·k·w·h) normalised so that a
-//! flat patch gives 1 at specular ([`super::window`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of
-//! [`super::optics::gain_factor`] (the thesis's peak-normalised relative reflectance); `brdf_sr` = the BRDF in
-//! sr⁻¹ ([`super::optics::brdf_per_sr_scale`]).
+//! flat patch gives 1 at specular ([`crate::physics::coherence`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of
+//! [`crate::physics::optics::gain_factor`] (the thesis's peak-normalised relative reflectance); `brdf_sr` = the BRDF in
+//! sr⁻¹ ([`crate::physics::optics::brdf_per_sr_scale`]).
 //!
 //! Two methods, which share the lookup and the window:
 //! - [`Method::Exact`] evaluates the DFT coefficients of p itself at the window's bins, by a separable direct
@@ -15,11 +15,11 @@
 use glam::DVec3;
 use rustfft::num_complex::Complex64;
 
-use super::heightfield::HeightField;
-use super::optics;
-use super::taylor::{HeightStats, TaylorPlan, TaylorTerms};
-use super::window::{Lookup, Window};
 use crate::error::{Error, Result};
+use crate::physics::coherence::{CoherenceWindow, Lookup};
+use crate::physics::heightfield::HeightField;
+use crate::physics::optics;
+use crate::physics::taylor::{HeightStats, TaylorPlan, TaylorTerms};
 
 /// How P is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -91,7 +91,7 @@ pub struct Reference {
     lx_um: f64,
     ly_um: f64,
     heights: Vec<f64>,
-    window: Window,
+    window: CoherenceWindow,
     terms: Option<TaylorTerms>,
     plan: Option<TaylorPlan>,
     f32_arithmetic: bool,
@@ -99,7 +99,7 @@ pub struct Reference {
 
 impl Reference {
     /// Prepares `hf` for `method`. For Taylor, N comes from `plan` (see [`Reference::plan_for`]).
-    pub fn new(hf: &HeightField, window: Window, method: Method, plan: Option<TaylorPlan>) -> Result<Self> {
+    pub fn new(hf: &HeightField, window: CoherenceWindow, method: Method, plan: Option<TaylorPlan>) -> Result<Self> {
         let (lx_um, ly_um) = hf.size_um();
         let (terms, plan) = match method {
             Method::Exact => (None, None),
@@ -115,7 +115,7 @@ impl Reference {
     /// The Taylor plan for a set of queries: N from the shortest wavelength and largest |w| among them.
     pub fn plan_for(
         hf: &HeightField,
-        window: &Window,
+        window: &CoherenceWindow,
         queries: &[Query],
         tolerance: f64,
         order: Option<usize>,
@@ -189,7 +189,7 @@ impl Reference {
 
     /// The colour of one pair of directions by full wavelength sampling (the CPU twin of `diffraction_xyz` in
     /// glsl/include/approaches.glsl for FLSS): XYZ relative to a D65 mirror, times C and the V-groove shadowing.
-    pub fn flss_xyz(&self, omega_i: DVec3, omega_r: DVec3, sampling: &super::spectrum::Sampling) -> DVec3 {
+    pub fn flss_xyz(&self, omega_i: DVec3, omega_r: DVec3, sampling: &crate::physics::spectrum::Sampling) -> DVec3 {
         if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
             return DVec3::ZERO;
         }
@@ -204,7 +204,7 @@ impl Reference {
         &self,
         omega_i: DVec3,
         omega_r: DVec3,
-        samplings: &[super::spectrum::Sampling; N],
+        samplings: &[crate::physics::spectrum::Sampling; N],
     ) -> [DVec3; N] {
         if omega_i.z <= 0.0 || omega_r.z <= 0.0 || N == 0 {
             return [DVec3::ZERO; N];
@@ -217,7 +217,7 @@ impl Reference {
             let sampling = &samplings[k];
             debug_assert!(sampling.step_nm == first.step_nm && sampling.count == first.count);
             let at = |l: f64| spectrum[((l - first.lambda_min_nm) / first.step_nm).round() as usize];
-            super::spectrum::reflectance_to_xyz(sampling, at) * factor
+            crate::physics::spectrum::reflectance_to_xyz(sampling, at) * factor
         })
     }
 
@@ -233,8 +233,8 @@ impl Reference {
 
     /// Σ_λ |P(u/λ, v/λ; k·w)|² weighted into XYZ relative to a D65 mirror, before the gain and the shadowing:
     /// the quantity the baked table stores (`BakedTable::xyz`), at any (u, v, w).
-    pub fn spectral_xyz(&self, uvw: DVec3, sampling: &super::spectrum::Sampling) -> DVec3 {
-        super::spectrum::reflectance_to_xyz(sampling, |lambda_nm| self.intensity(uvw, lambda_nm))
+    pub fn spectral_xyz(&self, uvw: DVec3, sampling: &crate::physics::spectrum::Sampling) -> DVec3 {
+        crate::physics::spectrum::reflectance_to_xyz(sampling, |lambda_nm| self.intensity(uvw, lambda_nm))
     }
 
     fn sample(&self, q: &Query) -> Sample {
@@ -251,7 +251,7 @@ impl Reference {
 
 impl Sample {
     /// A sample of `query` whose power and relative reflectance are known, with its BRDF in sr⁻¹ under `window`.
-    pub fn new(query: Query, power: f64, reflectance: f64, in_band: bool, window: &Window) -> Self {
+    pub fn new(query: Query, power: f64, reflectance: f64, in_band: bool, window: &CoherenceWindow) -> Self {
         let scale = optics::brdf_per_sr_scale(query.lambda_nm * 1e-3, window.coherence_um, query.omega_i().z);
         Self { query, uvw: query.uvw(), power, reflectance, brdf_sr: reflectance * scale, in_band }
     }
@@ -296,11 +296,11 @@ fn taylor_sum_f32(terms: &TaylorTerms, taps: &[(usize, usize, f64)], kw: f64) ->
 }
 
 /// The largest sum of window weights over lookup positions (it scales the truncation and rounding bounds).
-pub fn window_gain(window: &Window, hf: &HeightField) -> f64 {
+pub fn window_gain(window: &CoherenceWindow, hf: &HeightField) -> f64 {
     let axis = |sigma: f64, radius: i64, n: usize| {
         [0.0, 0.25, 0.5]
             .iter()
-            .map(|&s| Window::axis_taps(s, sigma, radius, n).map(|t| t.1).sum::<f64>())
+            .map(|&s| CoherenceWindow::axis_taps(s, sigma, radius, n).map(|t| t.1).sum::<f64>())
             .fold(0.0, f64::max)
     };
     axis(window.sigma_x, window.radius_x, hf.nx) * axis(window.sigma_y, window.radius_y, hf.ny)

@@ -1,5 +1,5 @@
 //! Height fields in physical units: tiling, and the checks that keep hostile files from reaching an allocation or
-//! a NaN (the files themselves are read in [`super::formats`], which builds on this module, not the reverse).
+//! a NaN (the files themselves are read in [`crate::physics::formats`], which builds on this module, not the reverse).
 //!
 //! Frame: pixel (column c, row r) sits at x = c·dx, y = r·dy in the patch frame (x along image columns, left to
 //! right; y along rows, top to bottom; z the surface normal). Heights are in µm.
@@ -63,7 +63,7 @@ impl HeightField {
     }
 
     /// Feeds everything a height field's results depend on into a cache key: size, pixel size and every height.
-    pub fn hash_into(&self, h: &mut crate::cache::KeyHash) {
+    pub fn hash_into(&self, h: &mut crate::io::cache::KeyHash) {
         h.u64(self.nx as u64);
         h.u64(self.ny as u64);
         h.f64(self.dx_um);

@@ -1,7 +1,7 @@
 //! The light's spectrum: CIE illuminants and measured ones, as relative spectral power at 1 nm from 380 to
-//! 780 nm (100 at 560 nm), the grid of the colour-matching functions in [`super::cie_tables`].
+//! 780 nm (100 at 560 nm), the grid of the colour-matching functions in [`crate::physics::cie_tables`].
 //!
-//! - `D65`: the CIE table the renderer always used ([`super::cie_tables::D65`]).
+//! - `D65`: the CIE table the renderer always used ([`crate::physics::cie_tables::D65`]).
 //! - `D50`, `D55`, `D75`, … `D<N>` for N from 40 to 250: the CIE daylight series at the correlated colour
 //!   temperature N·100 K × 1.4388/1.4380 (the CIE's convention that makes D65 6504 K), from the S0, S1, S2
 //!   basis (CIE 15:2018 §4.1) as the `colorimetry` crate computes it.
@@ -9,11 +9,11 @@
 //!   tables of the `colorimetry` crate (MIT or Apache-2.0).
 //! - `sun:E` or `sun:E:T`: the direct sun at E degrees above the horizon through an atmosphere of turbidity T
 //!   (default [`SUN_TURBIDITY`]): a 5778 K black body dimmed by Rayleigh and aerosol extinction, the clear-sky
-//!   model's sun ([`super::sky`]); a low sun is redder. In a scene, `sun` alone takes E from the light's direction.
+//!   model's sun ([`crate::physics::sky`]); a low sun is redder. In a scene, `sun` alone takes E from the light's direction.
 //! - a CSV file of `nm,relative power` rows: measured, interpolated linearly to 1 nm and zero outside its range.
 //!
 //! An [`Illuminant`] is `Copy` (it refers to its table, interned for the life of the process), so the spectral
-//! sampling that carries it ([`super::spectrum::Sampling`]) stays a small value.
+//! sampling that carries it ([`crate::physics::spectrum::Sampling`]) stays a small value.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -21,8 +21,8 @@ use std::sync::{LazyLock, Mutex};
 
 use colorimetry::illuminant::CieIlluminant;
 
-use super::cie_tables::{CIE1931_XYZ, D65, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
 use crate::error::{Error, Result};
+use crate::physics::cie_tables::{CIE1931_XYZ, D65, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
 
 /// Rows of a 1 nm table from 380 to 780 nm.
 pub type Table = [f64; TABLE_ROWS];
@@ -162,7 +162,7 @@ impl Illuminant {
         }
         let mut map = INTERNED.lock().unwrap_or_else(|e| e.into_inner());
         let key = format!("physical:{:016x}", {
-            let mut h = crate::cache::KeyHash::default();
+            let mut h = crate::io::cache::KeyHash::default();
             self.hash_into(&mut h);
             h.finish()
         });
@@ -212,9 +212,9 @@ impl Illuminant {
         }
     }
 
-    /// The direct sun `elevation_deg` above the horizon through an atmosphere of `turbidity` ([`super::sky`]).
+    /// The direct sun `elevation_deg` above the horizon through an atmosphere of `turbidity` ([`crate::physics::sky`]).
     pub fn sun(elevation_deg: f64, turbidity: f64) -> Result<Self> {
-        let sky = super::sky::Sky::at(turbidity, elevation_deg, 0.0)?;
+        let sky = crate::physics::sky::Sky::at(turbidity, elevation_deg, 0.0)?;
         let name = format!(
             "sun {}° high at turbidity {}",
             crate::error::number(elevation_deg),
@@ -250,12 +250,12 @@ impl Illuminant {
     /// increasing within 360–830 nm, powers finite and non-negative; interpolated linearly to 1 nm and zero
     /// outside the rows' range.
     pub fn from_csv(path: &Path) -> Result<Self> {
-        let bytes = crate::input::read(path, MAX_SPD_BYTES, "SPD file")?;
+        let bytes = crate::io::input::read(path, MAX_SPD_BYTES, "SPD file")?;
         let text = String::from_utf8(bytes).map_err(|_| Error::input(path, "an SPD file is UTF-8 text"))?;
         let table = parse_spd(&text).map_err(|e| Error::input(path, e))?;
         // The same content is the same illuminant, whichever file it came from.
         let key = format!("csv:{:016x}", {
-            let mut h = crate::cache::KeyHash::default();
+            let mut h = crate::io::cache::KeyHash::default();
             table.iter().for_each(|v| h.f64(*v));
             h.finish()
         });
@@ -307,7 +307,7 @@ impl Illuminant {
     }
 
     /// Feeds the table into a cache key.
-    pub fn hash_into(&self, h: &mut crate::cache::KeyHash) {
+    pub fn hash_into(&self, h: &mut crate::io::cache::KeyHash) {
         self.spd.iter().for_each(|v| h.f64(*v));
     }
 }

@@ -12,9 +12,11 @@
 pub mod baked;
 pub mod chebyshev;
 pub mod cie_tables;
+pub mod coherence;
 pub mod colour;
 pub mod exact;
 pub mod formats;
+pub mod generate;
 pub mod heightfield;
 pub mod illuminant;
 pub mod optics;
@@ -22,10 +24,3 @@ pub mod sh;
 pub mod sky;
 pub mod spectrum;
 pub mod taylor;
-pub mod window;
-
-pub use exact::{Method, Query, Reference, Sample};
-pub use formats::PngScale;
-pub use heightfield::HeightField;
-pub use taylor::{HeightStats, TaylorPlan, TaylorTerms};
-pub use window::{Lookup, Window};

@@ -7,10 +7,10 @@ use crate::error::{Error, Result};
 
 /// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds"); one source
 /// with the shaders' (`shaders::interface`).
-pub const SKIN_INDEX: f64 = crate::shaders::interface::SKIN_INDEX;
+pub const SKIN_INDEX: f64 = crate::gpu::interface::SKIN_INDEX;
 /// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror; one
 /// source with the shaders' (`shaders::interface`).
-pub const SUN_SOLID_ANGLE: f64 = crate::shaders::interface::SUN_SOLID_ANGLE;
+pub const SUN_SOLID_ANGLE: f64 = crate::gpu::interface::SUN_SOLID_ANGLE;
 
 /// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`transmittance` in
 /// glsl/surface.frag.glsl).

@@ -22,9 +22,9 @@
 
 use glam::DVec3;
 
-use super::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
-use super::optics::SUN_SOLID_ANGLE;
 use crate::error::{Error, Result};
+use crate::physics::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::physics::optics::SUN_SOLID_ANGLE;
 
 /// The turbidities the model accepts (Preetham et al.'s fitted range).
 pub const TURBIDITY_RANGE: (f64, f64) = (2.0, 10.0);
@@ -167,7 +167,7 @@ impl Sky {
     }
 
     /// The illuminance on a horizontal surface, lux: (from the sun's disc, from the sky), the sky's by the
-    /// midpoint rule on `rings` rings × 4·`rings` cells of the upper hemisphere ([`super::sh::sphere_cells`]).
+    /// midpoint rule on `rings` rings × 4·`rings` cells of the upper hemisphere ([`crate::physics::sh::sphere_cells`]).
     pub fn horizontal_illuminance(&self, rings: usize) -> (f64, f64) {
         let (sun, sky) = self.horizontal_illuminance_xyz(rings);
         (sun.y, sky.y)
@@ -177,7 +177,7 @@ impl Sky {
     pub fn horizontal_illuminance_xyz(&self, rings: usize) -> (DVec3, DVec3) {
         let sun = self.sun_xyz() * SUN_SOLID_ANGLE * self.sun.y;
         // The sphere's first `rings` rings of 2·`rings` are the upper hemisphere.
-        let sky = super::sh::sphere_cells(2 * rings)
+        let sky = crate::physics::sh::sphere_cells(2 * rings)
             .take(rings * 4 * rings)
             .map(|(dir, omega)| self.xyz(dir) * (dir.y * omega));
         (sun, sky.sum())

@@ -1,6 +1,6 @@
 //! Spectral integration into colour (model.md §1.8, with the thesis's errors of §7.2 items 7–9 fixed):
 //! X = Σ_λ ρ(λ)·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ (likewise Y, Z) with the CIE 1931 2° observer and S the light's
-//! illuminant (D65 unless a scene names another, [`super::illuminant`]), so a perfect mirror integrates to the
+//! illuminant (D65 unless a scene names another, [`crate::physics::illuminant`]), so a perfect mirror integrates to the
 //! illuminant's white point with Y = 1; then XYZ → linear sRGB (IEC 61966-2-1, not the thesis's CIE-RGB matrix),
 //! exposure 2^EV, and the sRGB transfer function. The display's white is D65: a mirror under illuminant A looks
 //! orange, as a photograph without white balance shows it.
@@ -8,8 +8,8 @@
 
 use glam::DVec3;
 
-use super::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
-use super::illuminant::Illuminant;
+use crate::physics::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::physics::illuminant::Illuminant;
 
 /// The visible range the renderer integrates over, nm (model.md §5.2).
 pub const VISIBLE_MIN_NM: f64 = TABLE_LAMBDA_MIN_NM;

@@ -22,8 +22,8 @@ use std::sync::Arc;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use super::heightfield::HeightField;
 use crate::error::{Error, Result};
+use crate::physics::heightfield::HeightField;
 
 /// Default tolerance on the amplitude |P − P_N|, relative to the amplitude of a flat mirror at specular (1).
 /// 1e-4 keeps the power of an order as weak as 10⁻⁴ of the specular peak within about 2 %, and f32 sums reach

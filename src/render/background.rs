@@ -10,15 +10,15 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::environment::EnvironmentMap;
 use crate::error::Result;
-use crate::scene::Environment;
-use crate::shaders;
-use crate::shaders::interface::{BINDING_ENVIRONMENT, BINDING_FRAME, SPEC_DISPLAY_OUTPUT};
-use crate::vk::{
+use crate::gpu::interface::{BINDING_ENVIRONMENT, BINDING_FRAME, SPEC_DISPLAY_OUTPUT};
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
     ImageDesc, ImageState, Pipeline, Sampler, SpecConstants,
 };
+use crate::light::environment::EnvironmentMap;
+use crate::scene::Environment;
 
 /// The width of the clear sky's map behind a scene (its height is half): 0.7° texels, about the sun's disc.
 pub const SKY_WIDTH: u32 = 512;
@@ -140,7 +140,7 @@ impl BackgroundPass {
                 vertex_stride: 0,
                 vertex_attributes: &[],
                 color_format,
-                depth: Some((super::DEPTH_FORMAT, if under { DepthTest::Off } else { DepthTest::Equal })),
+                depth: Some((crate::render::DEPTH_FORMAT, if under { DepthTest::Off } else { DepthTest::Equal })),
                 cull_back_faces: false,
                 samples: if under { vk::SampleCountFlags::TYPE_1 } else { samples },
                 blend: if under { Blend::Under } else { Blend::Replace },
@@ -161,7 +161,7 @@ impl BackgroundPass {
         ctx: &Context,
         environment: &Environment,
         light_dir: Vec3,
-        (camera, aspect): (&crate::camera::Camera, f32),
+        (camera, aspect): (&crate::scene::camera::Camera, f32),
     ) -> Result<()> {
         let Some((scale, rotation)) = self.panorama.update(ctx, environment, light_dir)? else {
             // The sun below the horizon: the frame has no unit, the environment shows black.
@@ -206,8 +206,10 @@ impl BackgroundPass {
 
 /// The map as an RGBA32F texture.
 pub(crate) fn upload(ctx: &Context, map: &EnvironmentMap) -> Result<Image> {
-    let image =
-        Guard::new(ctx, ctx.create_image(ImageDesc::texture(map.width, map.height, super::LINEAR_FORMAT), NAME)?);
+    let image = Guard::new(
+        ctx,
+        ctx.create_image(ImageDesc::texture(map.width, map.height, crate::render::LINEAR_FORMAT), NAME)?,
+    );
     ctx.upload_image(&image, bytemuck::cast_slice(&map.to_rgba()), ImageState::SHADER_READ)?;
     Ok(image.keep())
 }

@@ -3,20 +3,20 @@
 
 use glam::Vec3;
 
-use super::gbuffer::{merge_reaches, GBuffer};
-use super::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
-use super::{Frame, SceneView};
-use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
+use crate::gpu::vk::{Context, Guard};
+use crate::material::SettingsPatch;
+use crate::material::{Material, Reach};
+use crate::render::gbuffer::{merge_reaches, GBuffer};
+use crate::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
+use crate::render::{Frame, SceneView};
+use crate::scene::camera::Camera;
+use crate::scene::mesh::Mesh;
 use crate::scene::Scene;
-use crate::settings::SettingsPatch;
-use crate::shading::{Material, Reach};
-use crate::vk::{Context, Guard};
 
 /// What a matte material's (undrawn) patch is prepared for: one point, coarsely.
 const MATTE_REACH: Reach =
-    Reach::Seen { domain: crate::physics::baked::Domain::POINT, footprint: super::gbuffer::UNSEEN_FOOTPRINT };
+    Reach::Seen { domain: crate::physics::baked::Domain::POINT, footprint: crate::render::gbuffer::UNSEEN_FOOTPRINT };
 
 /// Prepares every material of `scene` (Taylor terms or baked table, plan, window) for the views `reaches[i]` of
 /// material i (one for all when a single one is given).
@@ -123,7 +123,7 @@ impl SceneCapture {
     pub fn render(&mut self, ctx: &Context, view: &SceneView) -> Result<Frame> {
         self.renderer.update(ctx, view, self.width as f32 / self.height as f32)?;
         let frame = self.frames.render(ctx, &self.renderer, view.background)?;
-        let bad = frame.linear().map_or(0, crate::stats::non_finite_pixels);
+        let bad = frame.linear().map_or(0, crate::io::stats::non_finite_pixels);
         if bad > 0 {
             return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
         }
@@ -131,7 +131,7 @@ impl SceneCapture {
     }
 
     /// What uploading each material's table (or Taylor terms) cost.
-    pub fn uploads(&self) -> Vec<super::diffraction::Upload> {
+    pub fn uploads(&self) -> Vec<crate::render::diffraction::Upload> {
         self.renderer.uploads()
     }
 

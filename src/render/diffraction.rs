@@ -5,23 +5,23 @@
 use ash::vk;
 use glam::DVec3;
 
-use super::{begin_rendering, end_rendering, OffscreenTarget, TargetView, LINEAR_FORMAT};
 use crate::error::{Error, Result};
-use crate::physics::baked::sample::MipFilter;
-use crate::physics::spectrum;
-use crate::physics::Query;
-use crate::progress::Progress;
-use crate::shaders;
-use crate::shaders::interface::{
+use crate::gpu::interface::{
     EvalPush, MapPush, BINDING_FETCH_COUNTS, BINDING_MAP_IMAGE, BINDING_PARAMS, BINDING_QUERIES, BINDING_RESULTS,
     BINDING_SPECTRUM, BINDING_TABLE, LOCAL_SIZE_X, SPEC_COUNT_STRIDE, SPEC_FOOTPRINT, SPEC_MAP_LOCAL_SIZE,
     SPEC_TABLE_TEXELS,
 };
-use crate::shading::Material;
-use crate::vk::{
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard,
     Image, ImageDesc, ImageState, MemoryState, Pipeline, Sampler, SpecConstants,
 };
+use crate::io::progress::Progress;
+use crate::material::Material;
+use crate::physics::baked::sample::MipFilter;
+use crate::physics::exact::Query;
+use crate::physics::spectrum;
+use crate::render::{begin_rendering, end_rendering, OffscreenTarget, TargetView, LINEAR_FORMAT};
 
 /// Rows per submission of a BRDF map: keeps each submission short (no driver watchdog) and lets long maps
 /// report progress.
@@ -139,11 +139,17 @@ impl PatchResources {
             wall_ms: start.elapsed().as_secs_f64() * 1e3,
         };
         let sampler = match material.table {
-            Some(_) => ctx.create_table_sampler(sampler_name, table_filter(ctx, material))?,
+            Some(_) => {
+                let mip = match table_filter(ctx, material) {
+                    MipFilter::Linear => vk::SamplerMipmapMode::LINEAR,
+                    MipFilter::Nearest => vk::SamplerMipmapMode::NEAREST,
+                };
+                ctx.create_table_sampler(sampler_name, mip)?
+            }
             None => ctx.create_sampler(sampler_name)?,
         };
         let sampler = Guard::new(ctx, sampler);
-        let layers = crate::env_prefilter::MOMENT_LAYERS as u32;
+        let layers = crate::light::prefilter::MOMENT_LAYERS as u32;
         let (moment_side, moment_texels) = match &material.moments {
             Some(m) => (m.grid as u32, m.gpu_texels()),
             None => (1, vec![0.0; layers as usize * 4]),
@@ -180,7 +186,7 @@ impl PatchResources {
     }
 
     /// Writes the uniforms (the light direction of a map, say); no submitted work may be reading them.
-    pub fn update(&mut self, params: &crate::shading::DiffractionParams) -> Result<()> {
+    pub fn update(&mut self, params: &crate::material::DiffractionParams) -> Result<()> {
         self.params.write(bytemuck::bytes_of(params))
     }
 
@@ -194,7 +200,7 @@ impl PatchResources {
 
     /// The moments' descriptor (the surface pass's).
     pub fn moments_write(&self) -> DescriptorWrite<'_> {
-        DescriptorWrite::SampledImage(crate::shaders::interface::BINDING_MOMENTS, &self.moments, &self.moments_sampler)
+        DescriptorWrite::SampledImage(crate::gpu::interface::BINDING_MOMENTS, &self.moments, &self.moments_sampler)
     }
 
     /// # Safety
@@ -226,7 +232,7 @@ impl MapImage {
 
     /// Pixels whose colour is not a finite number (a bug, reported loudly rather than written).
     pub fn non_finite(&self) -> usize {
-        crate::stats::non_finite_pixels(&self.rgba)
+        crate::io::stats::non_finite_pixels(&self.rgba)
     }
 
     /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
@@ -236,7 +242,7 @@ impl MapImage {
 }
 
 /// The material's uniforms with the light direction `light` (unit, patch frame).
-pub(crate) fn light_params(material: &Material, light: DVec3) -> crate::shading::DiffractionParams {
+pub(crate) fn light_params(material: &Material, light: DVec3) -> crate::material::DiffractionParams {
     let mut params = material.params;
     params.light = [light.x as f32, light.y as f32, light.z as f32, 0.0];
     params

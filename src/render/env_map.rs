@@ -1,19 +1,19 @@
 //! The BRDF map under an environment on the GPU (`glsl/map_env.comp.glsl`): the baked table integrated against
-//! the environment by multiple importance sampling ([`crate::env_light`]), one invocation per pixel, band by band.
+//! the environment by multiple importance sampling ([`crate::light::sampling`]), one invocation per pixel, band by band.
 
 use ash::vk;
 
-use super::diffraction::{map_target, map_workgroup, patch_bindings, MapImage, PatchResources};
-use crate::env_light::{env_gain, floor_samples, EnvLight, TableProposal};
 use crate::error::{Error, Result};
-use crate::progress::Progress;
-use crate::shaders;
-use crate::shaders::interface::{
+use crate::gpu::interface::{
     EnvMapPush, BINDING_ENV_RADIANCE, BINDING_ENV_SAMPLING, BINDING_MAP_IMAGE, BINDING_TABLE_SAMPLING,
     SPEC_MAP_LOCAL_SIZE,
 };
-use crate::shading::Material;
-use crate::vk::{Binding, ComputePipelineDesc, Context, DescriptorWrite, Guard, ImageState};
+use crate::gpu::shaders;
+use crate::gpu::vk::{Binding, ComputePipelineDesc, Context, DescriptorWrite, Guard, ImageState};
+use crate::io::progress::Progress;
+use crate::light::sampling::{env_gain, floor_samples, EnvLight, TableProposal};
+use crate::material::Material;
+use crate::render::diffraction::{map_target, map_workgroup, patch_bindings, MapImage, PatchResources};
 
 /// Rows per submission: at most this many pixels × samples per dispatch (no driver watchdog, progress on long
 /// maps).

@@ -6,21 +6,21 @@
 use ash::vk;
 use glam::{DVec3, Vec3};
 
-use super::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
-use super::surface::{ObjectView, SurfaceMaterial, SurfaceUniforms, VERTEX_ATTRIBUTES};
-use super::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
-use crate::camera::Camera;
 use crate::error::Result;
-use crate::mesh::Vertex;
-use crate::physics::baked::Domain;
-use crate::scene::Scene;
-use crate::shaders;
-use crate::shaders::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
-use crate::shading::Reach;
-use crate::vk::{
+use crate::gpu::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline,
     SpecConstants,
 };
+use crate::material::Reach;
+use crate::physics::baked::Domain;
+use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
+use crate::render::surface::{ObjectView, SurfaceMaterial, SurfaceUniforms, VERTEX_ATTRIBUTES};
+use crate::render::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
+use crate::scene::camera::Camera;
+use crate::scene::mesh::Vertex;
+use crate::scene::Scene;
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
 /// (world normal, the sun's visible share), (the patch's x axis in the world, its handedness).
@@ -161,7 +161,7 @@ impl GBuffer {
             light_dir,
             ambient: scene.ambient,
             sky_sh,
-            sky_quadratic: crate::env_prefilter::sky_quadratic(&sky_sh),
+            sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
         };
         let mut all = Vec::with_capacity(scene.objects.len());
@@ -197,7 +197,7 @@ impl GBuffer {
                 vertex_attributes: &VERTEX_ATTRIBUTES,
                 color_format: LINEAR_FORMAT,
                 depth: Some((DEPTH_FORMAT, DepthTest::Write)),
-                cull_back_faces: super::culls_back_faces(scene.objects.iter().map(|o| &o.mesh)),
+                cull_back_faces: crate::render::culls_back_faces(scene.objects.iter().map(|o| &o.mesh)),
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: Blend::Replace,
             })?);
@@ -238,8 +238,8 @@ impl GBuffer {
                     .collect();
                 let domain = Domain::bounding(seen.iter().map(|s| -s.omega_i - s.omega_r))?;
                 let mut footprints: Vec<f64> = seen.iter().map(|s| s.footprint).filter(|f| f.is_finite()).collect();
-                let small = crate::stats::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
-                let margin = crate::stats::percentile(&mut footprints, 0.5).max(0.0);
+                let small = crate::io::stats::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
+                let margin = crate::io::stats::percentile(&mut footprints, 0.5).max(0.0);
                 Some((domain.widened(margin), small))
             })
             .collect()

@@ -9,18 +9,18 @@ pub mod diffraction;
 pub mod env_map;
 pub mod gbuffer;
 pub mod preview;
-pub mod profile;
 pub mod shadow;
 pub mod surface;
 pub mod visibility;
 #[cfg(feature = "cli")] // the viewer's
 pub(crate) mod window;
+pub mod workload;
 
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::mesh::Mesh;
-use crate::vk::{Buffer, Context, Destroy, Guard, Image, ImageDesc, ImageState};
+use crate::gpu::vk::{Buffer, Context, Destroy, Guard, Image, ImageDesc, ImageState};
+use crate::scene::mesh::Mesh;
 
 /// The format of offscreen colour targets: 8-bit sRGB, so the store applies the sRGB transfer function and the
 /// bytes read back are what a PNG holds.
@@ -33,7 +33,7 @@ pub const MAX_EDGE: u32 = 16384;
 /// Linear, scene-referred float colour (BRDF maps, EXR output).
 pub const LINEAR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
-/// The names of a frame's passes, as timed (`crate::vk::Laps`), labelled and reported: a scene's frame is the
+/// The names of a frame's passes, as timed (`crate::gpu::vk::Laps`), labelled and reported: a scene's frame is the
 /// depth pre-pass, the shading, the resolve of its samples (multisampled frames), and the copy to the CPU
 /// (offscreen) or the hand-over to the window.
 pub mod pass {
@@ -53,12 +53,15 @@ pub mod pass {
 
 /// Each pass's median GPU time over `frames`, for the passes every frame timed, in frame order:
 /// `depth pre-pass 7.03, shading 13.40, copy 0.71` (None where the frames have no timings).
-pub fn pass_medians(frames: &[crate::vk::FrameTimes]) -> Option<String> {
+pub fn pass_medians(frames: &[crate::gpu::vk::FrameTimes]) -> Option<String> {
     let passes: Vec<String> = pass::ALL
         .iter()
         .filter_map(|&name| {
             let ms: Vec<f64> = frames.iter().filter_map(|t| t.pass_ms(name)).collect();
-            (ms.len() == frames.len()).then(|| crate::stats::median(&ms)).flatten().map(|m| format!("{name} {m:.2}"))
+            (ms.len() == frames.len())
+                .then(|| crate::io::stats::median(&ms))
+                .flatten()
+                .map(|m| format!("{name} {m:.2}"))
         })
         .collect();
     (!passes.is_empty()).then(|| passes.join(", "))
@@ -84,7 +87,7 @@ pub struct TargetView {
 /// background (clear) colour.
 #[derive(Clone, Debug)]
 pub struct SceneView {
-    pub camera: crate::camera::Camera,
+    pub camera: crate::scene::camera::Camera,
     /// World-space unit vector towards the light.
     pub light_dir: glam::Vec3,
     /// The sky's radiance relative to the sun seen in a mirror.
@@ -110,7 +113,7 @@ impl SceneView {
     }
 
     /// The scene seen from `camera` with its light towards `light_dir` (the sky follows its sun).
-    pub fn lit(scene: &crate::scene::Scene, camera: crate::camera::Camera, light_dir: glam::Vec3) -> Self {
+    pub fn lit(scene: &crate::scene::Scene, camera: crate::scene::camera::Camera, light_dir: glam::Vec3) -> Self {
         let [r, g, b] = scene.render.background;
         Self {
             camera,
@@ -134,7 +137,7 @@ pub struct Frame {
     pub height: u32,
     pub pixels: Pixels,
     /// GPU time of each of the frame's passes from timestamp queries, where the device has them.
-    pub times: Option<crate::vk::FrameTimes>,
+    pub times: Option<crate::gpu::vk::FrameTimes>,
 }
 
 /// A frame's pixels, four channels each.
@@ -149,7 +152,7 @@ pub enum Pixels {
 impl Frame {
     /// The frame's GPU time (its passes together), where the device has timestamps.
     pub fn gpu_ms(&self) -> Option<f64> {
-        self.times.as_ref().map(crate::vk::FrameTimes::total_ms)
+        self.times.as_ref().map(crate::gpu::vk::FrameTimes::total_ms)
     }
 
     /// The display-encoded pixels, if the frame has them.

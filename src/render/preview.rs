@@ -6,19 +6,19 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use super::surface::VERTEX_ATTRIBUTES;
-use super::{
-    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, COLOR_FORMAT, DEPTH_FORMAT,
-};
-use crate::camera::Camera;
 use crate::error::Result;
-use crate::mesh::{Mesh, Vertex};
-use crate::shaders;
-use crate::shaders::interface::BINDING_FRAME;
-use crate::vk::{
+use crate::gpu::interface::BINDING_FRAME;
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
     SpecConstants,
 };
+use crate::render::surface::VERTEX_ATTRIBUTES;
+use crate::render::{
+    begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, COLOR_FORMAT, DEPTH_FORMAT,
+};
+use crate::scene::camera::Camera;
+use crate::scene::mesh::{Mesh, Vertex};
 
 /// The preview pass's per-frame uniforms (std140): build.rs generates their GLSL block (`frame`, included by
 /// `glsl/include/preview_frame.glsl`) from this struct.
@@ -153,7 +153,7 @@ pub fn render_offscreen(
     let times = ctx.one_shot_laps(PreviewPass::NAME, |cmd, laps| {
         target.begin(ctx, cmd);
         pass.record(ctx, cmd, &target.view(), scene.background);
-        laps.lap(cmd, super::pass::SHADING);
+        laps.lap(cmd, crate::render::pass::SHADING);
     })?;
     let pixels = Pixels::Rgba8(target.read(ctx)?);
     Ok(Frame { width, height, pixels, times })

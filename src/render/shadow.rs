@@ -17,15 +17,15 @@ use std::cell::RefCell;
 use ash::vk;
 use glam::{Mat4, Vec3};
 
-use super::MeshBuffers;
 use crate::error::Result;
-use crate::mesh::Vertex;
-use crate::shaders;
-use crate::shaders::interface::{BINDING_FRAME, BINDING_SHADOW, BINDING_SHADOW_DEPTH};
-use crate::vk::{
+use crate::gpu::interface::{BINDING_FRAME, BINDING_SHADOW, BINDING_SHADOW_DEPTH};
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
     ImageDesc, ImageState, Pipeline, Sampler,
 };
+use crate::render::MeshBuffers;
+use crate::scene::mesh::Vertex;
 
 /// Texels along each edge of the shadow map (D32: 16 MiB).
 pub const SHADOW_SIZE: u32 = 2048;
@@ -33,7 +33,7 @@ pub const SHADOW_SIZE: u32 = 2048;
 /// incidence; divided by cos θ_i up to [`MAX_OFFSET_GROWTH`] as the light grazes it).
 pub const NORMAL_OFFSET_TEXELS: f32 = 1.5;
 /// The largest factor the normal offset grows by at grazing light (surface.vert reads the same number).
-pub const MAX_OFFSET_GROWTH: f32 = crate::shaders::interface::SHADOW_MAX_OFFSET_GROWTH as f32;
+pub const MAX_OFFSET_GROWTH: f32 = crate::gpu::interface::SHADOW_MAX_OFFSET_GROWTH as f32;
 /// The pass's name (labels, timings).
 pub const NAME: &str = "shadow map";
 
@@ -110,7 +110,7 @@ impl ShadowFrame {
         let dir = light_dir.try_normalize()?;
         let up = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::Z };
         // Looking from the light down its rays, from the origin (the box is found in this view's coordinates).
-        let view = crate::camera::look_at(Vec3::ZERO, -dir, up);
+        let view = crate::scene::camera::look_at(Vec3::ZERO, -dir, up);
         let in_view =
             |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()).map(|c| view.transform_point3(c)));
         if casters.is_empty() {
@@ -216,13 +216,13 @@ impl ShadowMap {
                 name: NAME,
                 vertex: shaders::SURFACE_VERT,
                 fragment: None,
-                specialization: crate::vk::SpecConstants::default(),
+                specialization: crate::gpu::vk::SpecConstants::default(),
                 bindings: &[Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }],
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
-                vertex_attributes: &super::surface::VERTEX_ATTRIBUTES,
+                vertex_attributes: &crate::render::surface::VERTEX_ATTRIBUTES,
                 color_format: vk::Format::UNDEFINED,
-                depth: Some((super::DEPTH_FORMAT, DepthTest::Write)),
+                depth: Some((crate::render::DEPTH_FORMAT, DepthTest::Write)),
                 cull_back_faces: false,
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: Blend::Replace,
@@ -230,7 +230,7 @@ impl ShadowMap {
         );
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));
         for i in 0..objects {
-            let size = std::mem::size_of::<super::surface::SurfaceUniforms>() as u64;
+            let size = std::mem::size_of::<crate::render::surface::SurfaceUniforms>() as u64;
             let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
             uniforms.push(ctx.create_buffer(desc, &format!("object {i} uniforms (shadow map)"))?);
         }
@@ -258,12 +258,16 @@ impl ShadowMap {
 
     /// Places the map for this frame and writes each object's uniforms for the shadow pass (`objects`: the
     /// surface pass's, whose view-projection is replaced by the light's); no submitted work may still read them.
-    pub fn update(&mut self, frame: Option<ShadowFrame>, objects: &[super::surface::SurfaceUniforms]) -> Result<()> {
+    pub fn update(
+        &mut self,
+        frame: Option<ShadowFrame>,
+        objects: &[crate::render::surface::SurfaceUniforms],
+    ) -> Result<()> {
         self.frame = frame;
         self.models = objects.iter().map(|u| u.model).collect();
         if let Some(f) = frame {
             for (buffer, u) in self.uniforms.iter_mut().zip(objects) {
-                let u = super::surface::SurfaceUniforms { view_proj: f.view_proj.to_cols_array_2d(), ..*u };
+                let u = crate::render::surface::SurfaceUniforms { view_proj: f.view_proj.to_cols_array_2d(), ..*u };
                 buffer.write(bytemuck::bytes_of(&u))?;
             }
         }
@@ -298,7 +302,7 @@ impl ShadowMap {
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let info = vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&depth);
         // SAFETY: cmd is recording; the image is in the depth-attachment layout.
-        unsafe { super::begin_rendering_info(ctx, cmd, &info, extent, area) };
+        unsafe { crate::render::begin_rendering_info(ctx, cmd, &info, extent, area) };
         if self.frame.is_some() {
             for ((mesh, casts), uniforms) in meshes.into_iter().zip(&self.uniforms) {
                 if casts {
@@ -307,7 +311,7 @@ impl ShadowMap {
                 }
             }
         }
-        super::end_rendering(ctx, cmd);
+        crate::render::end_rendering(ctx, cmd);
         ctx.barrier_image(cmd, &self.image, ImageState::DEPTH_ATTACHMENT, ImageState::SHADER_READ);
         ctx.end_label(cmd);
         *self.drawn.borrow_mut() = Some(now);

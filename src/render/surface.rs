@@ -14,28 +14,29 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
-use super::background::BackgroundPass;
-use super::diffraction::{counting_constants, patch_bindings, PatchResources};
-use super::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
-use super::visibility::{self, ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
-use super::{
-    begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
-    DEPTH_FORMAT, LINEAR_FORMAT,
-};
-use crate::camera::Camera;
 use crate::error::Result;
-use crate::mesh::{Mesh, Vertex};
-use crate::shaders;
-use crate::shaders::interface::{
+use crate::gpu::interface::{
     VisibilityPush, BINDING_FETCH_COUNTS, BINDING_FRAME, BINDING_MESH_INDICES, BINDING_VERTEX_OUTPUTS,
     BINDING_VISIBILITY_EDGES, BINDING_VISIBILITY_IDS, BINDING_VISIBILITY_TARGET, SKY_DIFFRACTION_NONE,
     SKY_DIFFRACTION_VERTEX, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
-use crate::shading::Material;
-use crate::vk::{
+use crate::gpu::shaders;
+use crate::gpu::vk::{
     Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc,
     Guard, Image, ImageState, Laps, MemoryState, Pipeline, Sampler, Statistics, VertexAttribute,
 };
+use crate::material::Material;
+use crate::render::background::BackgroundPass;
+use crate::render::diffraction::{counting_constants, patch_bindings, PatchResources};
+use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
+use crate::render::visibility;
+use crate::render::visibility::{ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
+use crate::render::{
+    begin_rendering, end_rendering, pass, Frame, MeshBuffers, OffscreenTarget, Pixels, SceneView, TargetView,
+    DEPTH_FORMAT, LINEAR_FORMAT,
+};
+use crate::scene::camera::Camera;
+use crate::scene::mesh::{Mesh, Vertex};
 
 /// What a frame's recording is measured with (all off by default).
 #[derive(Clone, Copy, Default)]
@@ -174,14 +175,14 @@ struct MaterialGpu {
     pipelines: [Option<Pipeline>; 2],
     /// What those pipelines are built from: the vertex and fragment shaders and the specialization constants
     /// (all but `SPEC_SHADOWS`).
-    recipe: (&'static [u8], &'static [u8], crate::vk::SpecConstants),
+    recipe: (&'static [u8], &'static [u8], crate::gpu::vk::SpecConstants),
     /// The visibility buffer's pipelines, as `pipelines` (built where the renderer takes that path), and their
     /// shaders: the raster pass's vertex shader, the shading pass's fragment shaders (one sample, several) and
     /// the edge pass's compute shader.
     visibility_pipelines: [Option<VisibilityPipelines>; 2],
     visibility_recipe: (&'static [u8], [&'static [u8]; 2], &'static [u8]),
     patch: PatchResources,
-    params: crate::shading::DiffractionParams,
+    params: crate::material::DiffractionParams,
     surface: SurfaceMaterial,
 }
 
@@ -228,7 +229,7 @@ pub const LIGHTING_SKY_WIDTH: u32 = 256;
 
 /// The environment the surface pass reflects at each pixel's mirror direction (`BINDING_ENV_LIGHT`).
 struct EnvLighting {
-    panorama: super::background::Panorama,
+    panorama: crate::render::background::Panorama,
     sampler: Sampler,
     /// One black texel, bound until a view has an environment.
     fallback: Image,
@@ -237,15 +238,15 @@ struct EnvLighting {
 impl EnvLighting {
     fn new(ctx: &Context) -> Result<Self> {
         let sampler = Guard::new(ctx, ctx.create_panorama_sampler("environment lighting")?);
-        let black = crate::environment::EnvironmentMap { width: 1, height: 1, rgb: vec![[0.0; 3]] };
-        let fallback = super::background::upload(ctx, &black)?;
-        let panorama = super::background::Panorama::new(false, LIGHTING_SKY_WIDTH);
+        let black = crate::light::environment::EnvironmentMap { width: 1, height: 1, rgb: vec![[0.0; 3]] };
+        let fallback = crate::render::background::upload(ctx, &black)?;
+        let panorama = crate::render::background::Panorama::new(false, LIGHTING_SKY_WIDTH);
         Ok(Self { panorama, sampler: sampler.keep(), fallback })
     }
 
     fn write(&self) -> DescriptorWrite<'_> {
         let image = self.panorama.image().unwrap_or(&self.fallback);
-        DescriptorWrite::SampledImage(crate::shaders::interface::BINDING_ENV_LIGHT, image, &self.sampler)
+        DescriptorWrite::SampledImage(crate::gpu::interface::BINDING_ENV_LIGHT, image, &self.sampler)
     }
 
     /// # Safety
@@ -353,7 +354,7 @@ impl SceneRenderer {
         variant: SurfaceVariant,
     ) -> Result<()> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let cull_back_faces = super::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
+        let cull_back_faces = crate::render::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
         let frame_binding = Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
         let front_first = objects.iter().all(|(mesh, _)| mesh.front_first);
         self.depth = (!front_first)
@@ -362,7 +363,7 @@ impl SceneRenderer {
                     name: pass::DEPTH,
                     vertex: shaders::SURFACE_VERT,
                     fragment: None,
-                    specialization: crate::vk::SpecConstants::default(),
+                    specialization: crate::gpu::vk::SpecConstants::default(),
                     bindings: &[frame_binding],
                     push_constant_size: 0,
                     vertex_stride: std::mem::size_of::<Vertex>() as u32,
@@ -377,12 +378,12 @@ impl SceneRenderer {
             .transpose()?;
         let [p, t, s] = patch_bindings(stages);
         let moments = Binding {
-            binding: crate::shaders::interface::BINDING_MOMENTS,
+            binding: crate::gpu::interface::BINDING_MOMENTS,
             kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             stages,
         };
         let env_light = Binding {
-            binding: crate::shaders::interface::BINDING_ENV_LIGHT,
+            binding: crate::gpu::interface::BINDING_ENV_LIGHT,
             kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             stages: vk::ShaderStageFlags::FRAGMENT,
         };
@@ -392,7 +393,7 @@ impl SceneRenderer {
         self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
         if self.counting {
-            bindings.push(super::diffraction::count_binding());
+            bindings.push(crate::render::diffraction::count_binding());
         }
         for input in materials {
             let patch = Guard::new(ctx, PatchResources::new(ctx, input.material)?);
@@ -452,7 +453,7 @@ impl SceneRenderer {
         Ok(())
     }
 
-    /// Makes the renderer draw its frames through a visibility buffer ([`super::visibility`]) into targets of
+    /// Makes the renderer draw its frames through a visibility buffer ([`crate::render::visibility`]) into targets of
     /// `extent` (and the renderer's samples): linear colour only, and not the counting variant. Call it before the
     /// first [`Self::update`].
     pub fn use_visibility_buffer(&mut self, ctx: &Context, extent: vk::Extent2D) -> Result<()> {
@@ -521,7 +522,7 @@ impl SceneRenderer {
             light_dir: view.light_dir,
             ambient: view.ambient,
             sky_sh: view.sky_sh,
-            sky_quadratic: crate::env_prefilter::sky_quadratic(&view.sky_sh),
+            sky_quadratic: crate::light::prefilter::sky_quadratic(&view.sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
         };
         let mut all = Vec::with_capacity(self.objects.len());
@@ -632,7 +633,7 @@ impl SceneRenderer {
             let raster = Guard::new(
                 ctx,
                 ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-                    name: super::pass::VISIBILITY,
+                    name: crate::render::pass::VISIBILITY,
                     vertex,
                     fragment: Some(shaders::VISIBILITY_FRAG),
                     specialization: specialization.clone(),
@@ -669,7 +670,7 @@ impl SceneRenderer {
             let edges = multisampled
                 .then(|| {
                     ctx.create_compute_pipeline(&ComputePipelineDesc {
-                        name: super::pass::EDGES,
+                        name: crate::render::pass::EDGES,
                         shader: edges,
                         specialization,
                         bindings: &edge_bindings,
@@ -702,7 +703,7 @@ impl SceneRenderer {
 
     /// [`Self::record`] with `instruments`: a counting renderer's per-pixel fetch counters, the shading draws
     /// bracketed for a pipeline-statistics query (the depth pre-pass is not counted), and a lap at the end of
-    /// each pass ([`super::pass`]: the depth pre-pass, the shading, and the resolve of a multisampled target).
+    /// each pass ([`crate::render::pass`]: the depth pre-pass, the shading, and the resolve of a multisampled target).
     pub fn record_with(
         &self,
         ctx: &Context,
@@ -954,7 +955,7 @@ impl SceneRenderer {
     }
 
     /// What the uploads of the materials' tables (or Taylor terms) cost, material by material.
-    pub fn uploads(&self) -> Vec<super::diffraction::Upload> {
+    pub fn uploads(&self) -> Vec<crate::render::diffraction::Upload> {
         self.materials.iter().map(|m| m.patch.upload).collect()
     }
 

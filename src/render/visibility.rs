@@ -1,6 +1,6 @@
 //! The visibility buffer: a scene's multisampled frame shaded once per pixel and visible triangle.
 //!
-//! The forward pass ([`super::surface`]) draws a multisampled frame into a multisampled colour target, which is then
+//! The forward pass ([`crate::render::surface`]) draws a multisampled frame into a multisampled colour target, which is then
 //! resolved; on lavapipe it also shades the hidden layers of a snake's scales when it multisamples (Mesa's
 //! llvmpipe tests each sample's depth after running the shader), so four samples cost about three times one.
 //! This path splits the frame in two passes instead:
@@ -30,12 +30,12 @@
 
 use ash::vk;
 
-use super::MeshBuffers;
 use crate::error::{Error, Result};
-use crate::shaders::interface::{
+use crate::gpu::interface::{
     VERTEX_OUTPUT_VEC4S, VISIBILITY_EDGE_GROUP, VISIBILITY_MAX_SAMPLES, VISIBILITY_OBJECT_SHIFT,
 };
-use crate::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, ImageState, MemoryState, Sampler};
+use crate::gpu::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, ImageState, MemoryState, Sampler};
+use crate::render::MeshBuffers;
 
 /// How a scene's frame is shaded.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -282,7 +282,7 @@ pub(crate) fn begin(
     let info =
         vk::RenderingInfo::default().render_area(full).layer_count(1).color_attachments(color).depth_attachment(depth);
     // SAFETY: cmd is recording and the caller's attachments are in their attachment layouts.
-    unsafe { super::begin_rendering_info(ctx, cmd, &info, extent, full) };
+    unsafe { crate::render::begin_rendering_info(ctx, cmd, &info, extent, full) };
 }
 
 /// Bytes of one edge list for frames of `extent`: its header, then room for every pixel.

@@ -1,4 +1,4 @@
-//! [`WindowTarget`]: the window's counterpart of [`OffscreenTarget`](super::OffscreenTarget). It owns what
+//! [`WindowTarget`]: the window's counterpart of [`OffscreenTarget`](crate::render::OffscreenTarget). It owns what
 //! presenting needs — the surface, the swapchain (with its depth and multisampled images), the one frame in
 //! flight's command buffer and fences, the GPU timestamps and the screenshot buffer — and gives a frame as a
 //! command buffer and a [`TargetView`] between [`WindowTarget::begin_frame`] and [`WindowTarget::end_frame`].
@@ -9,10 +9,10 @@ use std::path::Path;
 use ash::vk;
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
-use super::TargetView;
 use crate::error::{Error, Result};
-use crate::vk::swapchain::{Acquired, FrameSync, Surface, Swapchain};
-use crate::vk::{Buffer, BufferDesc, Context, Destroy, FrameTimes, Guard, ImageState, Laps, TimestampRing};
+use crate::gpu::vk::swapchain::{Acquired, FrameSync, Surface, Swapchain};
+use crate::gpu::vk::{Buffer, BufferDesc, Context, Destroy, FrameTimes, Guard, ImageState, Laps, TimestampRing};
+use crate::render::TargetView;
 
 /// A window's swapchain and everything one frame in flight needs.
 pub struct WindowTarget {
@@ -75,7 +75,7 @@ impl WindowTarget {
     ) -> Result<Self> {
         let surface = Guard::new(ctx, ctx.create_surface(display, window)?);
         let sync = Guard::new(ctx, ctx.create_frame_sync()?);
-        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, crate::vk::query::MAX_LAPS, "window timestamps")?);
+        let ring = Guard::new(ctx, ctx.create_timestamp_ring(1, crate::gpu::vk::query::MAX_LAPS, "window timestamps")?);
         let swapchain = Guard::new(ctx, ctx.create_swapchain(&surface, size, vsync, samples, None)?);
         let screenshot = screenshot_buffer(ctx, &swapchain)?;
         Ok(Self {
@@ -202,7 +202,7 @@ impl WindowTarget {
         Ok(Some(WindowFrame { cmd, previous, index, extent: s.extent, scene, flat }))
     }
 
-    /// Where the passes of the frame being recorded mark their ends ([`super::pass`]); this target adds the copy
+    /// Where the passes of the frame being recorded mark their ends ([`crate::render::pass`]); this target adds the copy
     /// of a screenshot and the hand-over to the window in [`Self::end_frame`].
     pub fn laps<'a>(&'a self, ctx: &'a Context) -> Laps<'a> {
         self.ring.as_ref().map_or(Laps::NONE, |ring| ring.laps(ctx))
@@ -217,7 +217,7 @@ impl WindowTarget {
         match (copy, &self.screenshot) {
             (true, Some(buffer)) => {
                 self.swapchain.record_copy(ctx, cmd, index, buffer);
-                laps.lap(cmd, super::pass::COPY);
+                laps.lap(cmd, crate::render::pass::COPY);
             }
             (true, None) => {
                 return Err(Error::Invalid("this window's images cannot be copied for a screenshot".into()))
@@ -230,7 +230,7 @@ impl WindowTarget {
                 ImageState::PRESENT,
             ),
         }
-        laps.lap(cmd, super::pass::PRESENT);
+        laps.lap(cmd, crate::render::pass::PRESENT);
         self.sync.end(ctx)?;
         ctx.submit_frame(&self.sync, self.swapchain.render_finished[index as usize])?;
         self.timing_pending = self.ring.is_some();
@@ -251,7 +251,7 @@ impl WindowTarget {
             .flat_map(|p| if bgra { [p[2], p[1], p[0], 255] } else { [p[0], p[1], p[2], 255] })
             .collect();
         let extent = self.swapchain.extent;
-        crate::output::write_png_rgba8(path, extent.width, extent.height, &rgba)
+        crate::io::output::write_png_rgba8(path, extent.width, extent.height, &rgba)
     }
 
     /// # Safety

@@ -5,10 +5,10 @@ use glam::Vec3;
 use winit::event::{MouseButton, MouseScrollDelta};
 use winit::keyboard::{Key, ModifiersState, NamedKey};
 
-use crate::camera::Camera;
+use crate::material::Material;
+use crate::material::{Approach, SettingsPatch, MAX_WINDOW_RADIUS};
+use crate::scene::camera::Camera;
 use crate::scene::Scene;
-use crate::settings::{Approach, SettingsPatch, MAX_WINDOW_RADIUS};
-use crate::shading::Material;
 
 /// The key bindings, as `H` prints them and docs/usage.md lists them.
 pub const BINDINGS: &str = "\
@@ -207,9 +207,9 @@ mod tests {
     use winit::dpi::PhysicalPosition;
 
     use super::*;
+    use crate::material::Reach;
+    use crate::material::Settings;
     use crate::physics::heightfield::HeightField;
-    use crate::settings::Settings;
-    use crate::shading::Reach;
 
     /// A small grating, prepared as the viewer would for its first material.
     fn material(settings: Settings) -> Material {

@@ -21,6 +21,11 @@ pub use controls::BINDINGS;
 use controls::{Input, Live, Request};
 
 use crate::error::{Error, Result};
+use crate::gpu::vk::swapchain;
+use crate::gpu::vk::FrameTimes;
+use crate::gpu::vk::{Context, ContextDesc, Guard};
+use crate::material::{Approach, SettingsPatch};
+use crate::material::{Material, Reach};
 use crate::physics::spectrum::display_encode;
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
@@ -28,11 +33,6 @@ use crate::render::surface::{Instruments, SceneRenderer};
 use crate::render::window::{WindowFrame, WindowTarget};
 use crate::render::SceneView;
 use crate::scene::Scene;
-use crate::settings::{Approach, SettingsPatch};
-use crate::shading::{Material, Reach};
-use crate::vk::swapchain;
-use crate::vk::FrameTimes;
-use crate::vk::{Context, ContextDesc, Guard};
 
 /// What `diffract view` was asked for.
 pub struct ViewOptions {
@@ -107,7 +107,7 @@ struct App {
     options: ViewOptions,
     state: Option<State>,
     error: Option<Error>,
-    log: Option<std::sync::Arc<crate::vk::ValidationLog>>,
+    log: Option<std::sync::Arc<crate::gpu::vk::ValidationLog>>,
 }
 
 /// What the window draws with: the materials prepared for the live settings and the passes built for them.
@@ -445,7 +445,7 @@ impl State {
         // SAFETY: render waited for its frame.
         unsafe { capture.destroy(&self.ctx) };
         let frame = frame?;
-        let (ev, line) = crate::exposure::measure(frame.linear().unwrap_or_default(), "the first frame");
+        let (ev, line) = crate::display::measure(frame.linear().unwrap_or_default(), "the first frame");
         println!("view: {line}");
         self.live.exposure_ev = ev;
         self.gpu.renderer.set_exposure(ev)?;
@@ -594,7 +594,7 @@ impl State {
         let size = self.window.inner_size();
         let t = &self.timing;
         let totals: Vec<f64> = t.frame_times.iter().map(FrameTimes::total_ms).collect();
-        let Some(spread) = crate::stats::Spread::of(&totals) else { return };
+        let Some(spread) = crate::io::stats::Spread::of(&totals) else { return };
         let fps = t.timed_since.map(|since| (t.frame_times.len() + 1) as f64 / since.elapsed().as_secs_f64());
         println!(
             "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",

@@ -18,8 +18,9 @@ pub const LAVAPIPE: &str = "llvmpipe";
 
 /// Whether the test device is lavapipe (the default; `DIFFRACT_TEST_DEVICE` may name it by index too).
 pub fn on_lavapipe() -> bool {
-    let selector = diffract::vk::DeviceSelector::parse(&test_device());
-    let chosen = diffract::vk::list_devices(false).and_then(|(all, _)| diffract::vk::choose_device(&all, &selector));
+    let selector = diffract::gpu::vk::DeviceSelector::parse(&test_device());
+    let chosen =
+        diffract::gpu::vk::list_devices(false).and_then(|(all, _)| diffract::gpu::vk::choose_device(&all, &selector));
     chosen.map_or_else(|_| test_device().to_lowercase().contains(LAVAPIPE), |d| d.name.contains(LAVAPIPE))
 }
 

@@ -2,12 +2,12 @@
 //! and its views drawn by one renderer.
 
 use ash::vk::SampleCountFlags;
+use diffract::gpu::vk::Context;
+use diffract::material::Material;
+use diffract::material::SettingsPatch;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::{Frame, SceneView};
 use diffract::scene::Scene;
-use diffract::settings::SettingsPatch;
-use diffract::shading::Material;
-use diffract::vk::Context;
 
 use crate::harness::gpu_test;
 

@@ -1,12 +1,15 @@
 //! Diffraction shading on the GPU against the CPU reference and against closed forms.
 
+use diffract::material::{Approach, Settings};
+use diffract::material::{Material, Reach};
 use diffract::physics::baked::sample::{MipFilter, TableMips};
+use diffract::physics::coherence::CoherenceWindow;
+use diffract::physics::exact::{Method, Query, Reference};
+use diffract::physics::formats::png::PngScale;
+use diffract::physics::heightfield::HeightField;
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
-use diffract::physics::{HeightField, Method, PngScale, Query, Reference, Window};
 use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader, MapSpec};
-use diffract::settings::{Approach, Settings};
-use diffract::shading::{Material, Reach};
 use glam::DVec3;
 
 use crate::golden;
@@ -59,7 +62,7 @@ fn gpu_power_matches_the_cpu_taylor_sum() {
             })
             .collect();
         let (lx, ly) = hf.size_um();
-        let window = Window::new(lx, ly, 65.0, None).unwrap();
+        let window = CoherenceWindow::new(lx, ly, 65.0, None).unwrap();
         let plan = Reference::plan_for(&hf, &window, &queries, 1e-4, None).unwrap();
         let cpu = Reference::new(&hf, window, Method::Taylor, Some(plan)).unwrap().evaluate(&queries).unwrap();
         let radius = window.radius_x.max(window.radius_y) as u32;

@@ -1,19 +1,19 @@
 //! The BRDF map under an environment (`render::env_map`, `env_light`): the furnace, a disc against the directional
 //! sun it stands for, and the baked map against the exact BRDF integrated over the same sky.
 
-use diffract::env_light::{env_of_patch, map_view, EnvLight, TableProposal};
-use diffract::environment::{direction_at, texel_solid_angle, EnvironmentMap};
+use diffract::light::environment::{direction_at, texel_solid_angle, EnvironmentMap};
+use diffract::light::sampling::{env_of_patch, map_view, EnvLight, TableProposal};
+use diffract::material::{Approach, Settings};
+use diffract::material::{Material, Reach};
+use diffract::physics::heightfield::HeightField;
 use diffract::physics::illuminant::Illuminant;
 use diffract::physics::optics::{direction, fresnel_ratio, normal_reflectance, SKIN_INDEX, SUN_SOLID_ANGLE};
 use diffract::physics::sky::Sky;
 use diffract::physics::spectrum::{linear_srgb_to_xyz, white_rgb};
-use diffract::physics::HeightField;
-use diffract::profile::env_reference::reference_map_pixels;
-use diffract::profile::exact_image::delta_e;
+use diffract::reference::exact_env::reference_map_pixels;
+use diffract::reference::exact_image::delta_e;
 use diffract::render::diffraction::{render_map, MapImage};
 use diffract::render::env_map::{render_env_map, EnvMapSpec};
-use diffract::settings::{Approach, Settings};
-use diffract::shading::{Material, Reach};
 use glam::DVec3;
 
 use crate::diffraction::blazed;
@@ -97,7 +97,7 @@ fn sun_disc(sun: DVec3, white: DVec3) -> EnvironmentMap {
 
 /// Mean and largest ΔE00 of `a` against `b` over the map's disk, at the exposure measured from `b`.
 fn map_delta_e(a: &MapImage, b: &MapImage) -> (f64, f64, usize) {
-    let (ev, _) = diffract::exposure::measure(&b.rgba, "the map");
+    let (ev, _) = diffract::display::measure(&b.rgba, "the map");
     let mut errors = Vec::new();
     for y in 0..a.size {
         for x in 0..a.size {
@@ -145,7 +145,7 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
     let map = EnvironmentMap::of_sky_and_sun(&sky, 512, 0.2).unwrap();
     let env = EnvLight::new(&map, 1.0 / sky.sun_xyz().y, 0.0).unwrap();
     let gpu = env_map(&material, &env, size, 16384);
-    let (ev, _) = diffract::exposure::measure(&gpu.rgba, "the map");
+    let (ev, _) = diffract::display::measure(&gpu.rgba, "the map");
     let mut rng = fastrand::Rng::with_seed(42);
     let mut pixels = Vec::new();
     while pixels.len() < 24 {
@@ -179,7 +179,7 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
 /// quadrature and grid alone) and under the sky itself (adding what l = 2 leaves out).
 #[test]
 fn the_prefiltered_sky_matches_the_sampled_one() {
-    use diffract::env_prefilter::{Quadratic, MOMENT_GRID};
+    use diffract::light::prefilter::{Quadratic, MOMENT_GRID};
     let hf = blazed(50, 26, 4, 0.05, 0.25);
     let size = 32;
     let material = any_view(&hf);
@@ -198,7 +198,7 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
             .collect(),
     };
     let start = std::time::Instant::now();
-    let moments = diffract::shading::moments_of(&hf, &material.settings).unwrap();
+    let moments = diffract::material::moments_of(&hf, &material.settings).unwrap();
     assert_eq!(moments.grid, MOMENT_GRID);
     eprintln!("moments: {:.1} s", start.elapsed().as_secs_f64());
     // The map's frame: patch x, y, z are the environment's x, −z, y (env_light::env_of_patch).
@@ -216,7 +216,7 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
         for y in 0..size {
             for x in 0..size {
                 if let Some(omega_r) = map_view(size, x, y) {
-                    let mirror = diffract::env_light::env_of_patch(DVec3::new(-omega_r.x, -omega_r.y, omega_r.z));
+                    let mirror = diffract::light::sampling::env_of_patch(DVec3::new(-omega_r.x, -omega_r.y, omega_r.z));
                     let at_mirror = if real_mirror {
                         light.radiance(mirror).0
                     } else {
@@ -246,9 +246,9 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
 #[test]
 fn the_moments_of_a_mirror_are_its_reflectance() {
     let hf = HeightField::new(64, 64, 0.1, 0.1, vec![0.1; 64 * 64]).unwrap();
-    let m = diffract::shading::moments_of(&hf, &physical()).unwrap();
+    let m = diffract::material::moments_of(&hf, &physical()).unwrap();
     let tungsten = Settings { illuminant: Illuminant::named("A").unwrap().physical(), ..physical() };
-    assert!(diffract::shading::moments_of(&hf, &tungsten).unwrap() == m, "the sun's illuminant changed them");
+    assert!(diffract::material::moments_of(&hf, &tungsten).unwrap() == m, "the sun's illuminant changed them");
     // (Up to 70°: beyond, the narrow-lobe limit R(θ) itself is off by percents, model.md §1.5.)
     for theta in [0.0f64, 20.0, 45.0, 60.0, 70.0] {
         for phi in [0.0f64, 30.0, 45.0, 90.0, 200.0] {
@@ -268,10 +268,10 @@ fn the_moments_of_a_mirror_are_its_reflectance() {
 /// (its hemispherical reflectance) stay below Fresnel's reflectance of a mirror and lose little of it.
 #[test]
 fn the_elaphe_scans_moments_conserve_energy() {
-    let scale = diffract::physics::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
+    let scale = diffract::physics::formats::png::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
     let afm = crate::harness::place::afm("elaphe-100px.png");
     let hf = diffract::physics::formats::load(&afm, Some(scale)).unwrap().tiled(10, 10).unwrap();
-    let m = diffract::shading::moments_of(&hf, &physical()).unwrap();
+    let m = diffract::material::moments_of(&hf, &physical()).unwrap();
     for theta in [0.0f64, 30.0, 60.0, 75.0] {
         let omega_r = direction(theta, 0.0);
         let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
@@ -294,10 +294,10 @@ fn the_elaphe_scans_moments_conserve_energy() {
 /// each pixel's whole colour compared at the frame's exposure.
 #[test]
 fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
-    use diffract::profile::env_reference::ExactEnv;
+    use diffract::material::SettingsPatch;
+    use diffract::material::SkyAt;
+    use diffract::reference::exact_env::ExactEnv;
     use diffract::render::gbuffer::GBuffer;
-    use diffract::settings::SettingsPatch;
-    use diffract::settings::SkyAt;
     let path = crate::harness::place::assets().join("scenes/elaphe-snake.toml");
     let scene = diffract::scene::Scene::load(&path).unwrap();
     let (w, h) = (64u32, 64u32);
@@ -332,7 +332,7 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     .unwrap();
     let proposal = TableProposal::new(table.table.as_ref().unwrap()).unwrap();
     let exact = ExactEnv::new(&material.heightfield, &settings).unwrap();
-    let (ev, _) = diffract::exposure::measure(at_vertices, "the frame");
+    let (ev, _) = diffract::display::measure(at_vertices, "the frame");
     let rgb =
         |frame: &[f32], i: usize| DVec3::new(frame[4 * i].into(), frame[4 * i + 1].into(), frame[4 * i + 2].into());
     // The two ways of evaluating the same prefiltered model, over every pixel that shows the snake.

@@ -20,7 +20,7 @@ fn the_background_is_the_map_along_each_view_ray() {
     let dir = crate::harness::place::scratch_root().join(format!("environment-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let rgba: Vec<f32> = (0..W * H).flat_map(|i| [(i % W) as f32 + 0.5, (i / W) as f32 + 0.5, 1.0, 1.0]).collect();
-    diffract::output::write_exr_rgb(&dir.join("ramp.exr"), W, H, &rgba).unwrap();
+    diffract::io::output::write_exr_rgb(&dir.join("ramp.exr"), W, H, &rgba).unwrap();
     let (rotation_deg, intensity): (f64, f64) = (40.0, 1000.0);
     let text = format!(
         r#"
@@ -95,7 +95,7 @@ fn a_mirror_ball_in_a_uniform_environment_reflects_it_by_fresnel() {
     std::fs::create_dir_all(&dir).unwrap();
     let radiance = 5000.0f32;
     let rgba: Vec<f32> = (0..W * H).flat_map(|_| [radiance, radiance, radiance, 1.0]).collect();
-    diffract::output::write_exr_rgb(&dir.join("white.exr"), W, H, &rgba).unwrap();
+    diffract::io::output::write_exr_rgb(&dir.join("white.exr"), W, H, &rgba).unwrap();
     let text = r#"
 [camera]
 position = [0.0, 0.0, -3.0]

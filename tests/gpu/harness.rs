@@ -2,7 +2,7 @@
 //! `DIFFRACT_TEST_DEVICE` names another, see [`place::test_device`]) with the validation layer on, and fails if
 //! the layer reported anything or an allocation is still live at teardown.
 
-use diffract::vk::{Context, ContextDesc, DeviceSelector};
+use diffract::gpu::vk::{Context, ContextDesc, DeviceSelector};
 
 #[path = "../common/place.rs"]
 pub mod place;

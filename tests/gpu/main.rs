@@ -12,14 +12,14 @@ mod shadow;
 mod surface;
 mod visibility;
 
+use diffract::gpu::vk::DeviceSelector;
 use diffract::render::preview::{render_offscreen, PreviewScene};
-use diffract::vk::DeviceSelector;
 use harness::gpu_test;
 
 #[test]
 fn the_test_device_is_listed() {
-    let (devices, _) = diffract::vk::list_devices(false).expect("list devices");
-    let chosen = diffract::vk::choose_device(&devices, &DeviceSelector::parse(&harness::place::test_device()));
+    let (devices, _) = diffract::gpu::vk::list_devices(false).expect("list devices");
+    let chosen = diffract::gpu::vk::choose_device(&devices, &DeviceSelector::parse(&harness::place::test_device()));
     assert!(chosen.is_ok(), "{devices:?}");
 }
 

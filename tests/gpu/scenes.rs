@@ -1,7 +1,7 @@
 //! Every scene shipped in assets/scenes renders validation-clean, with colour, as its golden image shows it.
 
+use diffract::material::SettingsPatch;
 use diffract::scene::Scene;
-use diffract::settings::SettingsPatch;
 
 use crate::capture::{capture_views, scene_materials};
 use crate::golden;

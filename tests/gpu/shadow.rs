@@ -3,10 +3,10 @@
 //! ball's shadow black, the rest of it and the ball's lit side at albedo·Ω_sun/π·cos θ_i (a Lambertian surface
 //! under a sun whose mirror glint is 1), with no acne on either.
 
+use diffract::material::SettingsPatch;
 use diffract::physics::optics::SUN_SOLID_ANGLE;
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::settings::SettingsPatch;
 use glam::{DVec3, Vec4};
 
 use crate::capture::{capture_views, scene_materials};

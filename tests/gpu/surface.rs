@@ -1,13 +1,14 @@
 //! The surface pass (vertex stage, tangent frames, per-fragment directions) against the CPU reference.
 
-use diffract::camera::Camera;
-use diffract::mesh::Mesh;
+use diffract::material::Settings;
+use diffract::material::{Material, Reach};
+use diffract::physics::exact::{Method, Reference};
+use diffract::physics::formats::png::PngScale;
 use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
-use diffract::physics::{Method, PngScale, Reference};
 use diffract::render::surface::render_surface;
 use diffract::render::SceneView;
-use diffract::settings::Settings;
-use diffract::shading::{Material, Reach};
+use diffract::scene::camera::Camera;
+use diffract::scene::mesh::Mesh;
 use glam::{DVec3, Vec3, Vec4};
 
 use crate::harness::gpu_test;
@@ -193,7 +194,7 @@ fn silhouette(samples: u32, material: &Material, front_first: bool) -> (diffract
 #[test]
 fn a_frame_is_timed_pass_by_pass_and_the_passes_make_the_frame() {
     use diffract::render::pass;
-    let hf = diffract::physics::HeightField::new(32, 32, 0.1, 0.1, vec![0.0; 32 * 32]).unwrap();
+    let hf = diffract::physics::heightfield::HeightField::new(32, 32, 0.1, 0.1, vec![0.0; 32 * 32]).unwrap();
     let settings = Settings { lambda_step_nm: 40.0, coherence_um: 3.2, ..Settings::default() };
     let material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
     // A flat quad hides nothing (`Mesh::front_first`) and needs no depth pre-pass; a mesh that may hide itself

@@ -3,10 +3,10 @@
 //! (Against the exact reference the two paths measure the same error: docs/performance.md, "The visibility
 //! buffer, built".)
 
+use diffract::material::SettingsPatch;
 use diffract::render::capture::SceneCapture;
 use diffract::render::SceneView;
 use diffract::scene::Scene;
-use diffract::settings::SettingsPatch;
 
 use crate::capture::scene_materials;
 use crate::harness::gpu_test;

@@ -4,10 +4,10 @@
 //! A_k = DFT(exp(i·κ·h))(k) with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
 //! spectrum is its cell's spectrum on every T-th bin). Then, per texel:
 //!
-//! - lattice path (the tiling stride is ≥ `super::INDEPENDENT_STRIDE` window widths, so lobes do not
+//! - lattice path (the tiling stride is ≥ `crate::physics::baked::INDEPENDENT_STRIDE` window widths, so lobes do not
 //!   interfere): |P(s)|² = Σ_k |A_k|²·exp(−|T·k − s|²/σ²), and a texel's average of each lobe is exactly
 //!   (σ_u√π/2)·Δerf(edges)/texel per axis (or its value at the texel's centre, for point tables). These
-//!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`super::INVISIBLE`], and
+//!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`crate::physics::baked::INVISIBLE`], and
 //!   their tails beyond it, are left out. The lobes' intensities are computed first (the FFTs, in parallel over
 //!   λ); then bands of texel rows, small enough to stay in cache, gather every lobe that reaches them, for all
 //!   nodes in w at once.
@@ -16,17 +16,17 @@
 //!   separably: first along u for every spectrum row that carries anything, then along v.
 //!
 //! w is sampled at the plan's nodes (enough that what they miss is bounded analytically below
-//! [`super::INVISIBLE`]/4); the node values become Chebyshev coefficients by a DCT per texel, and the degree kept
-//! is the one the certificate of [`super::degree`] proves on these very values.
+//! [`crate::physics::baked::INVISIBLE`]/4); the node values become Chebyshev coefficients by a DCT per texel, and the degree kept
+//! is the one the certificate of [`crate::physics::baked::degree`] proves on these very values.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::lobes::{lattice_taps, Cell, Spectral};
-use super::{degree, BakedTable, Grid, TablePlan, INVISIBLE};
 use crate::error::Result;
+use crate::physics::baked::lobes::{lattice_taps, Cell, Spectral};
+use crate::physics::baked::{degree, BakedTable, Grid, TablePlan, INVISIBLE};
 use crate::physics::chebyshev;
 use crate::physics::heightfield::HeightField;
 
@@ -409,7 +409,7 @@ impl<'a> Pass<'a> {
 }
 
 /// Builds the table `plan` describes for `hf`: node values at `plan.nodes` nodes in w, turned into Chebyshev
-/// coefficients and certified (`super::degree::certify`), the degree kept the certificate's.
+/// coefficients and certified (`crate::physics::baked::degree::certify`), the degree kept the certificate's.
 /// `progress(done, total)` counts wavelengths.
 /// A table of several segments of w is built segment after segment, each as a table of its own over its interval
 /// (the terms it may keep are what fits in memory beside the others), and then joined

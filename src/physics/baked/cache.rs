@@ -1,12 +1,14 @@
-//! Baked tables and their estimates on disk, as verified entries of `crate::cache`: each names the plan it was
+//! Baked tables and their estimates on disk, as verified entries of `crate::io::cache`: each names the plan it was
 //! computed for (the patch's hash, the illuminant's, the coherence, the tolerance, the nodes, the grid), so a second run with the
 //! same patch and views loads in milliseconds, and a damaged, edited or foreign file is rebuilt, never used.
 
 use std::path::Path;
 
-use super::{BakedTable, Certificate, Estimate, Grid, TableLevel, TablePlan, LAYER_CHANNELS, MAX_TERMS};
-use crate::cache::{KeyHash, PlanBytes, Reader, Stamp};
-use crate::physics::HeightField;
+use crate::io::cache::{KeyHash, PlanBytes, Reader, Stamp};
+use crate::physics::baked::{
+    BakedTable, Certificate, Estimate, Grid, TableLevel, TablePlan, LAYER_CHANNELS, MAX_TERMS,
+};
+use crate::physics::heightfield::HeightField;
 
 /// Bumped whenever the build's definition changes: tables of other versions are rebuilt.
 const VERSION: u64 = 4;
@@ -51,7 +53,7 @@ fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
     }
     p.u64(g.nu as u64).u64(g.nv as u64);
     // (Only where it is not the default, so that the default tables keep their keys.)
-    if plan.lambda_step_nm != super::TABLE_LAMBDA_STEP_NM {
+    if plan.lambda_step_nm != crate::physics::baked::TABLE_LAMBDA_STEP_NM {
         p.f64(plan.lambda_step_nm);
     }
     if g.segments > 1 {
@@ -72,8 +74,8 @@ pub fn estimate(hf: &HeightField, plan: &TablePlan, measure: impl FnOnce() -> Es
         version: VERSION,
         plan: estimate_plan(hf, plan).0,
     };
-    let dir = crate::cache::default_dir();
-    let cached = dir.as_deref().and_then(|d| crate::cache::load(d, &stamp, 32)).and_then(|bytes| {
+    let dir = crate::io::cache::default_dir();
+    let cached = dir.as_deref().and_then(|d| crate::io::cache::load(d, &stamp, 32)).and_then(|bytes| {
         let mut r = Reader::new(&bytes);
         let terms = usize::try_from(r.u64()?).ok().filter(|&t| (1..=plan.nodes.count).contains(&t))?;
         let points = usize::try_from(r.u64()?).ok()?;
@@ -89,7 +91,7 @@ pub fn estimate(hf: &HeightField, plan: &TablePlan, measure: impl FnOnce() -> Es
                 bytes.extend_from_slice(&v.to_le_bytes());
             }
             // A cache that cannot be written costs time, not correctness.
-            let _ = crate::cache::store(d, &stamp, &bytes);
+            let _ = crate::io::cache::store(d, &stamp, &bytes);
         }
         e
     })
@@ -112,7 +114,7 @@ pub fn write(dir: &Path, hf: &HeightField, plan: &TablePlan, table: &BakedTable)
         bytes.extend_from_slice(&(level.height as u64).to_le_bytes());
         bytes.extend_from_slice(bytemuck::cast_slice(&level.texels));
     }
-    crate::cache::store(dir, &table_stamp(hf, plan), &bytes)
+    crate::io::cache::store(dir, &table_stamp(hf, plan), &bytes)
 }
 
 /// The table cached under `dir` for `plan`, or None (missing, or not checking out: it is then rebuilt). The
@@ -121,7 +123,7 @@ pub fn read(dir: &Path, hf: &HeightField, plan: &TablePlan) -> Option<BakedTable
     let grid: Grid = plan.grid;
     let most = grid.bytes(MAX_TERMS.min(plan.nodes.count)) + TABLE_OVERHEAD;
     let stamp = table_stamp(hf, plan);
-    let bytes = crate::cache::load(dir, &stamp, most)?;
+    let bytes = crate::io::cache::load(dir, &stamp, most)?;
     let table = parse(&bytes, plan);
     if table.is_none() {
         eprintln!(
@@ -150,7 +152,7 @@ fn parse(bytes: &[u8], plan: &TablePlan) -> Option<BakedTable> {
     let needed = (needed != usize::MAX).then_some(needed);
     let certificate = Certificate { terms, needed, nodes, unseen, tail, tolerance };
     let report = r.string()?;
-    let layers = super::layers_for(terms) * grid.segments;
+    let layers = crate::physics::baked::layers_for(terms) * grid.segments;
     let mut out = Vec::with_capacity(levels);
     for &(w, h) in &grid.level_sizes() {
         let (width, height) = (usize::try_from(r.u64()?).ok()?, usize::try_from(r.u64()?).ok()?);

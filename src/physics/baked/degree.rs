@@ -21,13 +21,15 @@
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::lobes::{lattice_taps, Cell, Spectral};
-use super::{Grid, TablePlan, INVISIBLE, MAX_TABLE_BYTES, MAX_TERMS, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM};
 use crate::error::{Error, Result};
+use crate::physics::baked::lobes::{lattice_taps, Cell, Spectral};
+use crate::physics::baked::{
+    Grid, TablePlan, INVISIBLE, MAX_TABLE_BYTES, MAX_TERMS, PROBE_LAMBDA_STEP_NM, TABLE_LAMBDA_STEP_NM,
+};
 use crate::physics::chebyshev;
+use crate::physics::coherence::CoherenceWindow;
 use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
-use crate::physics::window::Window;
 
 /// Most Chebyshev nodes in w a build samples (a structure needing more is far deeper than the wavelengths it is
 /// lit with, e.g. the Elaphe scan at 16× its height over every view).
@@ -92,7 +94,7 @@ pub struct Nodes {
 /// the interpolant's error at most twice the tail). Refused beyond [`MAX_NODES`].
 pub(crate) fn nodes_for(
     hf: &HeightField,
-    window: &Window,
+    window: &CoherenceWindow,
     cell: (usize, usize),
     w: (f64, f64),
     illuminant: &Illuminant,

@@ -9,7 +9,7 @@
 //!
 //! — the XYZ that `Reference::flss_xyz` divides by C·shadowing — averaged over the texel's square, and
 //! expanded in w as Σ_d a_d·T_d(t) with t the position of w in the table's interval mapped to [−1, 1]
-//! (see [`super::chebyshev`] for why Chebyshev and not slices). Mip level L averages 2^L texels per axis, so a
+//! (see [`crate::physics::chebyshev`] for why Chebyshev and not slices). Mip level L averages 2^L texels per axis, so a
 //! pixel whose footprint in (u, v) spans F picks the level whose texels are F wide and sees the footprint's
 //! average colour. A texel narrower than the narrowest lobe holds the point value.
 //!
@@ -37,10 +37,10 @@ pub use sample::FOOTPRINT_LOD_BIAS;
 
 use glam::DVec3;
 
-use super::heightfield::HeightField;
-use super::illuminant::Illuminant;
-use super::window::Window;
 use crate::error::{Error, Result};
+use crate::physics::coherence::CoherenceWindow;
+use crate::physics::heightfield::HeightField;
+use crate::physics::illuminant::Illuminant;
 
 /// GPU memory one material's table may take, with its mip levels.
 pub const MAX_TABLE_BYTES: u64 = 256 << 20;
@@ -231,7 +231,7 @@ pub struct TablePlan {
     /// The texel the footprint asked for, when memory made the table coarser.
     pub coarsened_from: Option<f64>,
     /// The window (full: taps down to 10⁻¹⁷) in bins of the whole patch.
-    pub window: Window,
+    pub window: CoherenceWindow,
     pub coherence_um: f64,
     /// The light's spectrum the table integrates under (its colours are XYZ relative to that white mirror).
     pub illuminant: Illuminant,
@@ -288,10 +288,11 @@ impl TablePlan {
             return Err(Error::Invalid(format!("the smallest pixel footprint must be positive, got {footprint}")));
         }
         let (lx, ly) = hf.size_um();
-        let window = Window::new(lx, ly, coherence_um, None)?;
+        let window = CoherenceWindow::new(lx, ly, coherence_um, None)?;
         // A lobe's intensity |A|²·exp(−d²/σ²) has the standard deviation σ/√2 bins, λ/L in u per bin.
         let lobe = |nm: f64| (window.sigma_x / lx).min(window.sigma_y / ly) * nm * 1e-3 / std::f64::consts::SQRT_2;
-        let lobe_width = (lobe(super::spectrum::VISIBLE_MIN_NM), lobe(super::spectrum::VISIBLE_MAX_NM));
+        let lobe_width =
+            (lobe(crate::physics::spectrum::VISIBLE_MIN_NM), lobe(crate::physics::spectrum::VISIBLE_MAX_NM));
         let cell = hf.period_cell();
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
@@ -507,7 +508,7 @@ pub fn load_or_build(
     plan: &TablePlan,
     progress: Option<build::Progress<'_>>,
 ) -> Result<(BakedTable, bool)> {
-    let dir = crate::cache::default_dir();
+    let dir = crate::io::cache::default_dir();
     if let Some(table) = dir.as_deref().and_then(|d| cache::read(d, hf, plan)) {
         return Ok((table, true));
     }

@@ -5,14 +5,14 @@
 
 use glam::DVec3;
 
-use super::{BakedTable, TableLevel, LAYER_CHANNELS};
+use crate::physics::baked::{BakedTable, TableLevel, LAYER_CHANNELS};
 
 /// How much finer than a pixel's footprint F the mip level is chosen, log2 √3: a trilinear fetch averages a
 /// level's texels (a box of variance T²/12) and interpolates bilinearly between them (a tent, T²/6); together they
 /// match the pixel's box (F²/12) for T = F/√3. Without it the filter spans about twice the footprint (measured on a
 /// 16² map against a 3×3-sampled reference: mean ΔE00 6.3 unbiased, 1.1 biased, 2.6 for point sampling). One
 /// source with the shaders' (`shaders::interface`).
-pub const FOOTPRINT_LOD_BIAS: f64 = crate::shaders::interface::FOOTPRINT_LOD_BIAS;
+pub const FOOTPRINT_LOD_BIAS: f64 = crate::gpu::interface::FOOTPRINT_LOD_BIAS;
 use crate::physics::chebyshev;
 
 /// How a read of the table goes between its mip levels (the sampler's mipmap mode, `render::diffraction`).

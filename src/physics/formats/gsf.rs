@@ -31,7 +31,7 @@ fn um_per_unit(unit: &str) -> Option<f64> {
 /// Reads a `.gsf` height field; heights and pixel size come out in µm.
 pub fn read(path: &Path) -> Result<HeightField> {
     let limit = MAX_HEADER as u64 + 4 * MAX_PIXELS;
-    let bytes = crate::input::read(path, limit, "GSF")?;
+    let bytes = crate::io::input::read(path, limit, "GSF")?;
     parse(path, &bytes)
 }
 
@@ -136,7 +136,7 @@ pub fn write(path: &Path, hf: &HeightField, title: &str) -> Result<()> {
     for h in &hf.heights_um {
         header.extend_from_slice(&((h * 1e-6) as f32).to_le_bytes());
     }
-    crate::output::write_file(path, &header)
+    crate::io::output::write_file(path, &header)
 }
 
 #[cfg(test)]

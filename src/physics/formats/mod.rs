@@ -9,7 +9,7 @@ use crate::physics::heightfield::HeightField;
 pub mod gsf;
 pub mod png;
 
-pub use png::PngScale;
+use png::PngScale;
 
 /// Loads a `.gsf` (units from the file) or a greyscale `.png` (units from `scale`).
 pub fn load(path: &Path, scale: Option<PngScale>) -> Result<HeightField> {

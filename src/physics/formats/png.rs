@@ -16,7 +16,7 @@ pub struct PngScale {
 
 /// Reads a greyscale PNG from a file.
 pub fn read(path: &Path, scale: PngScale) -> Result<HeightField> {
-    crate::input::check_file(path)?;
+    crate::io::input::check_file(path)?;
     decode_png(path, scale, || {
         let file = std::fs::File::open(path).map_err(|e| Error::input(path, format!("cannot open: {e}")))?;
         Ok(std::io::BufReader::new(file))

@@ -1,0 +1,7 @@
+//! Light around the sun: environment maps ([`environment`]: loaded from files or rendered from the sky), their
+//! sampling against the diffraction BRDF ([`sampling`], model.md §3.10) and the environment's diffraction
+//! prefiltered for frames ([`prefilter`], model.md §3.11).
+
+pub mod environment;
+pub mod prefilter;
+pub mod sampling;

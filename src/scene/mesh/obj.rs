@@ -1,0 +1,188 @@
+//! Wavefront OBJ through `tobj`: every model of the file merged into one mesh, triangulated; normals computed
+//! when the file has none, tangents from the UVs (else the long-axis fallback of [`Mesh::compute_tangents`]).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::scene::mesh::{Mesh, Vertex};
+
+/// The most vertices a mesh may have (a guard against hostile files; a detailed snake scan has ~10⁵).
+pub const MAX_VERTICES: usize = 20_000_000;
+
+/// Loads an OBJ file.
+pub fn load(path: &Path) -> Result<Mesh> {
+    let bytes = crate::io::input::read(path, crate::io::input::MAX_OBJ_BYTES, "mesh")?;
+    parse(path, &bytes)
+}
+
+/// Parses the bytes of an OBJ file (`path` names it in messages).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    // Materials are not used (a scene names its own): a `mtllib` line is not followed.
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
+            .map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
+    let mut mesh = Mesh::default();
+    let (mut has_normals, mut has_uvs) = (true, true);
+    for model in &models {
+        let m = &model.mesh;
+        let count = m.positions.len() / 3;
+        if mesh.vertices.len() + count > MAX_VERTICES {
+            return Err(Error::input(path, format!("more than {MAX_VERTICES} vertices")));
+        }
+        has_normals &= m.normals.len() == m.positions.len();
+        has_uvs &= m.texcoords.len() / 2 == count;
+        let mut part = Mesh::default();
+        for i in 0..count {
+            let p = [m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]];
+            if p.iter().any(|c| !c.is_finite()) {
+                return Err(Error::input(path, format!("vertex {} of {:?} is not finite", i + 1, model.name)));
+            }
+            let normal = if m.normals.len() == m.positions.len() {
+                [m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]]
+            } else {
+                [0.0, 0.0, 1.0]
+            };
+            let uv =
+                if m.texcoords.len() / 2 == count { [m.texcoords[2 * i], m.texcoords[2 * i + 1]] } else { [0.0; 2] };
+            // Vertex colours (`v x y z r g b`, as MeshLab writes them) tint the material's pigment.
+            let pigment = match m.vertex_color.get(3 * i..3 * i + 3) {
+                Some(&[r, g, b]) if [r, g, b].iter().all(|c| c.is_finite() && *c >= 0.0) => [r, g, b],
+                Some(_) => {
+                    return Err(Error::input(
+                        path,
+                        format!("vertex {} of {:?}: its colour is not three non-negative numbers", i + 1, model.name),
+                    ))
+                }
+                None => crate::scene::mesh::UNTINTED,
+            };
+            part.vertices.push(Vertex { position: p, normal, tangent: [1.0, 0.0, 0.0, 1.0], uv, pigment });
+        }
+        part.indices = m.indices.clone();
+        if part.indices.iter().any(|&i| i as usize >= count) {
+            return Err(Error::input(path, format!("a face of {:?} refers to a missing vertex", model.name)));
+        }
+        mesh.append(&part);
+    }
+    if mesh.indices.is_empty() {
+        return Err(Error::input(path, "the OBJ has no faces"));
+    }
+    if !has_normals {
+        mesh.compute_normals();
+    } else {
+        for v in &mut mesh.vertices {
+            let n = glam::Vec3::from(v.normal);
+            v.normal = n.try_normalize().unwrap_or(glam::Vec3::Z).to_array();
+        }
+    }
+    mesh.compute_tangents(has_uvs);
+    Ok(mesh)
+}
+
+/// Writes `mesh` as OBJ with positions, UVs and normals, and vertex colours (`v x y z r g b`) where a vertex's
+/// pigment is tinted (OBJ has no tangents: a reader derives them from the UVs, which for diffract's shapes run
+/// along the tangent).
+pub fn save(path: &Path, mesh: &Mesh, comment: &str) -> Result<()> {
+    let mut text = String::with_capacity(mesh.vertices.len() * 96);
+    writeln!(text, "# {}", comment.replace('\n', " ")).unwrap();
+    let tinted = mesh.vertices.iter().any(|v| v.pigment != crate::scene::mesh::UNTINTED);
+    for v in &mesh.vertices {
+        let [x, y, z] = v.position;
+        if tinted {
+            let [r, g, b] = v.pigment;
+            writeln!(text, "v {x} {y} {z} {r} {g} {b}").unwrap();
+        } else {
+            writeln!(text, "v {x} {y} {z}").unwrap();
+        }
+    }
+    for v in &mesh.vertices {
+        writeln!(text, "vt {} {}", v.uv[0], v.uv[1]).unwrap();
+    }
+    for v in &mesh.vertices {
+        writeln!(text, "vn {} {} {}", v.normal[0], v.normal[1], v.normal[2]).unwrap();
+    }
+    for tri in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [tri[0] + 1, tri[1] + 1, tri[2] + 1];
+        writeln!(text, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}").unwrap();
+    }
+    crate::io::output::write_file(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::mesh::snake::{snake, SnakeSpec};
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("diffract-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn snake_round_trips_with_tangents_from_uvs() {
+        let spec = SnakeSpec { scale_rows: 0, segments: 60, sides: 12, ..SnakeSpec::default() };
+        let m = snake(&spec);
+        let p = scratch("snake.obj");
+        save(&p, &m, "test").unwrap();
+        let back = load(&p).unwrap();
+        assert_eq!(back.indices.len(), m.indices.len());
+        let mut aligned = 0;
+        for (a, b) in m.vertices.iter().zip(&back.vertices) {
+            let (ta, tb) = (glam::Vec3::from_slice(&a.tangent[..3]), glam::Vec3::from_slice(&b.tangent[..3]));
+            if ta.dot(tb) > 0.9 {
+                aligned += 1;
+            }
+        }
+        assert!(
+            aligned as f32 > 0.9 * m.vertices.len() as f32,
+            "{aligned} of {} tangents survive the round trip",
+            m.vertices.len()
+        );
+    }
+
+    #[test]
+    fn the_corn_pattern_round_trips_as_vertex_colours() {
+        let spec = SnakeSpec { scale_rows: 12, scales_around: 6, ..SnakeSpec::default() };
+        let m = snake(&spec);
+        assert!(m.vertices.iter().any(|v| v.pigment != crate::scene::mesh::UNTINTED), "the snake is patterned");
+        let p = scratch("corn.obj");
+        save(&p, &m, "test").unwrap();
+        let back = load(&p).unwrap();
+        // tobj (single_index) numbers the loaded vertices in the order the faces first use them, which the head's
+        // grid of rings does not follow: each loaded vertex carries the colour of a saved one at its position and uv
+        // (an eye's pupil edge is two rings at one place, black inside and coloured outside).
+        let close = |x: &[f32], y: &[f32]| x.iter().zip(y).all(|(a, b)| (a - b).abs() < 1e-5);
+        for b in &back.vertices {
+            let twin = m
+                .vertices
+                .iter()
+                .any(|a| close(&a.position, &b.position) && close(&a.uv, &b.uv) && close(&a.pigment, &b.pigment));
+            assert!(twin, "{b:?} has no saved twin");
+        }
+        std::fs::write(&p, "v 0 0 0 1 -1 0\nv 1 0 0 1 1 1\nv 0 1 0 1 1 1\nf 1 2 3\n").unwrap();
+        assert!(load(&p).unwrap_err().to_string().contains("colour"), "a negative colour is refused");
+    }
+
+    #[test]
+    fn missing_normals_and_uvs_are_derived() {
+        let p = scratch("tri.obj");
+        std::fs::write(&p, "v 0 0 0\nv 4 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        let m = load(&p).unwrap();
+        for v in &m.vertices {
+            assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+            assert_eq!(&v.tangent[..3], &[1.0, 0.0, 0.0], "fallback: the long axis (x) in the tangent plane");
+        }
+    }
+
+    #[test]
+    fn hostile_objs_are_refused() {
+        let p = scratch("bad.obj");
+        std::fs::write(&p, "v 0 0 0\nf 1 2 3\n").unwrap();
+        assert!(load(&p).is_err());
+        std::fs::write(&p, "v 0 0 0\n").unwrap();
+        assert!(load(&p).unwrap_err().to_string().contains("no faces"));
+        assert!(load(Path::new("/no/such.obj")).is_err());
+    }
+}
