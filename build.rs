@@ -1,15 +1,27 @@
 //! Compiles every `glsl/<name>.<stage>.glsl` to SPIR-V with shaderc into `$OUT_DIR` (never into the source
-//! tree) and writes `$OUT_DIR/shaders.rs`, which `src/shaders.rs` includes: one `pub const NAME_STAGE: &[u8]`
-//! per shader, embedded with `include_bytes!`.
+//! tree) and writes `$OUT_DIR/shaders.rs`, which `src/gpu/shaders.rs` includes: one `pub static NAME_STAGE:
+//! Shader` per shader and variant, its SPIR-V embedded with `include_bytes!` and its descriptor bindings read
+//! from that SPIR-V (`rspirv-reflect`), from which the pipelines make their set layouts.
 //!
-//! `#include "x.glsl"` resolves against `glsl/include/`, then `$OUT_DIR/include/`, where `interface.glsl` is
-//! generated from `src/gpu/interface.rs` (the one source of the numbers both sides use: every
-//! `pub const NAME: u32 | f64 = value;` becomes `#define NAME value`). Every file read is announced with
-//! `rerun-if-changed`, so editing an include rebuilds its users.
+//! `#include "x.glsl"` resolves against `glsl/include/`, then `$OUT_DIR/include/`, where this script writes what
+//! `src/gpu/interface.rs` declares (the one source of what both sides share, compiled into this script): the
+//! constants (`interface.glsl`), the uniform and push-constant blocks, and the vertex inputs. Every file read is
+//! announced with `rerun-if-changed`, so editing an include rebuilds its users.
 //! A compile error fails the build with shaderc's `file:line: error: ...` lines.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+// The interface, compiled here as it is in the library: its declarations (constants, structs with their fields'
+// offsets) are read as values, not parsed as text.
+#[allow(dead_code)]
+#[path = "src/gpu/interface.rs"]
+mod interface;
+
+use interface::{GlslType, Value};
+
+/// Where the interface lives (messages, rerun).
+const INTERFACE: &str = "src/gpu/interface.rs";
 
 /// Further builds of a shader with macros defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macros
 /// separated by spaces). `BAKED` makes the diffraction shaders read the baked colour table instead of the Taylor
@@ -32,27 +44,6 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface_edges.comp", "surface_edges_baked.comp", "BAKED"),
 ];
 
-/// The uniform blocks whose GLSL is generated from their Rust structs (std140): (source file, struct, descriptor
-/// binding's name in interface.rs, GLSL instance name, generated include). Their fields must be 16-byte types
-/// (`[f32; 4]`, `[i32; 4]`, `[u32; 4]`, `[[f32; 4]; 4]` as a mat4, `[[f32; 4]; N]` as a vec4 array), whose
-/// std140 offsets are their `repr(C)` offsets.
-const UNIFORM_BLOCKS: &[(&str, &str, &str, &str, &str)] = &[
-    ("src/material/prepare.rs", "DiffractionParams", "BINDING_PARAMS", "params", "diffraction_params.glsl"),
-    ("src/render/surface.rs", "SurfaceUniforms", "BINDING_FRAME", "frame", "surface_uniforms.glsl"),
-    ("src/render/preview.rs", "FrameUniforms", "BINDING_FRAME", "frame", "preview_uniforms.glsl"),
-    ("src/render/background.rs", "BackgroundUniforms", "BINDING_FRAME", "background", "background_uniforms.glsl"),
-];
-
-/// Push-constant blocks generated from Rust structs in src/gpu/interface.rs: (struct, GLSL instance name,
-/// include file). Fields are f32, u32 or [f32; 2], laid out as the push-constant (std430) rules place them.
-const PUSH_BLOCKS: &[(&str, &str, &str)] = &[
-    ("MapPush", "map", "map_push.glsl"),
-    ("EnvMapPush", "map", "env_map_push.glsl"),
-    ("EvalPush", "eval", "eval_push.glsl"),
-    ("SelftestPush", "pc", "selftest_push.glsl"),
-    ("VisibilityPush", "visibility", "visibility_push.glsl"),
-];
-
 /// Shader stages recognised from the second-to-last component of a file name.
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[
     ("vert", shaderc::ShaderKind::Vertex),
@@ -70,17 +61,15 @@ fn main() {
 
     let generated = out.join("include");
     std::fs::create_dir_all(&generated).expect("create $OUT_DIR/include");
-    let header = interface_header(&root.join("src/gpu/interface.rs"));
-    std::fs::write(generated.join("interface.glsl"), header).expect("write interface.glsl");
-    let inputs = vertex_inputs(&root.join("src/render/surface.rs"));
-    std::fs::write(generated.join("vertex_inputs.glsl"), inputs).expect("write vertex_inputs.glsl");
-    for &(file, name, binding, instance, include) in UNIFORM_BLOCKS {
-        let block = uniform_block(&root.join(file), name, binding, instance);
-        std::fs::write(generated.join(include), block).expect("write a uniform block");
+    // The interface is compiled into this script (`mod interface` above): a change to it reruns the script.
+    println!("cargo:rerun-if-changed={}", root.join(INTERFACE).display());
+    std::fs::write(generated.join("interface.glsl"), interface_header()).expect("write interface.glsl");
+    std::fs::write(generated.join("vertex_inputs.glsl"), vertex_inputs()).expect("write vertex_inputs.glsl");
+    for block in &interface::UNIFORM_BLOCKS {
+        std::fs::write(generated.join(block.file), uniform_block(block)).expect("write a uniform block");
     }
-    for &(name, instance, include) in PUSH_BLOCKS {
-        let block = push_block(&root.join("src/gpu/interface.rs"), name, instance);
-        std::fs::write(generated.join(include), block).expect("write a push-constant block");
+    for block in &interface::PUSH_BLOCKS {
+        std::fs::write(generated.join(block.file), push_block(block)).expect("write a push-constant block");
     }
 
     let compiler = shaderc::Compiler::new().expect("shaderc compiler");
@@ -96,7 +85,9 @@ fn main() {
         println!("cargo:rerun-if-changed={}", entry.path().display());
     }
 
-    let mut module = String::from("// Generated by build.rs: SPIR-V of every glsl/<name>.<stage>.glsl.\n");
+    let mut module = String::from(
+        "// Generated by build.rs: the SPIR-V of every glsl/<name>.<stage>.glsl and its descriptor bindings.\n",
+    );
     let mut failed = false;
     for src in &sources {
         println!("cargo:rerun-if-changed={}", src.display());
@@ -118,11 +109,24 @@ fn main() {
         for (variant, define) in std::iter::once((stem, None)).chain(variants) {
             match compile(&compiler, &text, kind, &display, [&include_dir, &generated], debug, define) {
                 Ok(spirv) => {
+                    let bindings = match reflect(&spirv) {
+                        Ok(b) => b,
+                        Err(msg) => {
+                            eprintln!("{display} ({variant}): {msg}");
+                            failed = true;
+                            continue;
+                        }
+                    };
                     let spv = out.join(format!("{variant}.spv"));
                     std::fs::write(&spv, spirv).expect("write .spv");
                     let konst = variant.replace(['-', '.'], "_").to_uppercase();
-                    writeln!(module, "pub const {konst}: &[u8] = include_bytes!({:?});", spv.display().to_string())
-                        .unwrap();
+                    writeln!(
+                        module,
+                        "pub static {konst}: Shader = Shader {{ name: {variant:?}, spirv: include_bytes!({:?}), \
+                         bindings: &[{bindings}] }};",
+                        spv.display().to_string()
+                    )
+                    .unwrap();
                 }
                 Err(msg) => {
                     eprintln!("{msg}");
@@ -182,146 +186,216 @@ fn compile(
         .map_err(|e| e.to_string())
 }
 
-/// The shaders' `interface.glsl`: a `#define NAME value` for every `pub const NAME: u32 | f64 = value;` line of
-/// `src/gpu/interface.rs` (u32 as integer literals, f64 as float literals), with its `//` comments.
-fn interface_header(rust: &Path) -> String {
-    println!("cargo:rerun-if-changed={}", rust.display());
-    let text = std::fs::read_to_string(rust).unwrap_or_else(|e| panic!("cannot read {}: {e}", rust.display()));
-    let mut out = String::from(
-        "// Generated by build.rs from src/gpu/interface.rs, the one source of these numbers: edit them there.\n\
-         #ifndef INTERFACE_GLSL\n#define INTERFACE_GLSL\n",
-    );
-    let mut count = 0;
-    for line in text.lines().map(str::trim) {
-        if let Some(comment) = line.strip_prefix("// ") {
-            writeln!(out, "\n// {comment}").unwrap();
-            continue;
-        }
-        let Some(rest) = line.strip_prefix("pub const ") else { continue };
-        let Some((name, rest)) = rest.split_once(": ") else { continue };
-        let Some((ty, value)) = rest.split_once(" = ") else { continue };
-        let value = value.trim_end_matches(';').replace('_', "");
-        let literal = match ty {
-            // Beyond i32's range GLSL needs the literal marked unsigned (smaller ones stay plain: layout qualifiers).
-            "u32" => value
-                .parse::<u32>()
-                .map(|v| if v > i32::MAX as u32 { format!("{v}u") } else { v.to_string() })
-                .map_err(|e| e.to_string()),
-            "f64" => value.parse::<f64>().map(|v| format!("{v:?}")).map_err(|e| e.to_string()),
-            _ => continue,
-        };
-        let literal = literal.unwrap_or_else(|e| panic!("{}: {name} = {value} is not a literal ({e})", rust.display()));
-        writeln!(out, "#define {name} {literal}").unwrap();
-        count += 1;
+/// The descriptor bindings a module declares (set 0 only, one descriptor each), as the Rust source of a list of
+/// `ShaderBinding`s: the pipelines' set layouts are made from them, so a shader's bindings are stated once, in its
+/// GLSL. (An optimised build strips a binding its code never reads; a pipeline then leaves its writes out.)
+///
+/// SPIR-V is read directly, as niagara does (`rspirv-reflect` 0.9 was tried: its parser refused shaderc's modules,
+/// compute shaders at `OpExecutionModeId` and every debug build): the variables decorated with a set and a binding,
+/// and the type each points to decides the descriptor's kind.
+fn reflect(spirv: &[u8]) -> Result<String, String> {
+    const OP_TYPE_IMAGE: u32 = 25;
+    const OP_TYPE_SAMPLER: u32 = 26;
+    const OP_TYPE_SAMPLED_IMAGE: u32 = 27;
+    const OP_TYPE_ARRAY: u32 = 28;
+    const OP_TYPE_RUNTIME_ARRAY: u32 = 29;
+    const OP_TYPE_STRUCT: u32 = 30;
+    const OP_TYPE_POINTER: u32 = 32;
+    const OP_VARIABLE: u32 = 59;
+    const OP_DECORATE: u32 = 71;
+    const DECORATION_BLOCK: u32 = 2;
+    const DECORATION_BUFFER_BLOCK: u32 = 3;
+    const DECORATION_BINDING: u32 = 33;
+    const DECORATION_SET: u32 = 34;
+    const STORAGE_UNIFORM_CONSTANT: u32 = 0;
+    const STORAGE_UNIFORM: u32 = 2;
+    const STORAGE_STORAGE_BUFFER: u32 = 12;
+    // VkDescriptorType values.
+    const SAMPLER: i32 = 0;
+    const COMBINED_IMAGE_SAMPLER: i32 = 1;
+    const SAMPLED_IMAGE: i32 = 2;
+    const STORAGE_IMAGE: i32 = 3;
+    const UNIFORM_BUFFER: i32 = 6;
+    const STORAGE_BUFFER: i32 = 7;
+
+    let words: Vec<u32> = spirv.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect();
+    if words.len() < 5 || words[0] != 0x0723_0203 {
+        return Err("not little-endian SPIR-V".into());
     }
-    assert!(count > 0, "{} declares no constants", rust.display());
+    use std::collections::HashMap;
+    let (mut ops, mut block, mut buffer_block) = (HashMap::new(), Vec::new(), Vec::new());
+    let (mut set, mut binding, mut variables) = (HashMap::new(), HashMap::new(), Vec::new());
+    let mut at = 5;
+    while at < words.len() {
+        let (count, op) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+        let i = words.get(at + 1..at + count.max(1)).ok_or("a truncated instruction")?;
+        match op {
+            OP_DECORATE if i.len() >= 2 => match (i[1], i.get(2)) {
+                (DECORATION_SET, Some(&v)) => drop(set.insert(i[0], v)),
+                (DECORATION_BINDING, Some(&v)) => drop(binding.insert(i[0], v)),
+                (DECORATION_BLOCK, _) => block.push(i[0]),
+                (DECORATION_BUFFER_BLOCK, _) => buffer_block.push(i[0]),
+                _ => {}
+            },
+            OP_VARIABLE if i.len() >= 3 => variables.push((i[1], i[0], i[2])),
+            OP_TYPE_IMAGE
+            | OP_TYPE_SAMPLER
+            | OP_TYPE_SAMPLED_IMAGE
+            | OP_TYPE_ARRAY
+            | OP_TYPE_RUNTIME_ARRAY
+            | OP_TYPE_STRUCT
+            | OP_TYPE_POINTER
+                if !i.is_empty() =>
+            {
+                ops.insert(i[0], (op, i.to_vec()));
+            }
+            _ => {}
+        }
+        at += count.max(1);
+    }
+    let mut out = Vec::new();
+    for (id, pointer, storage) in variables {
+        let (Some(&b), Some(&s)) = (binding.get(&id), set.get(&id)) else { continue };
+        if s != 0 {
+            return Err(format!("binding {b} is in descriptor set {s}: every binding must be in set 0"));
+        }
+        let pointee = match ops.get(&pointer) {
+            Some((OP_TYPE_POINTER, p)) if p.len() >= 3 => p[2],
+            _ => return Err(format!("binding {b}: its variable's type is not a pointer")),
+        };
+        let kind = match (storage, ops.get(&pointee)) {
+            (_, Some((OP_TYPE_ARRAY | OP_TYPE_RUNTIME_ARRAY, _))) => {
+                return Err(format!("binding {b}: arrays of descriptors are not supported"))
+            }
+            (STORAGE_UNIFORM, _) if buffer_block.contains(&pointee) => STORAGE_BUFFER,
+            (STORAGE_UNIFORM, _) if block.contains(&pointee) => UNIFORM_BUFFER,
+            (STORAGE_STORAGE_BUFFER, _) => STORAGE_BUFFER,
+            (STORAGE_UNIFORM_CONSTANT, Some((OP_TYPE_SAMPLED_IMAGE, _))) => COMBINED_IMAGE_SAMPLER,
+            (STORAGE_UNIFORM_CONSTANT, Some((OP_TYPE_SAMPLER, _))) => SAMPLER,
+            // OpTypeImage: … Sampled (the seventh operand) is 1 for a sampled image, 2 for a storage image.
+            (STORAGE_UNIFORM_CONSTANT, Some((OP_TYPE_IMAGE, t))) if t.get(6) == Some(&2) => STORAGE_IMAGE,
+            (STORAGE_UNIFORM_CONSTANT, Some((OP_TYPE_IMAGE, _))) => SAMPLED_IMAGE,
+            _ => return Err(format!("binding {b}: a resource of storage class {storage} this script cannot name")),
+        };
+        out.push((b, kind));
+    }
+    out.sort();
+    Ok(out
+        .iter()
+        .map(|(b, kind)| format!("ShaderBinding {{ binding: {b}, kind: vk::DescriptorType::from_raw({kind}) }}"))
+        .collect::<Vec<_>>()
+        .join(", "))
+}
+
+/// The shaders' `interface.glsl`: every constant of the interface's `shared!`, with its documentation: integers
+/// and floats as `#define NAME value` (layout qualifiers take them), a matrix as a `const mat3`.
+fn interface_header() -> String {
+    let mut out = format!(
+        "// Generated by build.rs from {INTERFACE}, the one source of these numbers: edit them there.\n\
+         #ifndef INTERFACE_GLSL\n#define INTERFACE_GLSL\n"
+    );
+    for c in interface::CONSTANTS {
+        if let Some(section) = c.section {
+            writeln!(out, "\n// {section}").unwrap();
+        }
+        for doc in c.doc {
+            writeln!(out, "// {}", doc.trim()).unwrap();
+        }
+        let name = c.name;
+        match (c.value)() {
+            // Beyond i32's range GLSL needs the literal marked unsigned (smaller ones stay plain: layout qualifiers).
+            Value::Int(v) if v > i32::MAX as u64 => writeln!(out, "#define {name} {v}u"),
+            Value::Int(v) => writeln!(out, "#define {name} {v}"),
+            Value::Float(v) => writeln!(out, "#define {name} {v:?}"),
+            Value::Mat3(rows) => {
+                // GLSL builds a matrix from its columns.
+                let columns: Vec<String> = (0..3).flat_map(|c| rows.map(|row| format!("{:?}", row[c]))).collect();
+                writeln!(out, "const mat3 {name} = mat3({});", columns.join(", "))
+            }
+        }
+        .unwrap();
+    }
     out.push_str("\n#endif\n");
     out
 }
 
-/// The GLSL of the uniform block `name` (std140, set 0, `binding`) declared as `pub struct name { … }` in `rust`,
-/// its fields in their order with their `///` comments, as `instance`.
-fn uniform_block(rust: &Path, name: &str, binding: &str, instance: &str) -> String {
-    println!("cargo:rerun-if-changed={}", rust.display());
-    let text = std::fs::read_to_string(rust).unwrap_or_else(|e| panic!("cannot read {}: {e}", rust.display()));
-    let start = text
-        .find(&format!("pub struct {name} {{"))
-        .unwrap_or_else(|| panic!("{}: no `pub struct {name} {{`", rust.display()));
-    let body = &text[start..];
-    let body = &body[body.find('{').unwrap() + 1..body.find("\n}").expect("the struct's closing brace")];
-    let mut out = format!(
-        "// Generated by build.rs from `{name}` in {}: edit the Rust struct, the GLSL follows.\n\
-         #include \"interface.glsl\"\n\
-         layout(std140, set = 0, binding = {binding}) uniform {name} {{\n",
-        rust.display().to_string().rsplit("src/").next().map(|p| format!("src/{p}")).unwrap_or_default()
-    );
-    let mut comment = Vec::new();
-    for line in body.lines().map(str::trim).filter(|l| !l.is_empty()) {
-        if let Some(doc) = line.strip_prefix("///") {
-            comment.push(doc.trim().to_string());
-            continue;
-        }
-        let field = line.strip_prefix("pub ").unwrap_or_else(|| panic!("{name}: a field that is not pub: {line}"));
-        let (field, ty) = field.trim_end_matches(',').split_once(": ").expect("field: type");
-        // An array of vec4 (`[[f32; 4]; N]`, N ≠ 4) has std140's 16-byte stride, as in Rust.
-        let array = ty.strip_prefix("[[f32; 4]; ").and_then(|n| n.strip_suffix(']')).filter(|n| *n != "4");
-        let (glsl, suffix) = match (ty, array) {
-            (_, Some(n)) => ("vec4", format!("[{n}]")),
-            ("[[f32; 4]; 4]", _) => ("mat4", String::new()),
-            ("[f32; 4]", _) => ("vec4", String::new()),
-            ("[i32; 4]", _) => ("ivec4", String::new()),
-            ("[u32; 4]", _) => ("uvec4", String::new()),
-            _ => panic!("{name}.{field}: {ty} has no std140 twin here (use a 16-byte type: [f32; 4], mat4, …)"),
-        };
-        for c in comment.drain(..) {
-            writeln!(out, "    // {c}").unwrap();
-        }
-        writeln!(out, "    {glsl} {field}{suffix};").unwrap();
+/// Each field's offset as GLSL's std140 (a uniform block) or std430 (push constants) rules place it, which agree
+/// for the types of [`interface::GlslType`]; refused where it is not the `repr(C)` offset, or where the sizes differ.
+fn check_layout(block: &interface::Block, uniform: bool) {
+    let mut offset = 0usize;
+    for f in block.fields {
+        let (align, size) = f.ty.align_size();
+        offset = offset.next_multiple_of(align);
+        assert!(
+            offset == f.offset,
+            "{INTERFACE}: {}.{} is at byte {} in Rust but GLSL puts its {} at byte {offset}; reorder or pad the fields",
+            block.name,
+            f.name,
+            f.offset,
+            f.ty.name()
+        );
+        offset += size;
     }
-    writeln!(out, "}} {instance};").unwrap();
+    // A uniform block's size is a multiple of its largest alignment (16 here); push constants end at the last field.
+    let glsl_size = if uniform { offset.next_multiple_of(16) } else { offset };
+    assert!(
+        glsl_size == block.size,
+        "{INTERFACE}: {} is {} bytes in Rust, {glsl_size} in GLSL",
+        block.name,
+        block.size
+    );
+}
+
+/// The GLSL of a std140 uniform block (set 0), its fields in their order with their `///` comments.
+fn uniform_block(block: &interface::Block) -> String {
+    check_layout(block, true);
+    let (binding, _) = block.binding.expect("a uniform block has a binding");
+    let mut out = format!(
+        "// Generated by build.rs from `{}` in {INTERFACE} ({} bytes): edit the Rust struct, the GLSL follows.\n\
+         #include \"interface.glsl\"\n\
+         layout(std140, set = 0, binding = {binding}) uniform {} {{\n",
+        block.name, block.size, block.name
+    );
+    for f in block.fields {
+        for doc in f.doc {
+            writeln!(out, "    // {}", doc.trim()).unwrap();
+        }
+        let suffix = match f.ty {
+            GlslType::Vec4Array(n) => format!("[{n}]"),
+            _ => String::new(),
+        };
+        writeln!(out, "    {} {}{suffix};", f.ty.name(), f.name).unwrap();
+    }
+    writeln!(out, "}} {};", block.instance).unwrap();
     out
 }
 
-/// The push-constant block of the Rust struct `name` in `rust`: each field's GLSL type from its Rust type, and a
-/// refusal where the GLSL rules would place a field elsewhere than `repr(C)` does (a vec2 aligns to 8 bytes).
-fn push_block(rust: &Path, name: &str, instance: &str) -> String {
-    println!("cargo:rerun-if-changed={}", rust.display());
-    let text = std::fs::read_to_string(rust).unwrap_or_else(|e| panic!("cannot read {}: {e}", rust.display()));
-    let start = text.find(&format!("pub struct {name} {{")).unwrap_or_else(|| panic!("no `pub struct {name} {{`"));
-    let body = &text[start..];
-    let body = &body[body.find('{').unwrap() + 1..body.find("\n}").expect("the struct's closing brace")];
-    let mut fields = Vec::new();
-    let mut offset = 0;
-    for line in body.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with("//")) {
-        let field = line.strip_prefix("pub ").unwrap_or_else(|| panic!("{name}: a field that is not pub: {line}"));
-        let (field, ty) = field.trim_end_matches(',').split_once(": ").expect("field: type");
-        let (glsl, size) = match ty {
-            "f32" => ("float", 4),
-            "u32" => ("uint", 4),
-            "i32" => ("int", 4),
-            "[f32; 2]" => ("vec2", 8),
-            _ => panic!("{name}.{field}: {ty} has no push-constant twin here (f32, u32, i32, [f32; 2])"),
-        };
-        assert!(offset % size == 0, "{name}.{field}: a {glsl} at byte {offset} is not where GLSL puts it; reorder");
-        offset += size;
-        fields.push(format!("{glsl} {field};"));
-    }
+/// The GLSL of a push-constant block.
+fn push_block(block: &interface::Block) -> String {
+    check_layout(block, false);
+    let fields: Vec<String> = block.fields.iter().map(|f| format!("{} {};", f.ty.name(), f.name)).collect();
     format!(
-        "// Generated by build.rs from `{name}` in src/gpu/interface.rs: edit the Rust struct, the GLSL follows.\n\
-         layout(push_constant) uniform {name} {{ {} }} {instance};\n",
-        fields.join(" ")
+        "// Generated by build.rs from `{}` in {INTERFACE} ({} bytes): edit the Rust struct, the GLSL follows.\n\
+         layout(push_constant) uniform {} {{ {} }} {};\n",
+        block.name,
+        block.size,
+        block.name,
+        fields.join(" "),
+        block.instance
     )
 }
 
-/// The vertex shaders' inputs, from `VERTEX_ATTRIBUTES` in `rust` (render/surface.rs): for each
-/// `VertexAttribute { location: N, format: vk::Format::F, offset: offset_of!(Vertex, field) … }` the line
-/// `layout(location = N) in T in_field;`, T from the format.
-fn vertex_inputs(rust: &Path) -> String {
-    println!("cargo:rerun-if-changed={}", rust.display());
-    let text = std::fs::read_to_string(rust).unwrap_or_else(|e| panic!("cannot read {}: {e}", rust.display()));
-    let start = text.find("pub const VERTEX_ATTRIBUTES").expect("VERTEX_ATTRIBUTES in render/surface.rs");
-    let list = &text[start..start + text[start..].find("];").expect("the array's end")];
-    let mut out = String::from(
-        "// Generated by build.rs from VERTEX_ATTRIBUTES in src/render/surface.rs (offsets from mesh::Vertex): edit\n\
-         // them there, the shaders follow.\n",
+/// The vertex shaders' inputs: `layout(location = i) in T in_<field>;` for the i-th of `VERTEX_INPUTS`.
+fn vertex_inputs() -> String {
+    let mut out = format!(
+        "// Generated by build.rs from VERTEX_INPUTS and Vertex in {INTERFACE}: edit them there, the shaders follow.\n"
     );
-    let mut count = 0;
-    for entry in list.split("VertexAttribute {").skip(1) {
-        let words: String = entry.split_whitespace().collect::<Vec<_>>().join(" ");
-        let after = |key: &str| words.split(key).nth(1).map(|r| r.trim_start());
-        let location = after("location:").and_then(|r| r.split(',').next()).expect("a location");
-        let format = after("vk::Format::").and_then(|r| r.split(',').next()).expect("a format");
-        let field = after("offset_of!(Vertex,").and_then(|r| r.split(')').next()).expect("an offset_of!(Vertex, …)");
-        let ty = match format.trim() {
-            "R32_SFLOAT" => "float",
-            "R32G32_SFLOAT" => "vec2",
-            "R32G32B32_SFLOAT" => "vec3",
-            "R32G32B32A32_SFLOAT" => "vec4",
-            f => panic!("VERTEX_ATTRIBUTES: no GLSL type for {f}"),
-        };
-        writeln!(out, "layout(location = {}) in {ty} in_{};", location.trim(), field.trim()).unwrap();
-        count += 1;
+    for (location, name) in interface::VERTEX_INPUTS.iter().enumerate() {
+        let field = interface::Vertex::FIELDS
+            .iter()
+            .find(|f| f.name == *name)
+            .unwrap_or_else(|| panic!("{INTERFACE}: VERTEX_INPUTS names {name}, which Vertex does not have"));
+        writeln!(out, "layout(location = {location}) in {} in_{name};", field.ty.name()).unwrap();
     }
-    assert!(count > 0, "VERTEX_ATTRIBUTES lists no attribute");
     out
 }

@@ -1,8 +1,7 @@
-// Spectral integration into colour; mirrors src/physics/spectrum.rs (same names).
+// Spectral integration into colour; mirrors src/physics/spectrum.rs (same names). The tables' range and
+// XYZ_TO_LINEAR_SRGB come from src/gpu/interface.rs.
 
-const float TABLE_LAMBDA_MIN_NM = 380.0;
-const float TABLE_LAMBDA_MAX_NM = 780.0;
-const int TABLE_ROWS = 401;
+#include "interface.glsl"
 
 // (x̄, ȳ, z̄, S/100) at lambda_nm, linearly interpolated; zero outside the tables.
 vec4 spectrum_at(float lambda_nm) {
@@ -11,12 +10,6 @@ vec4 spectrum_at(float lambda_nm) {
     int i = min(int(floor(x)), TABLE_ROWS - 2);
     return mix(spectrum_table[i], spectrum_table[i + 1], x - float(i));
 }
-
-// XYZ -> linear sRGB (IEC 61966-2-1); GLSL matrices are built from columns.
-const mat3 XYZ_TO_LINEAR_SRGB = mat3(
-    3.2404542, -0.9692660, 0.0556434,
-    -1.5371385, 1.8760108, -0.2040259,
-    -0.4985314, 0.0415560, 1.0572252);
 
 vec3 xyz_to_linear_srgb(vec3 xyz) {
     return XYZ_TO_LINEAR_SRGB * xyz;

@@ -46,11 +46,11 @@ vec3 pigment_rgb(vec3 omega_i, vec3 omega_r, float normal_up, vec3 albedo, float
 // The environment's irradiance over π at the world normal `n`: the sum of its nine SH coefficients
 // (`physics::sh::Irradiance::over_pi`), never negative; zero where the scene has no environment.
 vec3 sky_over_pi(vec3 n) {
-    vec3 e = frame.sky_sh[0].rgb * 0.282095 + frame.sky_sh[1].rgb * (0.488603 * n.y)
-        + frame.sky_sh[2].rgb * (0.488603 * n.z) + frame.sky_sh[3].rgb * (0.488603 * n.x)
-        + frame.sky_sh[4].rgb * (1.092548 * n.x * n.y) + frame.sky_sh[5].rgb * (1.092548 * n.y * n.z)
-        + frame.sky_sh[6].rgb * (0.315392 * (3.0 * n.z * n.z - 1.0)) + frame.sky_sh[7].rgb * (1.092548 * n.x * n.z)
-        + frame.sky_sh[8].rgb * (0.546274 * (n.x * n.x - n.y * n.y));
+    vec3 e = frame.sky_sh[0].rgb * SH_Y00 + frame.sky_sh[1].rgb * (SH_Y1 * n.y)
+        + frame.sky_sh[2].rgb * (SH_Y1 * n.z) + frame.sky_sh[3].rgb * (SH_Y1 * n.x)
+        + frame.sky_sh[4].rgb * (SH_Y2 * n.x * n.y) + frame.sky_sh[5].rgb * (SH_Y2 * n.y * n.z)
+        + frame.sky_sh[6].rgb * (SH_Y20 * (3.0 * n.z * n.z - 1.0)) + frame.sky_sh[7].rgb * (SH_Y2 * n.x * n.z)
+        + frame.sky_sh[8].rgb * (SH_Y22 * (n.x * n.x - n.y * n.y));
     return max(e, vec3(0.0));
 }
 

@@ -8,10 +8,10 @@
 
 use std::time::Instant;
 
-use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::gpu::interface::DiffractionParams;
 use crate::io::progress::Progress;
 use crate::light::prefilter::Moments;
 use crate::material::{Approach, Settings, MAX_WINDOW_RADIUS};
@@ -86,37 +86,6 @@ pub const MAX_LAMBDA_COUNT: usize = 4001;
 pub const APPROXIMATION_MAX_SIGMA_BINS: f64 = 1.0;
 /// Efficiency of each non-zero order in Stam's analytic grating (his GPU Gems shader scales orders by 0.1).
 pub const GEM_ORDER_EFFICIENCY: f32 = 0.1;
-
-/// The material's uniforms (std140): build.rs generates their GLSL block (`params`, included by
-/// `glsl/include/params.glsl`) from this struct.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct DiffractionParams {
-    /// nx, ny, layers, 0.
-    pub patch_px: [i32; 4],
-    /// Lx, Ly, dx, dy in µm.
-    pub patch_um: [f32; 4],
-    /// σ_x, σ_y in bins, σ_f in cycles/µm, 0.
-    pub window: [f32; 4],
-    /// λ_min nm, Δλ nm, Σ ȳSΔλ of that sampling, ∫ȳS dλ (1 nm).
-    pub spectral: [f32; 4],
-    /// ω_i in the patch frame (BRDF maps and the compute pass read it; geometry computes its own).
-    pub light: [f32; 4],
-    /// PQ: periods along x and y, 0, 0.
-    pub pq: [f32; 4],
-    /// gem: unit grating direction (x, y), spacing µm (0: none), order efficiency.
-    pub gem: [f32; 4],
-    /// 2^exposure, 0, 0, 0.
-    pub display: [f32; 4],
-    /// Baked table: u and v of its lower edges, its extent in u and v.
-    pub table_uv: [f32; 4],
-    /// Baked table: middle of its w-interval, 1/half-width, the texel width in (u, v), the coarsest mip level.
-    pub table_w: [f32; 4],
-    /// The light's white (a mirror's colour under its illuminant), linear sRGB with Y = 1: what lights the
-    /// pigment; and the diffraction's gain (`spectrum::diffraction_gain`: 1 in relative units).
-    pub light_white: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<DiffractionParams>() == 176);
 
 /// A patch prepared for one approach and its settings.
 pub struct Material {

@@ -5,12 +5,7 @@
 //! transcribed in the `colorimetry` crate 0.1.0 (MIT OR Apache-2.0, Harbers Bik LLC), from which this file was
 //! extracted verbatim. Checked in `crate::physics::spectrum`: the D65 white point computed from them is the published one.
 
-/// First wavelength of the tables, nm.
-pub const TABLE_LAMBDA_MIN_NM: f64 = 380.0;
-/// Last wavelength of the tables, nm.
-pub const TABLE_LAMBDA_MAX_NM: f64 = 780.0;
-/// Rows of the tables (1 nm apart).
-pub const TABLE_ROWS: usize = 401;
+use crate::gpu::interface::TABLE_ROWS;
 
 /// (x̄, ȳ, z̄) of the CIE 1931 2° standard observer at 380, 381, …, 780 nm.
 #[rustfmt::skip]

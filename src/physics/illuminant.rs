@@ -22,7 +22,8 @@ use std::sync::{LazyLock, Mutex};
 use colorimetry::illuminant::CieIlluminant;
 
 use crate::error::{Error, Result};
-use crate::physics::cie_tables::{CIE1931_XYZ, D65, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::gpu::interface::{TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::physics::cie_tables::{CIE1931_XYZ, D65};
 
 /// Rows of a 1 nm table from 380 to 780 nm.
 pub type Table = [f64; TABLE_ROWS];

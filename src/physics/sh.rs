@@ -10,19 +10,22 @@
 
 use glam::DVec3;
 
-/// The nine real spherical harmonics at the unit vector `n`, in the order of [`Irradiance::coefficients`].
+use crate::gpu::interface::{SH_Y00, SH_Y1, SH_Y2, SH_Y20, SH_Y22};
+
+/// The nine real spherical harmonics at the unit vector `n`, in the order of [`Irradiance::coefficients`] (their
+/// constants are the shaders' too: `gpu::interface`).
 pub fn basis(n: DVec3) -> [f64; 9] {
     let (x, y, z) = (n.x, n.y, n.z);
     [
-        0.282_095,
-        0.488_603 * y,
-        0.488_603 * z,
-        0.488_603 * x,
-        1.092_548 * x * y,
-        1.092_548 * y * z,
-        0.315_392 * (3.0 * z * z - 1.0),
-        1.092_548 * x * z,
-        0.546_274 * (x * x - y * y),
+        SH_Y00,
+        SH_Y1 * y,
+        SH_Y1 * z,
+        SH_Y1 * x,
+        SH_Y2 * x * y,
+        SH_Y2 * y * z,
+        SH_Y20 * (3.0 * z * z - 1.0),
+        SH_Y2 * x * z,
+        SH_Y22 * (x * x - y * y),
     ]
 }
 

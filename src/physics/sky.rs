@@ -23,7 +23,8 @@
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::physics::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::gpu::interface::{TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::physics::cie_tables::CIE1931_XYZ;
 use crate::physics::optics::SUN_SOLID_ANGLE;
 
 /// The turbidities the model accepts (Preetham et al.'s fitted range).

@@ -8,16 +8,13 @@
 
 use glam::DVec3;
 
-use crate::physics::cie_tables::{CIE1931_XYZ, TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
+use crate::gpu::interface::{TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS, XYZ_TO_LINEAR_SRGB};
+use crate::physics::cie_tables::CIE1931_XYZ;
 use crate::physics::illuminant::Illuminant;
 
 /// The visible range the renderer integrates over, nm (model.md §5.2).
 pub const VISIBLE_MIN_NM: f64 = TABLE_LAMBDA_MIN_NM;
 pub const VISIBLE_MAX_NM: f64 = TABLE_LAMBDA_MAX_NM;
-
-/// XYZ → linear sRGB (D65), rows of the matrix of IEC 61966-2-1 derived from the primaries and the white point.
-pub const XYZ_TO_LINEAR_SRGB: [[f64; 3]; 3] =
-    [[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560], [0.0556434, -0.2040259, 1.0572252]];
 
 /// (x̄, ȳ, z̄, S/100) at `lambda_nm` under `illuminant`, linearly interpolated in the 1 nm tables; zero outside
 /// 380–780 nm. S is the illuminant averaged over the `step_nm` the wavelengths are sampled at (its 1 nm rows

@@ -7,15 +7,16 @@
 //! sun moves). Its texels (cd/m²) are shown in the frame's units, the sun's radiance, as the pigment's sky light is.
 
 use ash::vk;
-use bytemuck::{Pod, Zeroable};
+use bytemuck::Zeroable;
 use glam::Vec3;
 
 use crate::error::Result;
+use crate::gpu::interface::BackgroundUniforms;
 use crate::gpu::interface::{BINDING_ENVIRONMENT, BINDING_FRAME, SPEC_DISPLAY_OUTPUT};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
-    ImageDesc, ImageState, Pipeline, Sampler, SpecConstants,
+    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Pipeline, Sampler, SpecConstants,
 };
 use crate::light::environment::EnvironmentMap;
 use crate::scene::Environment;
@@ -24,21 +25,6 @@ use crate::scene::Environment;
 pub const SKY_WIDTH: u32 = 512;
 /// The pass's name (labels).
 pub const NAME: &str = "environment";
-
-/// The background pass's uniforms (std140): build.rs generates their GLSL block (`background`) from this struct.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct BackgroundUniforms {
-    /// Clip space → world (the camera's view-projection inverted).
-    pub inverse_view_proj: [[f32; 4]; 4],
-    /// The camera's position (world), 0.
-    pub camera: [f32; 4],
-    /// The factor from the map's texels to the frame's units, the map's turn about +y (radians), 0, 0.
-    pub view: [f32; 4],
-    /// 2^EV of a display-encoded target's exposure, 0, 0, 0.
-    pub display: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<BackgroundUniforms>() == 112);
 
 /// Which map is on the GPU: a file's (by its address in memory: the scene's map is shared, never changed) or the
 /// sky's for one sun.
@@ -123,19 +109,13 @@ impl BackgroundPass {
         samples: vk::SampleCountFlags,
         under: bool,
     ) -> Result<Self> {
-        let stages = vk::ShaderStageFlags::FRAGMENT;
-        let bindings = [
-            Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
-            Binding { binding: BINDING_ENVIRONMENT, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
-        ];
         let pipeline = Guard::new(
             ctx,
             ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: NAME,
-                vertex: shaders::BACKGROUND_VERT,
-                fragment: Some(shaders::BACKGROUND_FRAG),
+                vertex: &shaders::BACKGROUND_VERT,
+                fragment: Some(&shaders::BACKGROUND_FRAG),
                 specialization: SpecConstants::default().u32(SPEC_DISPLAY_OUTPUT, u32::from(display_output)),
-                bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: 0,
                 vertex_attributes: &[],

@@ -13,8 +13,8 @@ use crate::gpu::interface::{
 };
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard,
-    Image, ImageDesc, ImageState, MemoryState, Pipeline, Sampler, SpecConstants,
+    Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
+    ImageDesc, ImageState, MemoryState, Pipeline, Sampler, SpecConstants,
 };
 use crate::io::progress::Progress;
 use crate::material::Material;
@@ -27,25 +27,8 @@ use crate::render::{begin_rendering, end_rendering, OffscreenTarget, TargetView,
 /// report progress.
 const MAP_BAND_ROWS: u32 = 32;
 
-/// The descriptor bindings every diffraction shader declares (glsl/include/params.glsl).
-pub(crate) fn patch_bindings(stages: vk::ShaderStageFlags) -> [Binding; 3] {
-    [
-        Binding { binding: BINDING_PARAMS, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
-        Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages },
-        Binding { binding: BINDING_SPECTRUM, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-    ]
-}
 /// The baked table's texel format: filtered linearly in every Vulkan driver diffract targets (checked).
 pub const TABLE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-
-/// The fetch counters' binding for a fragment shader.
-pub(crate) fn count_binding() -> Binding {
-    Binding {
-        binding: BINDING_FETCH_COUNTS,
-        kind: vk::DescriptorType::STORAGE_BUFFER,
-        stages: vk::ShaderStageFlags::FRAGMENT,
-    }
-}
 
 /// A material's GPU resources, uploaded once.
 pub(crate) struct PatchResources {
@@ -186,7 +169,7 @@ impl PatchResources {
     }
 
     /// Writes the uniforms (the light direction of a map, say); no submitted work may be reading them.
-    pub fn update(&mut self, params: &crate::material::DiffractionParams) -> Result<()> {
+    pub fn update(&mut self, params: &crate::gpu::interface::DiffractionParams) -> Result<()> {
         self.params.write(bytemuck::bytes_of(params))
     }
 
@@ -242,7 +225,7 @@ impl MapImage {
 }
 
 /// The material's uniforms with the light direction `light` (unit, patch frame).
-pub(crate) fn light_params(material: &Material, light: DVec3) -> crate::material::DiffractionParams {
+pub(crate) fn light_params(material: &Material, light: DVec3) -> crate::gpu::interface::DiffractionParams {
     let mut params = material.params;
     params.light = [light.x as f32, light.y as f32, light.z as f32, 0.0];
     params
@@ -283,22 +266,18 @@ impl MapPass {
         count_stride: Option<u32>,
         footprint: bool,
     ) -> Result<Self> {
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let mut bindings = patch_bindings(stages).to_vec();
         let baked = material.table.is_some();
         let mut specialization = material.spec_constants(display_output).u32(SPEC_FOOTPRINT, u32::from(footprint));
-        let mut fragment = if baked { shaders::MAP_BAKED_FRAG } else { shaders::MAP_FRAG };
+        let mut fragment = if baked { &shaders::MAP_BAKED_FRAG } else { &shaders::MAP_FRAG };
         if let Some(stride) = count_stride {
-            bindings.push(count_binding());
             specialization = counting_constants(ctx, material, specialization, stride);
-            fragment = if baked { shaders::MAP_BAKED_COUNT_FRAG } else { shaders::MAP_COUNT_FRAG };
+            fragment = if baked { &shaders::MAP_BAKED_COUNT_FRAG } else { &shaders::MAP_COUNT_FRAG };
         }
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
-            vertex: shaders::FULLSCREEN_VERT,
+            vertex: &shaders::FULLSCREEN_VERT,
             fragment: Some(fragment),
             specialization,
-            bindings: &bindings,
             push_constant_size: std::mem::size_of::<MapPush>() as u32,
             vertex_stride: 0,
             vertex_attributes: &[],
@@ -408,18 +387,14 @@ impl MapCompute {
 
     /// `footprint`: a baked material averages over each pixel's footprint instead of reading its point value.
     pub fn new(ctx: &Context, material: &Material, footprint: bool) -> Result<Self> {
-        let stages = vk::ShaderStageFlags::COMPUTE;
-        let mut bindings = patch_bindings(stages).to_vec();
-        bindings.push(Binding { binding: BINDING_MAP_IMAGE, kind: vk::DescriptorType::STORAGE_IMAGE, stages });
         let baked = material.table.is_some();
         let group = map_workgroup(ctx);
         let specialization =
             material.spec_constants(false).u32(SPEC_FOOTPRINT, u32::from(footprint)).u32(SPEC_MAP_LOCAL_SIZE, group);
         let pipeline = ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: Self::NAME,
-            shader: if baked { shaders::MAP_BAKED_COMP } else { shaders::MAP_COMP },
+            shader: if baked { &shaders::MAP_BAKED_COMP } else { &shaders::MAP_COMP },
             specialization,
-            bindings: &bindings,
             push_constant_size: std::mem::size_of::<MapPush>() as u32,
         })?;
         Ok(Self { pipeline, group })
@@ -632,22 +607,12 @@ pub fn evaluate_brdf(ctx: &Context, material: &Material, queries: &[Query]) -> R
         ctx.create_buffer_init(vk::BufferUsageFlags::STORAGE_BUFFER, bytemuck::cast_slice(&gpu), "brdf queries");
     let input = Guard::new(ctx, input?);
     let output = Guard::new(ctx, ctx.create_buffer(BufferDesc::readback(8 * queries.len() as u64), "brdf results")?);
-    let stages = vk::ShaderStageFlags::COMPUTE;
-    let bindings = patch_bindings(stages);
-    let all = [
-        bindings[0],
-        bindings[1],
-        bindings[2],
-        Binding { binding: BINDING_QUERIES, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-        Binding { binding: BINDING_RESULTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages },
-    ];
     let pipeline = Guard::new(
         ctx,
         ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: "brdf evaluation",
-            shader: shaders::BRDF_EVAL_COMP,
+            shader: &shaders::BRDF_EVAL_COMP,
             specialization: material.spec_constants(false),
-            bindings: &all,
             push_constant_size: std::mem::size_of::<EvalPush>() as u32,
         })?,
     );

@@ -9,11 +9,11 @@ use crate::gpu::interface::{
     SPEC_MAP_LOCAL_SIZE,
 };
 use crate::gpu::shaders;
-use crate::gpu::vk::{Binding, ComputePipelineDesc, Context, DescriptorWrite, Guard, ImageState};
+use crate::gpu::vk::{ComputePipelineDesc, Context, DescriptorWrite, Guard, ImageState};
 use crate::io::progress::Progress;
 use crate::light::sampling::{env_gain, floor_samples, EnvLight, TableProposal};
 use crate::material::Material;
-use crate::render::diffraction::{map_target, map_workgroup, patch_bindings, MapImage, PatchResources};
+use crate::render::diffraction::{map_target, map_workgroup, MapImage, PatchResources};
 
 /// Rows per submission: at most this many pixels × samples per dispatch (no driver watchdog, progress on long
 /// maps).
@@ -61,20 +61,13 @@ pub fn render_env_map(ctx: &Context, spec: &EnvMapSpec<'_>) -> Result<MapImage> 
     let table_sampling = buffer(bytemuck::cast_slice(&proposal.distribution.gpu_words()), "baked table's CDF")?;
     let env_sampling = buffer(bytemuck::cast_slice(&spec.env.distribution.gpu_words()), "environment's CDF")?;
     let env_radiance = buffer(bytemuck::cast_slice(&spec.env.radiance), "environment's radiance")?;
-    let stages = vk::ShaderStageFlags::COMPUTE;
-    let mut bindings = patch_bindings(stages).to_vec();
-    bindings.push(Binding { binding: BINDING_MAP_IMAGE, kind: vk::DescriptorType::STORAGE_IMAGE, stages });
-    for binding in [BINDING_TABLE_SAMPLING, BINDING_ENV_SAMPLING, BINDING_ENV_RADIANCE] {
-        bindings.push(Binding { binding, kind: vk::DescriptorType::STORAGE_BUFFER, stages });
-    }
     let group = map_workgroup(ctx);
     let pipeline = Guard::new(
         ctx,
         ctx.create_compute_pipeline(&ComputePipelineDesc {
             name: "brdf map under an environment",
-            shader: shaders::MAP_ENV_COMP,
+            shader: &shaders::MAP_ENV_COMP,
             specialization: material.spec_constants(false).u32(SPEC_MAP_LOCAL_SIZE, group),
-            bindings: &bindings,
             push_constant_size: std::mem::size_of::<EnvMapPush>() as u32,
         })?,
     );

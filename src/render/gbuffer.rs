@@ -7,19 +7,20 @@ use ash::vk;
 use glam::{DVec3, Vec3};
 
 use crate::error::Result;
+use crate::gpu::interface::SurfaceUniforms;
+use crate::gpu::interface::Vertex;
 use crate::gpu::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
 use crate::gpu::shaders;
+use crate::gpu::shaders::VERTEX_ATTRIBUTES;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline,
-    SpecConstants,
+    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
 };
 use crate::material::Reach;
 use crate::physics::baked::Domain;
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
-use crate::render::surface::{ObjectView, SurfaceMaterial, SurfaceUniforms, VERTEX_ATTRIBUTES};
+use crate::render::surface::{ObjectView, SurfaceMaterial};
 use crate::render::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
 use crate::scene::camera::Camera;
-use crate::scene::mesh::Vertex;
 use crate::scene::Scene;
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
@@ -178,20 +179,12 @@ impl GBuffer {
             written?;
         }
         shadow.update(frame, &all)?;
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let [shadow_compare, shadow_depths] = ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT);
-        let bindings = [
-            Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages },
-            shadow_compare,
-            shadow_depths,
-        ];
         for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
-                vertex: shaders::SURFACE_VERT,
-                fragment: Some(shaders::GBUFFER_FRAG),
+                vertex: &shaders::SURFACE_VERT,
+                fragment: Some(&shaders::GBUFFER_FRAG),
                 specialization: SpecConstants::default().u32(SPEC_GBUFFER_PART, part),
-                bindings: &bindings,
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &VERTEX_ATTRIBUTES,

@@ -3,38 +3,23 @@
 //! frames and pigment at a glance).
 
 use ash::vk;
-use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::error::Result;
+use crate::gpu::interface::FrameUniforms;
+use crate::gpu::interface::Vertex;
 use crate::gpu::interface::BINDING_FRAME;
 use crate::gpu::shaders;
+use crate::gpu::shaders::VERTEX_ATTRIBUTES;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
+    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
     SpecConstants,
 };
-use crate::render::surface::VERTEX_ATTRIBUTES;
 use crate::render::{
     begin_rendering, end_rendering, Frame, MeshBuffers, OffscreenTarget, Pixels, TargetView, COLOR_FORMAT, DEPTH_FORMAT,
 };
 use crate::scene::camera::Camera;
-use crate::scene::mesh::{Mesh, Vertex};
-
-/// The preview pass's per-frame uniforms (std140): build.rs generates their GLSL block (`frame`, included by
-/// `glsl/include/preview_frame.glsl`) from this struct.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct FrameUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub model: [[f32; 4]; 4],
-    /// World space, w unused.
-    pub camera_pos: [f32; 4],
-    /// World space, unit, towards the light.
-    pub light_dir: [f32; 4],
-    /// Linear RGB.
-    pub base_color: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 176);
+use crate::scene::mesh::Mesh;
 
 /// What the preview draws.
 #[derive(Clone, Debug)]
@@ -81,11 +66,6 @@ impl PreviewPass {
 
     /// The pass for targets of `samples` per pixel.
     pub fn new(ctx: &Context, mesh: &Mesh, samples: vk::SampleCountFlags) -> Result<Self> {
-        let bindings = [Binding {
-            binding: BINDING_FRAME,
-            kind: vk::DescriptorType::UNIFORM_BUFFER,
-            stages: vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-        }];
         let mesh = Guard::new(ctx, MeshBuffers::new(ctx, mesh, Self::NAME)?);
         let size = std::mem::size_of::<FrameUniforms>() as u64;
         let uniforms = Guard::new(
@@ -94,10 +74,9 @@ impl PreviewPass {
         );
         let pipeline = ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: Self::NAME,
-            vertex: shaders::PREVIEW_VERT,
-            fragment: Some(shaders::PREVIEW_FRAG),
+            vertex: &shaders::PREVIEW_VERT,
+            fragment: Some(&shaders::PREVIEW_FRAG),
             specialization: SpecConstants::default(),
-            bindings: &bindings,
             push_constant_size: 0,
             vertex_stride: std::mem::size_of::<Vertex>() as u32,
             vertex_attributes: &VERTEX_ATTRIBUTES,

@@ -18,14 +18,14 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 
 use crate::error::Result;
+use crate::gpu::interface::Vertex;
 use crate::gpu::interface::{BINDING_FRAME, BINDING_SHADOW, BINDING_SHADOW_DEPTH};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image,
-    ImageDesc, ImageState, Pipeline, Sampler,
+    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Pipeline, Sampler,
 };
 use crate::render::MeshBuffers;
-use crate::scene::mesh::Vertex;
 
 /// Texels along each edge of the shadow map (D32: 16 MiB).
 pub const SHADOW_SIZE: u32 = 2048;
@@ -198,29 +198,21 @@ struct Drawn {
 }
 
 impl ShadowMap {
-    /// The bindings the surface and G-buffer pipelines read it at: by comparison and as depths.
-    pub fn bindings(stages: vk::ShaderStageFlags) -> [Binding; 2] {
-        let kind = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
-        [Binding { binding: BINDING_SHADOW, kind, stages }, Binding { binding: BINDING_SHADOW_DEPTH, kind, stages }]
-    }
-
     /// A map for `objects` objects, `size` texels square (1 while there is no shadow to draw).
     pub fn new(ctx: &Context, objects: usize, size: u32) -> Result<Self> {
         let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(size, size), NAME)?);
         let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME, true)?);
         let depths = Guard::new(ctx, ctx.create_shadow_sampler(NAME, false)?);
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let pipeline = Guard::new(
             ctx,
             ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: NAME,
-                vertex: shaders::SURFACE_VERT,
+                vertex: &shaders::SURFACE_VERT,
                 fragment: None,
                 specialization: crate::gpu::vk::SpecConstants::default(),
-                bindings: &[Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages }],
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
-                vertex_attributes: &crate::render::surface::VERTEX_ATTRIBUTES,
+                vertex_attributes: &crate::gpu::shaders::VERTEX_ATTRIBUTES,
                 color_format: vk::Format::UNDEFINED,
                 depth: Some((crate::render::DEPTH_FORMAT, DepthTest::Write)),
                 cull_back_faces: false,
@@ -230,7 +222,7 @@ impl ShadowMap {
         );
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));
         for i in 0..objects {
-            let size = std::mem::size_of::<crate::render::surface::SurfaceUniforms>() as u64;
+            let size = std::mem::size_of::<crate::gpu::interface::SurfaceUniforms>() as u64;
             let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
             uniforms.push(ctx.create_buffer(desc, &format!("object {i} uniforms (shadow map)"))?);
         }
@@ -261,13 +253,13 @@ impl ShadowMap {
     pub fn update(
         &mut self,
         frame: Option<ShadowFrame>,
-        objects: &[crate::render::surface::SurfaceUniforms],
+        objects: &[crate::gpu::interface::SurfaceUniforms],
     ) -> Result<()> {
         self.frame = frame;
         self.models = objects.iter().map(|u| u.model).collect();
         if let Some(f) = frame {
             for (buffer, u) in self.uniforms.iter_mut().zip(objects) {
-                let u = crate::render::surface::SurfaceUniforms { view_proj: f.view_proj.to_cols_array_2d(), ..*u };
+                let u = crate::gpu::interface::SurfaceUniforms { view_proj: f.view_proj.to_cols_array_2d(), ..*u };
                 buffer.write(bytemuck::bytes_of(&u))?;
             }
         }

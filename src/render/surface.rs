@@ -8,26 +8,26 @@
 //! shapes) the pre-pass is left out: the shading pass tests LESS and writes depth, and the hidden fragments fail
 //! that test before they are shaded (on lavapipe the default snake's frame costs ~10 % less at one sample).
 
-use std::mem::offset_of;
-
 use ash::vk;
-use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::error::Result;
+use crate::gpu::interface::SurfaceUniforms;
+use crate::gpu::interface::Vertex;
 use crate::gpu::interface::{
     VisibilityPush, BINDING_FETCH_COUNTS, BINDING_FRAME, BINDING_MESH_INDICES, BINDING_VERTEX_OUTPUTS,
     BINDING_VISIBILITY_EDGES, BINDING_VISIBILITY_IDS, BINDING_VISIBILITY_TARGET, SKY_DIFFRACTION_NONE,
     SKY_DIFFRACTION_VERTEX, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
 use crate::gpu::shaders;
+use crate::gpu::shaders::VERTEX_ATTRIBUTES;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc,
-    Guard, Image, ImageState, Laps, MemoryState, Pipeline, Sampler, Statistics, VertexAttribute,
+    Blend, Buffer, BufferDesc, ComputePipelineDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard,
+    Image, ImageState, Laps, MemoryState, Pipeline, Sampler, Shader, Statistics,
 };
 use crate::material::Material;
 use crate::render::background::BackgroundPass;
-use crate::render::diffraction::{counting_constants, patch_bindings, PatchResources};
+use crate::render::diffraction::{counting_constants, PatchResources};
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
 use crate::render::visibility;
 use crate::render::visibility::{ShadingPath, VisibilityState, VERTEX_STORAGE_WRITE};
@@ -36,7 +36,7 @@ use crate::render::{
     DEPTH_FORMAT, LINEAR_FORMAT,
 };
 use crate::scene::camera::Camera;
-use crate::scene::mesh::{Mesh, Vertex};
+use crate::scene::mesh::Mesh;
 
 /// What a frame's recording is measured with (all off by default).
 #[derive(Clone, Copy, Default)]
@@ -48,41 +48,6 @@ pub struct Instruments<'a> {
     /// Where each pass's end is timed.
     pub laps: Laps<'a>,
 }
-
-/// The surface pass's per-object uniforms (std140): build.rs generates their GLSL block (`frame`, included by
-/// `glsl/include/surface_frame.glsl`) from this struct.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct SurfaceUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub model: [[f32; 4]; 4],
-    /// Inverse transpose of the model matrix's linear part (in a mat4 for std140).
-    pub normal_matrix: [[f32; 4]; 4],
-    /// World space.
-    pub camera_pos: [f32; 4],
-    /// World space, unit, towards the light.
-    pub light_dir: [f32; 4],
-    /// cos and sin of the patch's rotation about the normal, the material's index (the G-buffer writes it), and
-    /// 1 for a matte material (pigment only: no grating, no skin over it), else 0.
-    pub orientation: [f32; 4],
-    /// Linear RGB albedo of the pigment under the grating, and the ambient (sky) radiance.
-    pub pigment: [f32; 4],
-    /// The environment's irradiance over π, nine SH coefficients (RGB; `physics::sh`), in units of the sun's
-    /// radiance: zero where the scene has no environment.
-    pub sky_sh: [[f32; 4]; 9],
-    /// World → the sun's shadow map's clip space (`render::shadow::ShadowFrame`).
-    pub shadow_view_proj: [[f32; 4]; 4],
-    /// 1 where the map is drawn (0: every surface lit), the lookup's normal offset (world units), one texel in
-    /// texture coordinates, 0.
-    pub shadow: [f32; 4],
-    /// The penumbra's scales: one texel in world units, the map's depth range in world units (far − near), the
-    /// tangent of the sun's angular radius, 0.
-    pub shadow_penumbra: [f32; 4],
-    /// The environment's radiance to l = 2 as a quadratic form of the world direction (`env_prefilter::Quadratic`:
-    /// c₀, c, Q), in units of the sun's radiance; `sky_quadratic[0].w` 1 where the material diffracts it.
-    pub sky_quadratic: [[f32; 4]; 10],
-}
-const _: () = assert!(std::mem::size_of::<SurfaceUniforms>() == 656);
 
 /// What every object of a frame shares: the camera (and the target's aspect), the light, the sky.
 #[derive(Clone, Copy, Debug)]
@@ -147,21 +112,6 @@ pub fn orientation(degrees: f32) -> [f32; 2] {
     [cos, sin]
 }
 
-/// The attributes of [`Vertex`] the vertex shaders read: position, normal, tangent and pigment tint. The UVs stay
-/// on the CPU (they orient the tangents when a mesh is loaded); an attribute the shader does not read would be
-/// stripped by the SPIR-V optimiser of release builds, and the validation layer then reports it as not consumed.
-/// The offsets follow [`Vertex`]'s fields (`offset_of!`), so reordering them needs no edit here.
-pub const VERTEX_ATTRIBUTES: [VertexAttribute; 4] = [
-    VertexAttribute { location: 0, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, position) as u32 },
-    VertexAttribute { location: 1, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, normal) as u32 },
-    VertexAttribute {
-        location: 2,
-        format: vk::Format::R32G32B32A32_SFLOAT,
-        offset: offset_of!(Vertex, tangent) as u32,
-    },
-    VertexAttribute { location: 3, format: vk::Format::R32G32B32_SFLOAT, offset: offset_of!(Vertex, pigment) as u32 },
-];
-
 /// What the renderer draws: a material (prepared patch) and how it lies on its objects (its orientation on the
 /// surface, the pigment under it, whether it is matte: then its diffraction is not drawn).
 pub struct MaterialInput<'a> {
@@ -175,14 +125,14 @@ struct MaterialGpu {
     pipelines: [Option<Pipeline>; 2],
     /// What those pipelines are built from: the vertex and fragment shaders and the specialization constants
     /// (all but `SPEC_SHADOWS`).
-    recipe: (&'static [u8], &'static [u8], crate::gpu::vk::SpecConstants),
+    recipe: (&'static Shader, &'static Shader, crate::gpu::vk::SpecConstants),
     /// The visibility buffer's pipelines, as `pipelines` (built where the renderer takes that path), and their
     /// shaders: the raster pass's vertex shader, the shading pass's fragment shaders (one sample, several) and
     /// the edge pass's compute shader.
     visibility_pipelines: [Option<VisibilityPipelines>; 2],
-    visibility_recipe: (&'static [u8], [&'static [u8]; 2], &'static [u8]),
+    visibility_recipe: (&'static Shader, [&'static Shader; 2], &'static Shader),
     patch: PatchResources,
-    params: crate::material::DiffractionParams,
+    params: crate::gpu::interface::DiffractionParams,
     surface: SurfaceMaterial,
 }
 
@@ -285,8 +235,7 @@ pub struct SceneRenderer {
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
-    /// The shading pipelines' bindings and face culling.
-    bindings: Vec<Binding>,
+    /// The shading pipelines' face culling.
     cull_back_faces: bool,
     /// Whether the current view casts shadows (which of each material's pipelines draws).
     shadows: bool,
@@ -335,7 +284,6 @@ impl SceneRenderer {
             display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
             counting: false,
             samples,
-            bindings: Vec::new(),
             cull_back_faces: false,
             shadows: false,
             visibility: None,
@@ -353,18 +301,15 @@ impl SceneRenderer {
         color_format: vk::Format,
         variant: SurfaceVariant,
     ) -> Result<()> {
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         let cull_back_faces = crate::render::culls_back_faces(objects.iter().map(|(mesh, _)| *mesh));
-        let frame_binding = Binding { binding: BINDING_FRAME, kind: vk::DescriptorType::UNIFORM_BUFFER, stages };
         let front_first = objects.iter().all(|(mesh, _)| mesh.front_first);
         self.depth = (!front_first)
             .then(|| {
                 ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                     name: pass::DEPTH,
-                    vertex: shaders::SURFACE_VERT,
+                    vertex: &shaders::SURFACE_VERT,
                     fragment: None,
                     specialization: crate::gpu::vk::SpecConstants::default(),
-                    bindings: &[frame_binding],
                     push_constant_size: 0,
                     vertex_stride: std::mem::size_of::<Vertex>() as u32,
                     vertex_attributes: &VERTEX_ATTRIBUTES,
@@ -376,25 +321,9 @@ impl SceneRenderer {
                 })
             })
             .transpose()?;
-        let [p, t, s] = patch_bindings(stages);
-        let moments = Binding {
-            binding: crate::gpu::interface::BINDING_MOMENTS,
-            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            stages,
-        };
-        let env_light = Binding {
-            binding: crate::gpu::interface::BINDING_ENV_LIGHT,
-            kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            stages: vk::ShaderStageFlags::FRAGMENT,
-        };
         self.lighting = Some(EnvLighting::new(ctx)?);
-        let mut bindings = vec![frame_binding, p, t, s, moments, env_light];
-        bindings.extend(ShadowMap::bindings(vk::ShaderStageFlags::FRAGMENT));
         self.shadow = Some(ShadowMap::new(ctx, objects.len(), 1)?);
         self.counting = matches!(variant, SurfaceVariant::CountFetches { .. });
-        if self.counting {
-            bindings.push(crate::render::diffraction::count_binding());
-        }
         for input in materials {
             let patch = Guard::new(ctx, PatchResources::new(ctx, input.material)?);
             let baked = input.material.table.is_some();
@@ -404,27 +333,28 @@ impl SceneRenderer {
             };
             let (fragment, specialization) = match variant {
                 SurfaceVariant::Shade { display_output } => (
-                    if baked { shaders::SURFACE_BAKED_FRAG } else { shaders::SURFACE_FRAG },
+                    if baked { &shaders::SURFACE_BAKED_FRAG } else { &shaders::SURFACE_FRAG },
                     input.material.spec_constants(display_output),
                 ),
                 SurfaceVariant::CountFetches { stride } => (
-                    if baked { shaders::SURFACE_BAKED_COUNT_FRAG } else { shaders::SURFACE_COUNT_FRAG },
+                    if baked { &shaders::SURFACE_BAKED_COUNT_FRAG } else { &shaders::SURFACE_COUNT_FRAG },
                     counting_constants(ctx, input.material, input.material.spec_constants(false), stride),
                 ),
             };
             let specialization = specialization.u32(SPEC_SKY_DIFFRACTION, sky);
-            let vertex = if sky == SKY_DIFFRACTION_VERTEX { shaders::SURFACE_SKY_VERT } else { shaders::SURFACE_VERT };
+            let vertex =
+                if sky == SKY_DIFFRACTION_VERTEX { &shaders::SURFACE_SKY_VERT } else { &shaders::SURFACE_VERT };
             let visibility_vertex = if sky == SKY_DIFFRACTION_VERTEX {
-                shaders::SURFACE_SKY_VISIBILITY_VERT
+                &shaders::SURFACE_SKY_VISIBILITY_VERT
             } else {
-                shaders::SURFACE_VISIBILITY_VERT
+                &shaders::SURFACE_VISIBILITY_VERT
             };
             // The shading pass's fragment shader for frames of one sample per pixel and of several.
             let resolve = match baked {
-                true => [shaders::SURFACE_RESOLVE_BAKED_ONE_FRAG, shaders::SURFACE_RESOLVE_BAKED_FRAG],
-                false => [shaders::SURFACE_RESOLVE_ONE_FRAG, shaders::SURFACE_RESOLVE_FRAG],
+                true => [&shaders::SURFACE_RESOLVE_BAKED_ONE_FRAG, &shaders::SURFACE_RESOLVE_BAKED_FRAG],
+                false => [&shaders::SURFACE_RESOLVE_ONE_FRAG, &shaders::SURFACE_RESOLVE_FRAG],
             };
-            let edges = if baked { shaders::SURFACE_EDGES_BAKED_COMP } else { shaders::SURFACE_EDGES_COMP };
+            let edges = if baked { &shaders::SURFACE_EDGES_BAKED_COMP } else { &shaders::SURFACE_EDGES_COMP };
             self.materials.push(MaterialGpu {
                 pipelines: [None, None],
                 recipe: (vertex, fragment, specialization),
@@ -435,7 +365,6 @@ impl SceneRenderer {
                 surface: input.surface,
             });
         }
-        self.bindings = bindings;
         self.cull_back_faces = cull_back_faces;
         for (i, &(mesh, material)) in objects.iter().enumerate() {
             if material >= self.materials.len() {
@@ -568,13 +497,12 @@ impl SceneRenderer {
             if slot.is_some() {
                 continue;
             }
-            let (vertex, fragment, specialization) = &m.recipe;
+            let (vertex, fragment, specialization) = m.recipe.clone();
             *slot = Some(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: Self::NAME,
                 vertex,
                 fragment: Some(fragment),
-                specialization: specialization.clone().u32(SPEC_SHADOWS, u32::from(shadows)),
-                bindings: &self.bindings,
+                specialization: specialization.u32(SPEC_SHADOWS, u32::from(shadows)),
                 push_constant_size: 0,
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &VERTEX_ATTRIBUTES,
@@ -591,36 +519,7 @@ impl SceneRenderer {
     /// Builds each material's visibility-buffer pipelines for the current view's shadows where it has none yet.
     fn build_visibility_pipelines(&mut self, ctx: &Context) -> Result<()> {
         let shadows = self.shadows;
-        let outputs =
-            |stages| Binding { binding: BINDING_VERTEX_OUTPUTS, kind: vk::DescriptorType::STORAGE_BUFFER, stages };
-        let fragment = vk::ShaderStageFlags::FRAGMENT;
-        let mut raster_bindings = self.bindings.clone();
-        raster_bindings.push(outputs(vk::ShaderStageFlags::VERTEX));
-        let mut shade_bindings = self.bindings.clone();
-        shade_bindings.extend([
-            Binding {
-                binding: BINDING_VISIBILITY_IDS,
-                kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                stages: fragment,
-            },
-            outputs(fragment),
-            Binding { binding: BINDING_MESH_INDICES, kind: vk::DescriptorType::STORAGE_BUFFER, stages: fragment },
-        ]);
         let multisampled = self.samples != vk::SampleCountFlags::TYPE_1;
-        let edge_list =
-            |stages| Binding { binding: BINDING_VISIBILITY_EDGES, kind: vk::DescriptorType::STORAGE_BUFFER, stages };
-        if multisampled {
-            shade_bindings.push(edge_list(fragment));
-        }
-        // The edge pass reads what the shading pass reads, and adds to the frame's colour.
-        let compute = vk::ShaderStageFlags::COMPUTE;
-        let mut edge_bindings: Vec<Binding> =
-            shade_bindings.iter().map(|b| Binding { stages: compute, ..*b }).collect();
-        edge_bindings.push(Binding {
-            binding: BINDING_VISIBILITY_TARGET,
-            kind: vk::DescriptorType::STORAGE_IMAGE,
-            stages: compute,
-        });
         let push_constant_size = std::mem::size_of::<VisibilityPush>() as u32;
         for m in &mut self.materials {
             let slot = &mut m.visibility_pipelines[usize::from(shadows)];
@@ -635,9 +534,8 @@ impl SceneRenderer {
                 ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                     name: crate::render::pass::VISIBILITY,
                     vertex,
-                    fragment: Some(shaders::VISIBILITY_FRAG),
+                    fragment: Some(&shaders::VISIBILITY_FRAG),
                     specialization: specialization.clone(),
-                    bindings: &raster_bindings,
                     push_constant_size,
                     vertex_stride: std::mem::size_of::<Vertex>() as u32,
                     vertex_attributes: &VERTEX_ATTRIBUTES,
@@ -653,10 +551,9 @@ impl SceneRenderer {
                 ctx,
                 ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                     name: Self::NAME,
-                    vertex: shaders::BACKGROUND_VERT,
+                    vertex: &shaders::BACKGROUND_VERT,
                     fragment: Some(fragment),
                     specialization: specialization.clone(),
-                    bindings: &shade_bindings,
                     push_constant_size,
                     vertex_stride: 0,
                     vertex_attributes: &[],
@@ -673,7 +570,6 @@ impl SceneRenderer {
                         name: crate::render::pass::EDGES,
                         shader: edges,
                         specialization,
-                        bindings: &edge_bindings,
                         push_constant_size,
                     })
                 })

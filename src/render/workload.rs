@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 use crate::gpu::interface::{BINDING_TABLE, SPEC_PROBE_LAYERS, SPEC_PROBE_TAPS};
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Binding, Blend, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image,
-    ImageDesc, ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
+    Blend, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image, ImageDesc,
+    ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
 };
 use crate::render::diffraction::{map_target, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
 use crate::render::surface::{FrameTarget, Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
@@ -216,18 +216,15 @@ pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> 
         .collect();
     ctx.upload_image(&texture, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;
     let sampler = Guard::new(ctx, ctx.create_sampler("fetch probe (nearest)")?);
-    let stages = vk::ShaderStageFlags::FRAGMENT;
-    let bindings = [Binding { binding: BINDING_TABLE, kind: vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages }];
     let pipeline = Guard::new(
         ctx,
         ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
             name: PROBE_NAME,
-            vertex: shaders::FULLSCREEN_VERT,
-            fragment: Some(shaders::FETCH_PROBE_FRAG),
+            vertex: &shaders::FULLSCREEN_VERT,
+            fragment: Some(&shaders::FETCH_PROBE_FRAG),
             specialization: crate::gpu::vk::SpecConstants::default()
                 .u32(SPEC_PROBE_LAYERS, PROBE_LAYERS)
                 .i32(SPEC_PROBE_TAPS, PROBE_TAPS as i32),
-            bindings: &bindings,
             push_constant_size: 0,
             vertex_stride: 0,
             vertex_attributes: &[],

@@ -39,9 +39,10 @@ pub(crate) use guard::{Destroy, Guard};
 pub(crate) use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
 pub(crate) use pipeline::{
-    Binding, Blend, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    Blend, ComputePipelineDesc, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
     VertexAttribute,
 };
+pub use pipeline::{Shader, ShaderBinding};
 pub use query::{FrameTimes, PassProfile, ScopeTiming};
 pub(crate) use query::{Laps, Statistics, TimestampRing};
 

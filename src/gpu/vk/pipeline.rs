@@ -10,12 +10,21 @@ use crate::gpu::vk::{Buffer, Context, Guard, Image, Sampler};
 
 const ENTRY: &CStr = c"main";
 
-/// One binding of descriptor set 0.
-#[derive(Clone, Copy, Debug)]
-pub struct Binding {
+/// A compiled shader: its SPIR-V and the descriptor bindings (set 0) it declares, both from build.rs
+/// (`gpu::shaders`).
+#[derive(Debug)]
+pub struct Shader {
+    /// `<name>.<stage>` of its source or variant (a debug label).
+    pub name: &'static str,
+    pub spirv: &'static [u8],
+    pub bindings: &'static [ShaderBinding],
+}
+
+/// One descriptor binding of set 0, as a shader's SPIR-V declares it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderBinding {
     pub binding: u32,
     pub kind: vk::DescriptorType,
-    pub stages: vk::ShaderStageFlags,
 }
 
 /// A descriptor pushed at record time.
@@ -26,6 +35,19 @@ pub enum DescriptorWrite<'a> {
     StorageImage(u32, &'a Image),
     /// A storage image known by its view only (a render target's, `render::TargetView::storage`).
     StorageView(u32, vk::ImageView),
+}
+
+impl DescriptorWrite<'_> {
+    /// The binding it writes.
+    pub fn binding(&self) -> u32 {
+        match *self {
+            DescriptorWrite::StorageBuffer(b, _)
+            | DescriptorWrite::UniformBuffer(b, _)
+            | DescriptorWrite::SampledImage(b, _, _)
+            | DescriptorWrite::StorageImage(b, _)
+            | DescriptorWrite::StorageView(b, _) => b,
+        }
+    }
 }
 
 /// Specialization-constant values (id → 4-byte value), shared by every stage of a pipeline.
@@ -98,13 +120,13 @@ pub enum Blend {
     Under,
 }
 
+/// A graphics pipeline; its descriptor set layout is its shaders' bindings (each with the stages that declare it).
 pub struct GraphicsPipelineDesc<'a> {
     pub name: &'a str,
-    pub vertex: &'a [u8],
+    pub vertex: &'a Shader,
     /// None: a depth-only pipeline (no fragment stage, colour writes masked).
-    pub fragment: Option<&'a [u8]>,
+    pub fragment: Option<&'a Shader>,
     pub specialization: SpecConstants,
-    pub bindings: &'a [Binding],
     pub push_constant_size: u32,
     /// Stride of the vertex buffer; 0 means no vertex input (a full-screen triangle).
     pub vertex_stride: u32,
@@ -119,11 +141,11 @@ pub struct GraphicsPipelineDesc<'a> {
     pub blend: Blend,
 }
 
+/// A compute pipeline; its descriptor set layout is its shader's bindings.
 pub struct ComputePipelineDesc<'a> {
     pub name: &'a str,
-    pub shader: &'a [u8],
+    pub shader: &'a Shader,
     pub specialization: SpecConstants,
-    pub bindings: &'a [Binding],
     pub push_constant_size: u32,
 }
 
@@ -133,6 +155,9 @@ pub struct Pipeline {
     pub set_layout: vk::DescriptorSetLayout,
     pub bind_point: vk::PipelineBindPoint,
     pub push_stages: vk::ShaderStageFlags,
+    /// The bindings of its set layout: [`Context::bind`] pushes only the writes to these (a binding an optimised
+    /// shader does not read is not in its layout).
+    pub bindings: Vec<u32>,
 }
 
 impl Pipeline {
@@ -151,6 +176,7 @@ struct Parts<'a> {
     layout: Guard<'a, vk::PipelineLayout>,
     set_layout: Guard<'a, vk::DescriptorSetLayout>,
     modules: Guard<'a, Vec<vk::ShaderModule>>,
+    bindings: Vec<u32>,
 }
 
 impl Context {
@@ -164,29 +190,39 @@ impl Context {
         Ok(module)
     }
 
-    /// The shader modules (`(SPIR-V, name)` in stage order) and the layouts of a pipeline.
+    /// The shader modules (each with its stage, in stage order) and the layouts of a pipeline: set 0 holds every
+    /// binding its shaders declare, visible to the stages that declare it.
     fn prepare(
         &self,
         name: &str,
-        shaders: &[(&[u8], String)],
-        bindings: &[Binding],
+        shaders: &[(&Shader, vk::ShaderStageFlags)],
         push_size: u32,
         stages: vk::ShaderStageFlags,
     ) -> Result<Parts<'_>> {
         let mut modules = Guard::new(self, Vec::with_capacity(shaders.len()));
-        for (spirv, module_name) in shaders {
-            modules.push(self.create_shader_module(spirv, module_name)?);
+        let mut raw_bindings: Vec<vk::DescriptorSetLayoutBinding<'_>> = Vec::new();
+        for &(shader, stage) in shaders {
+            modules.push(self.create_shader_module(shader.spirv, &format!("{name} ({})", shader.name))?);
+            for b in shader.bindings {
+                match raw_bindings.iter_mut().find(|r| r.binding == b.binding) {
+                    Some(r) if r.descriptor_type == b.kind => r.stage_flags |= stage,
+                    Some(r) => {
+                        return Err(Error::Invalid(format!(
+                            "pipeline {name}: binding {} is a {:?} in one stage and a {:?} in another",
+                            b.binding, r.descriptor_type, b.kind
+                        )))
+                    }
+                    None => raw_bindings.push(
+                        vk::DescriptorSetLayoutBinding::default()
+                            .binding(b.binding)
+                            .descriptor_type(b.kind)
+                            .descriptor_count(1)
+                            .stage_flags(stage),
+                    ),
+                }
+            }
         }
-        let raw_bindings: Vec<_> = bindings
-            .iter()
-            .map(|b| {
-                vk::DescriptorSetLayoutBinding::default()
-                    .binding(b.binding)
-                    .descriptor_type(b.kind)
-                    .descriptor_count(1)
-                    .stage_flags(b.stages)
-            })
-            .collect();
+        let bindings = raw_bindings.iter().map(|b| b.binding).collect();
         let set_info = vk::DescriptorSetLayoutCreateInfo::default()
             .flags(vk::DescriptorSetLayoutCreateFlags::PUSH_DESCRIPTOR_KHR)
             .bindings(&raw_bindings);
@@ -206,7 +242,7 @@ impl Context {
             unsafe { self.device().create_pipeline_layout(&layout_info, None) }.vk("vkCreatePipelineLayout")?;
         let layout = Guard::new(self, layout);
         self.set_name(*layout, name);
-        Ok(Parts { layout, set_layout, modules })
+        Ok(Parts { layout, set_layout, modules, bindings })
     }
 
     fn finish_pipeline(
@@ -221,14 +257,14 @@ impl Context {
         let raw = created.map_err(|(_, result)| Error::Vulkan { call: "vkCreate*Pipelines", result })?[0];
         self.set_name(raw, name);
         let (layout, set_layout) = (parts.layout.keep(), parts.set_layout.keep());
-        Ok(Pipeline { raw, layout, set_layout, bind_point, push_stages })
+        Ok(Pipeline { raw, layout, set_layout, bind_point, push_stages, bindings: parts.bindings })
     }
 
     pub fn create_graphics_pipeline(&self, desc: &GraphicsPipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let mut shaders = vec![(desc.vertex, format!("{} (vertex)", desc.name))];
-        shaders.extend(desc.fragment.map(|f| (f, format!("{} (fragment)", desc.name))));
-        let parts = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
+        let mut shaders = vec![(desc.vertex, vk::ShaderStageFlags::VERTEX)];
+        shaders.extend(desc.fragment.map(|f| (f, vk::ShaderStageFlags::FRAGMENT)));
+        let parts = self.prepare(desc.name, &shaders, desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let shader_stages: Vec<_> = [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT]
             .into_iter()
@@ -315,8 +351,7 @@ impl Context {
 
     pub fn create_compute_pipeline(&self, desc: &ComputePipelineDesc<'_>) -> Result<Pipeline> {
         let stages = vk::ShaderStageFlags::COMPUTE;
-        let shaders = [(desc.shader, desc.name.to_string())];
-        let parts = self.prepare(desc.name, &shaders, desc.bindings, desc.push_constant_size, stages)?;
+        let parts = self.prepare(desc.name, &[(desc.shader, stages)], desc.push_constant_size, stages)?;
         let spec = desc.specialization.info();
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(stages)
@@ -329,12 +364,14 @@ impl Context {
         self.finish_pipeline(desc.name, created, parts, vk::PipelineBindPoint::COMPUTE, stages)
     }
 
-    /// Binds `pipeline`, pushes its descriptors and its push constants.
+    /// Binds `pipeline`, pushes its descriptors (the writes to bindings its layout has) and its push constants.
     pub fn bind(&self, cmd: vk::CommandBuffer, pipeline: &Pipeline, writes: &[DescriptorWrite<'_>], push: &[u8]) {
         let device = self.device();
+        let writes: Vec<&DescriptorWrite<'_>> =
+            writes.iter().filter(|w| pipeline.bindings.contains(&w.binding())).collect();
         let mut buffer_infos = Vec::with_capacity(writes.len());
         let mut image_infos = Vec::with_capacity(writes.len());
-        for w in writes {
+        for w in &writes {
             match w {
                 DescriptorWrite::StorageBuffer(_, b) | DescriptorWrite::UniformBuffer(_, b) => {
                     buffer_infos.push([vk::DescriptorBufferInfo::default().buffer(b.raw).range(vk::WHOLE_SIZE)]);

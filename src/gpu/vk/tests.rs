@@ -8,8 +8,8 @@ use crate::gpu::interface::{
 };
 use crate::gpu::shaders;
 use crate::gpu::vk::{
-    Binding, BufferDesc, ComputePipelineDesc, Context, ContextDesc, DescriptorWrite, DeviceSelector, ImageDesc,
-    ImageState, MemoryState, SpecConstants,
+    BufferDesc, ComputePipelineDesc, Context, ContextDesc, DescriptorWrite, DeviceSelector, ImageDesc, ImageState,
+    MemoryState, SpecConstants,
 };
 
 /// Runs `f` on a fresh validated context on the test device and checks the teardown.
@@ -72,18 +72,11 @@ fn compute_pipeline_with_push_descriptors_and_specialization() {
                 "out",
             )
             .unwrap();
-        let storage = |binding| Binding {
-            binding,
-            kind: raw::DescriptorType::STORAGE_BUFFER,
-            stages: raw::ShaderStageFlags::COMPUTE,
-        };
-        let bindings = [storage(BINDING_SELFTEST_IN), storage(BINDING_SELFTEST_OUT)];
         let pipeline = ctx
             .create_compute_pipeline(&ComputePipelineDesc {
                 name: "selftest",
-                shader: shaders::SELFTEST_COMP,
+                shader: &shaders::SELFTEST_COMP,
                 specialization: SpecConstants::default().f32(SPEC_SELFTEST_SCALE, 3.0),
-                bindings: &bindings,
                 push_constant_size: std::mem::size_of::<SelftestPush>() as u32,
             })
             .unwrap();

@@ -10,22 +10,9 @@ pub mod obj;
 pub mod shapes;
 pub mod snake;
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-/// One vertex as the shaders read it (binding 0, interleaved).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
-pub struct Vertex {
-    pub position: [f32; 3],
-    pub normal: [f32; 3],
-    pub tangent: [f32; 4],
-    pub uv: [f32; 2],
-    /// The skin's pigment here relative to the material's (linear RGB factors; [`UNTINTED`]: the material's own).
-    /// The procedural snake paints its pattern with it; an OBJ may carry it as vertex colours.
-    pub pigment: [f32; 3],
-}
-const _: () = assert!(std::mem::size_of::<Vertex>() == 60);
+use crate::gpu::interface::Vertex;
 
 /// A vertex pigment that leaves the material's as it is.
 pub const UNTINTED: [f32; 3] = [1.0; 3];

@@ -5,7 +5,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::scene::mesh::{Mesh, Vertex};
+use crate::gpu::interface::Vertex;
+use crate::scene::mesh::Mesh;
 
 /// The most vertices a mesh may have (a guard against hostile files; a detailed snake scan has ~10⁵).
 pub const MAX_VERTICES: usize = 20_000_000;

@@ -6,7 +6,8 @@
 
 use glam::Vec3;
 
-use crate::scene::mesh::{grid_indices, Mesh, Vertex, UNTINTED};
+use crate::gpu::interface::Vertex;
+use crate::scene::mesh::{grid_indices, Mesh, UNTINTED};
 
 /// The shapes a scene can name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]

@@ -2,9 +2,10 @@
 
 use glam::Vec3;
 
+use crate::gpu::interface::Vertex;
 use crate::scene::mesh::snake::pattern::PatternField;
 use crate::scene::mesh::snake::{body_surface, SnakeSpec};
-use crate::scene::mesh::{Mesh, Vertex};
+use crate::scene::mesh::Mesh;
 
 /// Where the eyes sit: along the body (t) and their angle from the middle of the back, radians.
 const EYE_T: f32 = 0.972;

@@ -14,8 +14,9 @@ use glam::{Quat, Vec3};
 
 use self::eye::eye;
 use self::pattern::PatternField;
+use crate::gpu::interface::Vertex;
 use crate::scene::mesh::grid_indices;
-use crate::scene::mesh::{Mesh, Vertex, UNTINTED};
+use crate::scene::mesh::{Mesh, UNTINTED};
 
 /// The skin's colour pattern.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize)]
