@@ -5,7 +5,7 @@
 //! folder); `DIFFRACT_VALIDATION=1` turns the Khronos validation layer on.
 
 use diffract::display::AutoExposure;
-use diffract::gpu::vk::{Context, ContextDesc, DeviceSelector};
+use diffract::gpu::vk::{Context, ContextDesc, DeviceSelector, Owned};
 use diffract::material::SettingsPatch;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use diffract::render::SceneView;
@@ -25,11 +25,9 @@ fn main() -> diffract::Result<()> {
         }
     }
     let samples = ctx.sample_count(1, diffract::render::LINEAR_FORMAT)?;
-    let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
-    let frame = capture.render(&ctx, &SceneView::of(&scene));
-    // SAFETY: render waited for its frame.
-    unsafe { capture.destroy(&ctx) };
-    let frame = frame?;
+    // Owned: its GPU objects are freed when it goes, once the device is idle.
+    let mut capture = Owned::new(&ctx, SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?);
+    let frame = capture.render(&ctx, &SceneView::of(&scene))?;
     let linear = frame.linear().expect("scene frames are linear");
     // The scene's exposure, else one measured from the frame (its lit pixels' 99.5th percentile shown at 0.9).
     let exposure_ev = scene.render.exposure_ev.or_else(|| AutoExposure::of(linear).map(|a| a.ev)).unwrap_or(0.0);

@@ -152,7 +152,12 @@ pub fn main() -> ExitCode {
     // the next print into a panic.
     // SAFETY: restoring a signal's default disposition at start-up, before any other thread exists.
     unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
-    crate::io::output::install_interrupt_cleanup();
+    // Ctrl-C and SIGTERM: no temporary file left behind (a second handler, a test's, is theirs to keep).
+    let _ = ctrlc::set_handler(|| crate::io::output::remove_temporaries_and_exit());
+    // What the library logs is shown on stderr, one line each.
+    if log::set_logger(&STDERR_LOG).is_ok() {
+        log::set_max_level(log::LevelFilter::Info);
+    }
     let matches = match command().try_get_matches() {
         Ok(m) => m,
         Err(e) => return usage_error(e),
@@ -186,6 +191,35 @@ pub fn command() -> clap::Command {
 
 /// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own
 /// first line, which names the argument and the reason) and exit status 2.
+/// The command line's logger: the library's warnings as `warning: …` lines and its notes as `note: …`, the
+/// validation layer's messages and plain lines as they are, all on stderr.
+struct StderrLog;
+
+static STDERR_LOG: StderrLog = StderrLog;
+
+impl log::Log for StderrLog {
+    fn enabled(&self, metadata: &log::Metadata<'_>) -> bool {
+        metadata.level() <= log::Level::Info
+    }
+
+    fn log(&self, record: &log::Record<'_>) {
+        if !self.enabled(record.metadata()) {
+            return;
+        }
+        let prefix = match (record.target(), record.level()) {
+            (crate::io::LOG_VALIDATION | crate::io::LOG_PLAIN, _) => "",
+            (_, log::Level::Error) => "error: ",
+            (_, log::Level::Warn) => "warning: ",
+            _ => "note: ",
+        };
+        // A stderr that cannot be written (a full disk) loses the line, not the run.
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), "{prefix}{}", record.args());
+    }
+
+    fn flush(&self) {}
+}
+
 fn usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {

@@ -10,6 +10,7 @@ use glam::{Mat4, Quat, Vec3};
 
 use crate::cli::args::SceneOverrideArgs;
 use crate::cli::GpuArgs;
+use crate::gpu::vk::Owned;
 use crate::io::progress::Progress;
 use crate::render::capture::{prepare_materials, scene_reaches, SceneCapture};
 use crate::render::preview::{render_offscreen, PreviewScene};
@@ -196,7 +197,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         }
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut capture = SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?;
+    let mut capture = Owned::new(&ctx, SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?);
     let mut path = match args.path {
         PathChoice::Fixed(path) => path,
         PathChoice::Auto => ShadingPath::for_frame(&ctx, samples),
@@ -204,8 +205,6 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     if path == ShadingPath::Visibility {
         if let Err(e) = capture.use_visibility_buffer(&ctx) {
             if args.path != PathChoice::Auto {
-                // SAFETY: nothing was submitted with it.
-                unsafe { capture.destroy(&ctx) };
                 return Err(e.into());
             }
             // The scene is beyond the visibility buffer's limits (objects, triangles): the forward path draws it.
@@ -215,8 +214,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let uploads = capture.uploads();
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
-    // SAFETY: every frame was waited for.
-    unsafe { capture.destroy(&ctx) };
+    drop(capture);
     let times = result?;
     let totals: Vec<f64> = times.iter().map(crate::gpu::vk::FrameTimes::total_ms).collect();
     // A lone frame pays the driver's first-use costs (lavapipe compiles its shader variants and its resolve while

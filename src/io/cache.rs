@@ -102,7 +102,7 @@ pub fn load(dir: &Path, stamp: &Stamp, max_payload: u64) -> Option<Vec<u8>> {
     match read_entry(&file, stamp, max_payload) {
         Ok(payload) => Some(payload),
         Err(Some(reason)) => {
-            eprintln!("note: the cached {} {} {reason}; computing it again", stamp.what, file.display());
+            log::info!("the cached {} {} {reason}; computing it again", stamp.what, file.display());
             None
         }
         Err(None) => None,

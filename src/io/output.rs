@@ -3,7 +3,7 @@
 //!
 //! Temporary files (made by `tempfile`) are named `.diffract-tmp-<pid>-<random>-<name>` in the target's folder: a run killed while writing
 //! (SIGKILL, a power cut) leaves one behind, and the next run that writes in that folder removes every one whose
-//! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits (`install_interrupt_cleanup`).
+//! process is gone; Ctrl-C and SIGTERM remove the run's own before it exits ([`remove_temporaries_and_exit`]).
 
 use std::collections::HashSet;
 use std::ffi::OsStr;
@@ -24,21 +24,18 @@ const TEMP_NAME_BYTES: usize = 128;
 static WRITING: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
 
-/// Ctrl-C and SIGTERM remove the temporary files being written and end the process with status 130 (what a
-/// shell reports for Ctrl-C); without this a temporary file would be left until the next run in its folder.
-#[cfg_attr(not(feature = "cli"), allow(dead_code))] // the command line installs it
-pub(crate) fn install_interrupt_cleanup() {
-    // A second handler (tests, a library user's own) is theirs to keep.
-    let _ = ctrlc::set_handler(|| {
-        // The lock is held until the process ends: a write that has created its temporary file has registered it
-        // (both happen under this lock), and no write can create another after this snapshot.
-        let writing = WRITING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        for f in writing.iter().flatten() {
-            let _ = std::fs::remove_file(f);
-        }
-        // SAFETY: _exit ends the process at once, without running destructors of state other threads hold.
-        unsafe { libc::_exit(130) }
-    });
+/// Removes the temporary files being written and ends the process with status 130 (what a shell reports for
+/// Ctrl-C): what the command line does on Ctrl-C and SIGTERM (`cli`, with `ctrlc`), so that an interrupted write
+/// leaves no temporary file behind (without it one stays until the next run in its folder).
+pub fn remove_temporaries_and_exit() -> ! {
+    // The lock is held until the process ends: a write that has created its temporary file has registered it
+    // (both happen under this lock), and no write can create another after this snapshot.
+    let writing = WRITING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    for f in writing.iter().flatten() {
+        let _ = std::fs::remove_file(f);
+    }
+    // SAFETY: _exit ends the process at once, without running destructors of state other threads hold.
+    unsafe { libc::_exit(130) }
 }
 
 /// Writes `bytes` to `file` through a temporary file in the same folder, flushed to disk, then renamed over it:

@@ -79,10 +79,10 @@ impl Progress {
         self.bar.set_message(text);
     }
 
-    /// A line to keep, printed above the bar (or alone on stderr when no bar is drawn).
+    /// A line to keep, printed above the bar (or logged, `io::LOG_PLAIN`, when no bar is drawn).
     pub fn line(&self, text: &str) {
         if self.bar.is_hidden() || bars().println(text).is_err() {
-            eprintln!("{text}");
+            log::info!(target: crate::io::LOG_PLAIN, "{text}");
         }
     }
 

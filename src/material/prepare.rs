@@ -183,7 +183,7 @@ impl Material {
             moments: None,
         };
         if let Some(caveat) = material.caveat() {
-            eprintln!("warning: {caveat}");
+            log::warn!("{caveat}");
         }
         Ok(material)
     }
@@ -307,7 +307,7 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
         if let Err(e) =
             std::fs::create_dir_all(dir).and_then(|()| crate::io::cache::store(dir, &stamp, &moments.to_bytes()))
         {
-            eprintln!("warning: could not cache the environment moments in {}: {e}", dir.display());
+            log::warn!("could not cache the environment moments in {}: {e}", dir.display());
         }
     }
     Ok(moments)

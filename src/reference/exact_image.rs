@@ -222,7 +222,7 @@ impl ReferenceJob<'_> {
         if let Some(dir) = cache {
             // A cache that cannot be written costs time, not correctness: say so and go on.
             if let Err(e) = write_cached(dir, self, &image) {
-                eprintln!("warning: could not cache the reference in {}: {e}", dir.display());
+                log::warn!("could not cache the reference in {}: {e}", dir.display());
             }
         }
         Ok(image)
@@ -461,8 +461,8 @@ fn read_cached(dir: &Path, job: &ReferenceJob<'_>) -> Option<ReferenceImage> {
     let bytes = crate::io::cache::load(dir, &stamp(job), most)?;
     let image = parse_cached(&bytes, job);
     if image.is_none() {
-        eprintln!(
-            "note: the cached reference image {} checks out but does not hold an image for its plan; computing it again",
+        log::info!(
+            "the cached reference image {} checks out but does not hold an image for its plan; computing it again",
             stamp(job).file(dir).display()
         );
     }

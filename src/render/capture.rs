@@ -142,3 +142,5 @@ impl SceneCapture {
         self.renderer.destroy(ctx);
     }
 }
+
+crate::impl_destroy!(SceneCapture);

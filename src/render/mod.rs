@@ -12,8 +12,8 @@ pub mod preview;
 pub mod shadow;
 pub mod surface;
 pub mod visibility;
-#[cfg(feature = "cli")] // the viewer's
-pub(crate) mod window;
+#[cfg(feature = "view")]
+pub mod window;
 pub mod workload;
 
 use ash::vk;

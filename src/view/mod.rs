@@ -23,7 +23,7 @@ use controls::{Input, Live, Request};
 use crate::error::{Error, Result};
 use crate::gpu::vk::swapchain;
 use crate::gpu::vk::FrameTimes;
-use crate::gpu::vk::{Context, ContextDesc, Guard};
+use crate::gpu::vk::{Context, ContextDesc, Guard, Owned};
 use crate::material::{Approach, SettingsPatch};
 use crate::material::{Material, Reach};
 use crate::physics::spectrum::display_encode;
@@ -439,12 +439,10 @@ impl State {
         let scene = &options.scene;
         let (w, h) = (128, (128 * options.height / options.width.max(1)).clamp(16, 512));
         let one = ash::vk::SampleCountFlags::TYPE_1;
-        let mut capture = crate::render::capture::SceneCapture::new(&self.ctx, scene, &self.gpu.materials, w, h, one)?;
+        let capture = crate::render::capture::SceneCapture::new(&self.ctx, scene, &self.gpu.materials, w, h, one)?;
+        let mut capture = Owned::new(&self.ctx, capture);
         let view = SceneView::lit(scene, self.live.camera(&scene.camera), self.live.light());
-        let frame = capture.render(&self.ctx, &view);
-        // SAFETY: render waited for its frame.
-        unsafe { capture.destroy(&self.ctx) };
-        let frame = frame?;
+        let frame = capture.render(&self.ctx, &view)?;
         let (ev, line) = crate::display::measure(frame.linear().unwrap_or_default(), "the first frame");
         println!("view: {line}");
         self.live.exposure_ev = ev;

@@ -2,7 +2,7 @@
 //! and its views drawn by one renderer.
 
 use ash::vk::SampleCountFlags;
-use diffract::gpu::vk::Context;
+use diffract::gpu::vk::{Context, Owned};
 use diffract::material::Material;
 use diffract::material::SettingsPatch;
 use diffract::render::capture::{prepare_materials, scene_reaches, SceneCapture};
@@ -28,11 +28,8 @@ pub fn capture_views(
     samples: SampleCountFlags,
     views: &[SceneView],
 ) -> Vec<Frame> {
-    let mut capture = SceneCapture::new(ctx, scene, materials, w, h, samples).unwrap();
-    let frames: Vec<_> = views.iter().map(|view| capture.render(ctx, view)).collect();
-    // SAFETY: render waited for each frame.
-    unsafe { capture.destroy(ctx) };
-    frames.into_iter().map(Result::unwrap).collect()
+    let mut capture = Owned::new(ctx, SceneCapture::new(ctx, scene, materials, w, h, samples).unwrap());
+    views.iter().map(|view| capture.render(ctx, view).unwrap()).collect()
 }
 
 /// `scene` drawn from its own camera at `w`×`h`, one sample per pixel, with its own settings: linear RGBA.

@@ -3,6 +3,7 @@
 //! (Against the exact reference the two paths measure the same error: docs/performance.md, "The visibility
 //! buffer, built".)
 
+use diffract::gpu::vk::Owned;
 use diffract::material::SettingsPatch;
 use diffract::render::capture::SceneCapture;
 use diffract::render::SceneView;
@@ -17,14 +18,12 @@ fn both_paths(scene: &Scene, size: (u32, u32), samples: u32) -> [Vec<f32>; 2] {
         let materials = scene_materials(ctx, scene, size, &SettingsPatch::default());
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
         [false, true].map(|visibility| {
-            let mut capture = SceneCapture::new(ctx, scene, &materials, size.0, size.1, samples).unwrap();
+            let mut capture =
+                Owned::new(ctx, SceneCapture::new(ctx, scene, &materials, size.0, size.1, samples).unwrap());
             if visibility {
                 capture.use_visibility_buffer(ctx).unwrap();
             }
-            let frame = capture.render(ctx, &SceneView::of(scene));
-            // SAFETY: render waited.
-            unsafe { capture.destroy(ctx) };
-            frame.unwrap().linear().unwrap().to_vec()
+            capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec()
         })
     })
 }

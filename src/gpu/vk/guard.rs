@@ -133,3 +133,37 @@ impl<T: Destroy> Drop for Guard<'_, T> {
         }
     }
 }
+
+/// A finished object owned by code outside the crate's frame loops (a library user's capture, a command's): it
+/// dereferences to `T`, and dropped, it waits until the device is idle and destroys `T`, so no `unsafe` is
+/// needed to let it go. (The wait costs a little at each drop: the crate's own objects are destroyed explicitly.)
+pub struct Owned<'a, T: Destroy> {
+    guard: Guard<'a, T>,
+}
+
+impl<'a, T: Destroy> Owned<'a, T> {
+    pub fn new(ctx: &'a Context, value: T) -> Self {
+        Self { guard: Guard::new(ctx, value) }
+    }
+}
+
+impl<T: Destroy> Deref for Owned<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.guard
+    }
+}
+
+impl<T: Destroy> DerefMut for Owned<'_, T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.guard
+    }
+}
+
+impl<T: Destroy> Drop for Owned<'_, T> {
+    fn drop(&mut self) {
+        // Nothing submitted may still use it when the guard below destroys it. A device that cannot wait is lost:
+        // destroying then is what Vulkan allows.
+        let _ = self.guard.ctx.wait_idle();
+    }
+}

@@ -30,7 +30,7 @@ impl ValidationLog {
     }
 
     fn record(&self, line: String) {
-        eprintln!("{line}");
+        log::warn!(target: crate::io::LOG_VALIDATION, "{line}");
         self.count.fetch_add(1, Ordering::SeqCst);
         if let Ok(mut m) = self.messages.lock() {
             m.push(line);

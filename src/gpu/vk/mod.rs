@@ -21,6 +21,7 @@ mod image;
 mod instance;
 mod pipeline;
 pub(crate) mod query;
+#[cfg(feature = "view")]
 pub mod swapchain;
 #[cfg(test)]
 mod tests;
@@ -35,7 +36,8 @@ pub(crate) use buffer::{Buffer, BufferDesc};
 pub(crate) use command::{ImageState, MemoryState};
 pub use device::{choose as choose_device, DeviceInfo, DeviceSelector};
 pub use gpu_allocator::MemoryLocation;
-pub(crate) use guard::{Destroy, Guard};
+pub(crate) use guard::Guard;
+pub use guard::{Destroy, Owned};
 pub(crate) use image::{Image, ImageDesc, Sampler};
 pub use instance::ValidationLog;
 pub(crate) use pipeline::{

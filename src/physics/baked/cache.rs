@@ -126,8 +126,8 @@ pub fn read(dir: &Path, hf: &HeightField, plan: &TablePlan) -> Option<BakedTable
     let bytes = crate::io::cache::load(dir, &stamp, most)?;
     let table = parse(&bytes, plan);
     if table.is_none() {
-        eprintln!(
-            "note: the cached baked table {} checks out but does not hold a table for its plan; building it again",
+        log::info!(
+            "the cached baked table {} checks out but does not hold a table for its plan; building it again",
             stamp.file(dir).display()
         );
     }

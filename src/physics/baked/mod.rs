@@ -515,7 +515,7 @@ pub fn load_or_build(
     let table = build::build(hf, plan, progress)?;
     if let Some(d) = &dir {
         if let Err(e) = cache::write(d, hf, plan, &table) {
-            eprintln!("warning: could not cache the baked table in {}: {e}", d.display());
+            log::warn!("could not cache the baked table in {}: {e}", d.display());
         }
     }
     Ok((table, false))
@@ -548,7 +548,7 @@ pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
             "{m}; refused (--strict-table, or the scene's table_tolerance): raise the tolerance or narrow the views"
         ))),
         Some(m) => {
-            eprintln!("warning: {m}; {TABLE_SHORTFALL_HINT}");
+            log::warn!("{m}; {TABLE_SHORTFALL_HINT}");
             Ok(())
         }
     }
