@@ -1,4 +1,4 @@
-//! Compiles every `glsl/<name>.<stage>.glsl` to SPIR-V with shaderc into `$OUT_DIR` (never into the source
+//! Compiles every `glsl/<name>.<stage>.glsl` to SPIR-V with shaderc (`crates/glsl-compile`) into `$OUT_DIR` (never into the source
 //! tree) and writes `$OUT_DIR/shaders.rs`, which `src/gpu/shaders.rs` includes: one `pub static NAME_STAGE:
 //! Shader` per shader and variant, its SPIR-V embedded with `include_bytes!` and its descriptor bindings read
 //! from that SPIR-V (`rspirv-reflect`), from which the pipelines make their set layouts.
@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 #[path = "src/gpu/interface.rs"]
 mod interface;
 
+use diffract_glsl::{Compiler, Options, ShaderKind};
 use interface::{GlslType, Value};
 
 /// Where the interface lives (messages, rerun).
@@ -45,11 +46,8 @@ const VARIANTS: &[(&str, &str, &str)] = &[
 ];
 
 /// Shader stages recognised from the second-to-last component of a file name.
-const STAGES: &[(&str, shaderc::ShaderKind)] = &[
-    ("vert", shaderc::ShaderKind::Vertex),
-    ("frag", shaderc::ShaderKind::Fragment),
-    ("comp", shaderc::ShaderKind::Compute),
-];
+const STAGES: &[(&str, ShaderKind)] =
+    &[("vert", ShaderKind::Vertex), ("frag", ShaderKind::Fragment), ("comp", ShaderKind::Compute)];
 
 fn main() {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
@@ -72,7 +70,7 @@ fn main() {
         std::fs::write(generated.join(block.file), push_block(block)).expect("write a push-constant block");
     }
 
-    let compiler = shaderc::Compiler::new().expect("shaderc compiler");
+    let compiler = Compiler::new().expect("shaderc compiler");
     let debug = std::env::var("PROFILE").map(|p| p == "debug").unwrap_or(false);
 
     let mut sources: Vec<PathBuf> = std::fs::read_dir(&glsl)
@@ -143,47 +141,29 @@ fn main() {
 }
 
 fn compile(
-    compiler: &shaderc::Compiler,
+    compiler: &Compiler,
     text: &str,
-    kind: shaderc::ShaderKind,
+    kind: ShaderKind,
     display: &str,
     include_dirs: [&Path; 2],
     debug: bool,
     define: Option<&str>,
 ) -> Result<Vec<u8>, String> {
-    let mut options = shaderc::CompileOptions::new().map_err(|e| e.to_string())?;
-    for define in define.into_iter().flat_map(str::split_whitespace) {
-        options.add_macro_definition(define, None);
-    }
-    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
-    options.set_target_spirv(shaderc::SpirvVersion::V1_6);
-    if debug {
-        options.set_generate_debug_info();
-    } else {
-        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-    }
-    let [include_dir, generated] = include_dirs.map(Path::to_path_buf);
-    options.set_include_callback(move |requested, _ty, _requester, _depth| {
-        let found = [(&include_dir, "glsl/include"), (&generated, "$OUT_DIR/include")]
+    let [include_dir, generated] = include_dirs;
+    let include = |requested: &str| {
+        [(include_dir, "glsl/include"), (generated, "$OUT_DIR/include")]
             .into_iter()
-            .find_map(|(dir, name)| Some((std::fs::read_to_string(dir.join(requested)).ok()?, name)));
-        match found {
-            Some((content, dir)) => {
-                Ok(shaderc::ResolvedInclude { resolved_name: format!("{dir}/{requested}"), content })
-            }
-            None => Err(format!("cannot read {requested} in glsl/include or $OUT_DIR/include")),
-        }
-    });
-    compiler
-        .compile_into_spirv(text, kind, display, "main", Some(&options))
-        .map(|a| {
-            let warnings = a.get_warning_messages();
-            if !warnings.is_empty() {
-                println!("cargo:warning={}", warnings.replace('\n', " | "));
-            }
-            a.as_binary_u8().to_vec()
-        })
-        .map_err(|e| e.to_string())
+            .find_map(|(dir, name)| {
+                Some((format!("{name}/{requested}"), std::fs::read_to_string(dir.join(requested)).ok()?))
+            })
+            .ok_or_else(|| format!("cannot read {requested} in glsl/include or $OUT_DIR/include"))
+    };
+    let macros = define.into_iter().flat_map(str::split_whitespace).map(|d| (d.to_string(), None)).collect();
+    let compiled = compiler.compile(text, kind, display, &Options { macros, debug_info: debug, include: &include })?;
+    if !compiled.warnings.is_empty() {
+        println!("cargo:warning={}", compiled.warnings.replace('\n', " | "));
+    }
+    Ok(compiled.spirv)
 }
 
 /// The descriptor bindings a module declares (set 0 only, one descriptor each), as the Rust source of a list of

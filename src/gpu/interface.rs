@@ -3,7 +3,7 @@
 //! uniform and push-constant blocks, and the vertex layout. This file is their one source, and it is compiled
 //! twice: as this module, and by `build.rs`, which includes it as a module of its own and writes the shaders'
 //! GLSL from its declarations (nothing here is parsed as text):
-//! - `interface.glsl`: every constant declared in [`shared!`] (`#define NAME value`, arrays as `const` GLSL
+//! - `interface.glsl`: every constant declared in `shared!` (`#define NAME value`, arrays as `const` GLSL
 //!   values), with its documentation;
 //! - a std140 uniform block for each of [`UNIFORM_BLOCKS`] and a push-constant block for each of [`PUSH_BLOCKS`],
 //!   refused where GLSL's layout rules would place a field elsewhere than `repr(C)` does;
@@ -76,7 +76,7 @@ impl<const N: usize> Glsl for [[f32; 4]; N] {
     const TYPE: GlslType = if N == 4 { GlslType::Mat4 } else { GlslType::Vec4Array(N) };
 }
 
-/// One field of a shared struct, as [`gpu_struct!`] records it.
+/// One field of a shared struct, as `gpu_struct!` records it.
 #[derive(Clone, Copy, Debug)]
 pub struct Field {
     pub name: &'static str,
@@ -153,7 +153,7 @@ impl IntoValue for [[f64; 3]; 3] {
     }
 }
 
-/// One constant of [`shared!`]: the section it opens (if it does), its name, documentation and value.
+/// One constant of `shared!`: the section it opens (if it does), its name, documentation and value.
 #[derive(Clone, Copy)]
 pub struct Constant {
     pub section: Option<&'static str>,

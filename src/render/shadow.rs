@@ -309,7 +309,7 @@ impl ShadowMap {
         *self.drawn.borrow_mut() = Some(now);
     }
 
-    /// The descriptors that bind it for reading ([`Self::bindings`]).
+    /// The descriptors that bind it for reading (`BINDING_SHADOW` by comparison, `BINDING_SHADOW_DEPTH` as depths).
     pub fn writes(&self) -> [DescriptorWrite<'_>; 2] {
         [
             DescriptorWrite::SampledImage(BINDING_SHADOW, &self.image, &self.sampler),
