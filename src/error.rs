@@ -24,6 +24,38 @@ pub enum Error {
     Allocation { name: String, cause: gpu_allocator::AllocationError },
     #[error("invalid SPIR-V for shader {name:?}: {cause}")]
     Spirv { name: String, cause: std::io::Error },
+    /// A setting, flag or parameter out of its range or malformed: `name` says which (a setting's key, a flag, a
+    /// parameter such as `turbidity`), the message what is wrong and what is accepted.
+    #[error("{message}")]
+    Setting { name: String, message: String },
+    /// A height field diffract cannot use: its size, pixel size or heights.
+    #[error("{0}")]
+    HeightField(String),
+    /// A scene file's mistake, at its line where one is known.
+    #[error("{}", scene_message(file, *line, message))]
+    Scene { file: String, line: Option<usize>, message: String },
+    /// One material of a scene could not be prepared (`part`: what of it, or empty).
+    #[error("material {name:?}: {part}{cause}")]
+    Material { name: String, part: &'static str, cause: Box<Error> },
+    /// One configuration of a profile failed.
+    #[error("configuration {label}: {cause}")]
+    Configuration { label: String, cause: Box<Error> },
+    /// What the device lacks or cannot hold for this work (a feature, a format, an image size).
+    #[error("{message}")]
+    Unsupported { device: String, message: String },
+    /// More than diffract handles: memory for terms, objects or triangles in one buffer.
+    #[error("{0}")]
+    TooLarge(String),
+    /// Arithmetic that cannot reach the asked accuracy, or values that came out non-finite.
+    #[error("{0}")]
+    Precision(String),
+    /// Light that cannot be used so: an environment that gives none, a table that diffracts nothing, relative units.
+    #[error("{0}")]
+    Light(String),
+    /// The window system: no display, a window that cannot be opened or read.
+    #[error("{0}")]
+    Window(String),
+    /// Anything else a caller passed that does not fit (sizes that do not match, a buffer too small).
     #[error("{0}")]
     Invalid(String),
     #[error("{path}: {message}")]
@@ -32,7 +64,44 @@ pub enum Error {
     Output { path: String, message: String },
 }
 
+fn scene_message(file: &str, line: Option<usize>, message: &str) -> String {
+    match line {
+        Some(line) => format!("{file}:{line}: {message}"),
+        None => format!("{file}: {message}"),
+    }
+}
+
 impl Error {
+    /// A setting or parameter `name` out of range (see [`Error::Setting`]).
+    pub fn setting(name: &str, message: String) -> Self {
+        Error::Setting { name: name.to_string(), message }
+    }
+
+    pub fn height_field(message: String) -> Self {
+        Error::HeightField(message)
+    }
+
+    pub fn precision(message: String) -> Self {
+        Error::Precision(message)
+    }
+
+    pub fn too_large(message: String) -> Self {
+        Error::TooLarge(message)
+    }
+
+    pub fn light(message: String) -> Self {
+        Error::Light(message)
+    }
+
+    pub fn window(message: String) -> Self {
+        Error::Window(message)
+    }
+
+    /// What `device` cannot do (see [`Error::Unsupported`]).
+    pub fn unsupported(device: &str, message: String) -> Self {
+        Error::Unsupported { device: device.to_string(), message }
+    }
+
     /// A user-facing error about an input file.
     pub fn input(path: impl AsRef<std::path::Path>, message: impl Into<String>) -> Self {
         Error::Input { path: path.as_ref().display().to_string(), message: message.into() }

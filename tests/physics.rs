@@ -343,3 +343,18 @@ fn grating_orders_carry_bessel_energy_whatever_the_coherence() {
         }
     }
 }
+
+/// Errors come in kinds a caller can match, and read as one line a user can act on.
+#[test]
+fn errors_are_typed_and_say_what_is_wrong() {
+    use diffract::Error;
+    let e = HeightField::new(2, 2, 0.1, 0.1, vec![0.0; 3]).unwrap_err();
+    assert!(matches!(e, Error::HeightField(_)), "{e:?}");
+    let e = CoherenceWindow::new(6.4, 6.4, -1.0, None).unwrap_err();
+    assert!(matches!(&e, Error::Setting { name, .. } if name == "coherence_um"), "{e:?}");
+    assert!(e.to_string().starts_with("the coherence length must lie between"), "{e}");
+    let scene = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nfov_deg = 40\n\n[light]\ndirection = [0, 0, 0]\n";
+    let e = diffract::scene::Scene::parse(scene, "s.toml", std::path::Path::new(".")).unwrap_err();
+    assert!(matches!(&e, Error::Scene { file, line: Some(_), .. } if file == "s.toml"), "{e:?}");
+    assert!(e.to_string().starts_with("s.toml:"), "{e}");
+}

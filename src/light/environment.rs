@@ -159,15 +159,16 @@ impl EnvironmentMap {
     /// The clear sky `sky` without its sun as a `width`×`width/2` map over a ground of `ground_albedo` (0–1).
     pub fn of_sky(sky: &Sky, width: u32, ground_albedo: f64) -> Result<Self> {
         if width < 8 || width % 2 != 0 || width > MAX_WIDTH {
-            return Err(Error::Invalid(format!(
-                "an environment map's width must be even and between 8 and {MAX_WIDTH} texels, got {width}"
-            )));
+            return Err(Error::setting(
+                "width",
+                format!("an environment map's width must be even and between 8 and {MAX_WIDTH} texels, got {width}"),
+            ));
         }
         if !(ground_albedo.is_finite() && (0.0..=1.0).contains(&ground_albedo)) {
-            return Err(Error::Invalid(format!(
-                "the ground's albedo must lie between 0 and 1, got {}",
-                crate::error::number(ground_albedo)
-            )));
+            return Err(Error::setting(
+                "ground_albedo",
+                format!("the ground's albedo must lie between 0 and 1, got {}", crate::error::number(ground_albedo)),
+            ));
         }
         let height = width / 2;
         let light = sky_light(sky, ground_albedo);

@@ -316,20 +316,20 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
 /// The wavelengths of `s`'s step, refused when the step or the window radius is out of range.
 fn checked_sampling(s: &Settings) -> Result<Sampling> {
     if !(s.lambda_step_nm.is_finite() && s.lambda_step_nm > 0.0) {
-        return Err(Error::Invalid(format!(
-            "the wavelength step must be positive, got {} nm",
-            crate::error::number(s.lambda_step_nm)
-        )));
+        return Err(Error::setting(
+            "lambda_step_nm",
+            format!("the wavelength step must be positive, got {} nm", crate::error::number(s.lambda_step_nm)),
+        ));
     }
     let sampling = Sampling::visible_under(s.lambda_step_nm, s.illuminant);
     if sampling.count > MAX_LAMBDA_COUNT {
-        return Err(Error::Invalid(format!(
-            "a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})",
-            s.lambda_step_nm, sampling.count
-        )));
+        return Err(Error::setting(
+            "lambda_step_nm",
+            format!("a {} nm step gives {} wavelengths (at most {MAX_LAMBDA_COUNT})", s.lambda_step_nm, sampling.count),
+        ));
     }
     if s.window_radius.is_some_and(|r| r > MAX_WINDOW_RADIUS) {
-        return Err(Error::Invalid(format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
+        return Err(Error::setting("window_radius", format!("the window radius is at most {MAX_WINDOW_RADIUS}")));
     }
     Ok(sampling)
 }
@@ -357,7 +357,7 @@ fn taylor_texels(
     let gain = window_gain(window, hf);
     let plan = TaylorPlan::new(VISIBLE_MIN_UM, w_max, &HeightStats::of(hf), gain, s.tolerance, s.order)?;
     if !plan.f32_suffices() && !s.accept_f32_error {
-        return Err(Error::Invalid(format!(
+        return Err(Error::precision(format!(
             "the GPU's f32 sums cannot reach the tolerance for this patch ({}); raise --tolerance, lower the heights, \
              or pass --accept-f32-error",
             plan.describe()

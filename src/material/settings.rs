@@ -433,12 +433,12 @@ macro_rules! settings {
 
             /// Sets the setting `key` (or one of its aliases) from text, as `--sweep KEY=VALUE` writes it.
             pub fn set(&mut self, key: &str, text: &str) -> Result<()> {
-                let bad = |e: String| Error::Invalid(format!("{key}={text}: {e}"));
+                let bad = |e: String| Error::setting(key, format!("{key}={text}: {e}"));
                 match key {
                     $( stringify!($key) $($(| $alias)*)? => {
                         kind::$kind::set(&mut self.$key, text, check::$check).map_err(bad)
                     } )+
-                    _ => Err(Error::Invalid(format!(
+                    _ => Err(Error::setting(key, format!(
                         "unknown setting `{key}` (the settings are {})",
                         Settings::KEYS.join(", ")
                     ))),

@@ -60,10 +60,13 @@ impl CoherenceWindow {
     /// nearest bin, or `None` for the full window (every tap heavier than [`FULL_WINDOW_CUTOFF`]).
     pub fn new(lx_um: f64, ly_um: f64, coherence_um: f64, radius: Option<u32>) -> Result<Self> {
         if !(MIN_COHERENCE_UM..=MAX_COHERENCE_UM).contains(&coherence_um) {
-            return Err(Error::Invalid(format!(
-                "the coherence length must lie between {MIN_COHERENCE_UM} and {MAX_COHERENCE_UM:e} µm, got {} µm",
-                crate::error::number(coherence_um)
-            )));
+            return Err(Error::setting(
+                "coherence_um",
+                format!(
+                    "the coherence length must lie between {MIN_COHERENCE_UM} and {MAX_COHERENCE_UM:e} µm, got {} µm",
+                    crate::error::number(coherence_um)
+                ),
+            ));
         }
         let sigma_s = coherence_um / 4.0;
         let sigma_x = lx_um / (2.0 * std::f64::consts::PI * sigma_s);

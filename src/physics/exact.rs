@@ -58,13 +58,13 @@ impl Query {
         optics::check_theta("light", self.theta_i)?;
         optics::check_theta("view", self.theta_r)?;
         if !(self.phi_i.is_finite() && self.phi_r.is_finite()) {
-            return Err(Error::Invalid("azimuths must be finite".into()));
+            return Err(Error::setting("phi", "azimuths must be finite".into()));
         }
         if !(self.lambda_nm.is_finite() && (100.0..=10_000.0).contains(&self.lambda_nm)) {
-            return Err(Error::Invalid(format!(
-                "λ = {} nm is outside 100 nm–10 µm",
-                crate::error::number(self.lambda_nm)
-            )));
+            return Err(Error::setting(
+                "lambda_nm",
+                format!("λ = {} nm is outside 100 nm–10 µm", crate::error::number(self.lambda_nm)),
+            ));
         }
         Ok(())
     }
@@ -123,7 +123,7 @@ impl Reference {
         let lambda_min = queries.iter().map(|q| q.lambda_nm).fold(f64::INFINITY, f64::min);
         let w_max = queries.iter().map(|q| q.uvw().z.abs()).fold(0.0, f64::max);
         if queries.is_empty() {
-            return Err(Error::Invalid("no wavelengths or views to evaluate".into()));
+            return Err(Error::setting("queries", "no wavelengths or views to evaluate".into()));
         }
         TaylorPlan::new(lambda_min * 1e-3, w_max, &HeightStats::of(hf), window_gain(window, hf), tolerance, order)
     }

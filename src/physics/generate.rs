@@ -89,24 +89,30 @@ pub fn generate(spec: &PatchSpec) -> Result<HeightField> {
         ("period", spec.period_um),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(Error::Invalid(format!(
-                "the {name} must be a positive number of µm, got {}",
-                crate::error::number(v)
-            )));
+            return Err(Error::setting(
+                "patch",
+                format!("the {name} must be a positive number of µm, got {}", crate::error::number(v)),
+            ));
         }
     }
     if !(spec.depth_um.is_finite() && spec.depth_um >= 0.0) {
-        return Err(Error::Invalid(format!("the height must be a non-negative number of µm, got {}", spec.depth_um)));
+        return Err(Error::setting(
+            "height_um",
+            format!("the height must be a non-negative number of µm, got {}", spec.depth_um),
+        ));
     }
     let nx = (spec.width_um / spec.pixel_um).round().max(1.0);
     let ny = (spec.height_um_extent / spec.pixel_um).round().max(1.0);
     check_dims(nx as u64, ny as u64)?;
     if spec.period_um < 2.0 * spec.pixel_um && spec.kind != PatchKind::Flat {
-        return Err(Error::Invalid(format!(
-            "a {} µm period is not resolved by {} µm pixels (at least two pixels per period)",
-            crate::error::number(spec.period_um),
-            crate::error::number(spec.pixel_um)
-        )));
+        return Err(Error::setting(
+            "period_um",
+            format!(
+                "a {} µm period is not resolved by {} µm pixels (at least two pixels per period)",
+                crate::error::number(spec.period_um),
+                crate::error::number(spec.pixel_um)
+            ),
+        ));
     }
     let (nx, ny) = (nx as usize, ny as usize);
     let (d, hgt, p) = (spec.period_um, spec.depth_um, spec.pixel_um);

@@ -79,7 +79,10 @@ fn intern(key: String, name: &str, make: impl FnOnce() -> Result<Table>) -> Resu
 fn normalised(mut table: Table) -> Result<Table> {
     let at_560 = table[(560.0 - TABLE_LAMBDA_MIN_NM) as usize];
     if !(at_560.is_finite() && at_560 > 0.0) {
-        return Err(Error::Invalid("the spectrum has no power at 560 nm (it is normalised to 100 there)".into()));
+        return Err(Error::setting(
+            "illuminant",
+            "the spectrum has no power at 560 nm (it is normalised to 100 there)".into(),
+        ));
     }
     table.iter_mut().for_each(|v| *v *= 100.0 / at_560);
     Ok(table)
@@ -105,7 +108,7 @@ impl Illuminant {
     /// A CIE illuminant by name (case does not matter): see [`NAMES`].
     pub fn named(name: &str) -> Result<Self> {
         let upper = name.trim().to_ascii_uppercase();
-        let unknown = || Error::Invalid(format!("illuminant {name:?}: expected {NAMES}"));
+        let unknown = || Error::setting("illuminant", format!("illuminant {name:?}: expected {NAMES}"));
         if upper == "D65" {
             return Ok(Self::d65());
         }
@@ -142,9 +145,10 @@ impl Illuminant {
             d if d.starts_with('D') => {
                 let n: u32 = d[1..].parse().map_err(|_| unknown())?;
                 if !(40..=250).contains(&n) {
-                    return Err(Error::Invalid(format!(
-                        "illuminant {name:?}: the daylight series runs from D40 to D250 (4000 to 25000 K)"
-                    )));
+                    return Err(Error::setting(
+                        "illuminant",
+                        format!("illuminant {name:?}: the daylight series runs from D40 to D250 (4000 to 25000 K)"),
+                    ));
                 }
                 intern(upper.clone(), &upper, || daylight_table(f64::from(n) * 100.0 * 1.4388 / 1.4380))
             }
@@ -206,10 +210,13 @@ impl Illuminant {
         match numbers.as_deref() {
             Some(&[elevation]) => Self::sun(elevation, SUN_TURBIDITY),
             Some(&[elevation, turbidity]) => Self::sun(elevation, turbidity),
-            _ => Err(Error::Invalid(format!(
-                "illuminant {name:?}: the sun is sun:E or sun:E:T, its elevation E in degrees (0–90) and the \
+            _ => Err(Error::setting(
+                "illuminant",
+                format!(
+                    "illuminant {name:?}: the sun is sun:E or sun:E:T, its elevation E in degrees (0–90) and the \
                  turbidity T (2–10, default {SUN_TURBIDITY}), e.g. sun:35"
-            ))),
+                ),
+            )),
         }
     }
 
@@ -234,7 +241,8 @@ impl Illuminant {
     /// A scene's `illuminant`: a name, or a CSV file (`….csv`, relative to `base`).
     pub fn parse(text: &str, base: &Path) -> Result<Self> {
         if text.trim().eq_ignore_ascii_case("sun") {
-            return Err(Error::Invalid(
+            return Err(Error::setting(
+                "illuminant",
                 "illuminant \"sun\": name its elevation, sun:E (degrees; a scene's [light] takes \"sun\" alone from \
                  its direction)"
                     .into(),
@@ -316,7 +324,10 @@ impl Illuminant {
 /// The CIE daylight series' table at `cct_k` kelvin (before normalisation), as the `colorimetry` crate computes it.
 fn daylight_table(cct_k: f64) -> Result<Table> {
     let d = colorimetry::illuminant::Illuminant::d_illuminant(cct_k).map_err(|_| {
-        Error::Invalid(format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to 25000 K"))
+        Error::setting(
+            "illuminant",
+            format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to 25000 K"),
+        )
     })?;
     let spectrum: &colorimetry::spectrum::Spectrum = d.as_ref();
     Ok(*spectrum.as_array())

@@ -79,7 +79,7 @@ pub fn direction(theta_deg: f64, phi_deg: f64) -> DVec3 {
 /// Checks an inclination: 0 ≤ θ < 90° (90° lies on the horizon, where the BRDF's 1/cos θ_r diverges).
 pub(crate) fn check_theta(what: &str, theta_deg: f64) -> Result<()> {
     if !(theta_deg.is_finite() && (0.0..90.0).contains(&theta_deg)) {
-        return Err(Error::Invalid(format!("{what} θ = {theta_deg}° is not above the horizon (0 ≤ θ < 90°)")));
+        return Err(Error::setting("theta", format!("{what} θ = {theta_deg}° is not above the horizon (0 ≤ θ < 90°)")));
     }
     Ok(())
 }

@@ -81,21 +81,26 @@ impl Sky {
     pub fn new(turbidity: f64, sun: DVec3) -> Result<Self> {
         let (lo, hi) = TURBIDITY_RANGE;
         if !(turbidity.is_finite() && (lo..=hi).contains(&turbidity)) {
-            return Err(Error::Invalid(format!(
-                "the turbidity must lie between {lo} (exceptionally clear) and {hi} (light haze), the range \
+            return Err(Error::setting(
+                "turbidity",
+                format!(
+                    "the turbidity must lie between {lo} (exceptionally clear) and {hi} (light haze), the range \
                  Preetham et al. fitted their sky to; got {}",
-                crate::error::number(turbidity)
-            )));
+                    crate::error::number(turbidity)
+                ),
+            ));
         }
-        let sun = sun
-            .try_normalize()
-            .filter(|d| d.is_finite())
-            .ok_or_else(|| Error::Invalid("the sun's direction must be a finite, non-zero vector".into()))?;
+        let sun = sun.try_normalize().filter(|d| d.is_finite()).ok_or_else(|| {
+            Error::setting("sun direction", "the sun's direction must be a finite, non-zero vector".into())
+        })?;
         if sun.y < 0.0 {
-            return Err(Error::Invalid(format!(
-                "the sun is {:.2}° below the horizon: the clear-sky model is for daylight (elevation 0°–90°)",
-                -sun.y.asin().to_degrees()
-            )));
+            return Err(Error::setting(
+                "sun direction",
+                format!(
+                    "the sun is {:.2}° below the horizon: the clear-sky model is for daylight (elevation 0°–90°)",
+                    -sun.y.asin().to_degrees()
+                ),
+            ));
         }
         let theta_s = sun.y.clamp(-1.0, 1.0).acos();
         let t = turbidity;
@@ -120,11 +125,14 @@ impl Sky {
     /// The sky with the sun at `elevation_deg` above the horizon and `azimuth_deg` (0 along +z, 90 along +x).
     pub fn at(turbidity: f64, elevation_deg: f64, azimuth_deg: f64) -> Result<Self> {
         if !(elevation_deg.is_finite() && azimuth_deg.is_finite() && (0.0..=90.0).contains(&elevation_deg)) {
-            return Err(Error::Invalid(format!(
-                "the sun's elevation must lie between 0° and 90° (and its azimuth be finite); got {}°, {}°",
-                crate::error::number(elevation_deg),
-                crate::error::number(azimuth_deg)
-            )));
+            return Err(Error::setting(
+                "sun elevation",
+                format!(
+                    "the sun's elevation must lie between 0° and 90° (and its azimuth be finite); got {}°, {}°",
+                    crate::error::number(elevation_deg),
+                    crate::error::number(azimuth_deg)
+                ),
+            ));
         }
         Self::new(turbidity, direction(elevation_deg, azimuth_deg))
     }

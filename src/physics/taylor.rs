@@ -126,19 +126,19 @@ impl TaylorPlan {
         order: Option<usize>,
     ) -> Result<Self> {
         if !(tolerance.is_finite() && tolerance > 0.0) {
-            return Err(Error::Invalid(format!("the tolerance must be positive, got {tolerance}")));
+            return Err(Error::setting("tolerance", format!("the tolerance must be positive, got {tolerance}")));
         }
         let max_deviation_um = heights.max_deviation_um;
         let kappa = 2.0 * std::f64::consts::PI / lambda_min_um * w_max.abs();
         let x_max = kappa * max_deviation_um;
         let order = match order {
             Some(n) if n > MAX_ORDER => {
-                return Err(Error::Invalid(format!("--terms {n} is above the limit {MAX_ORDER}")))
+                return Err(Error::setting("terms", format!("--terms {n} is above the limit {MAX_ORDER}")))
             }
             Some(n) => n,
             None => {
                 (0..=MAX_ORDER).find(|&n| window_gain * truncation_tail(x_max, n) <= tolerance).ok_or_else(|| {
-                    Error::Invalid(format!(
+                    Error::precision(format!(
                         "no Taylor order up to {MAX_ORDER} reaches the tolerance {tolerance:e} for x_max = {x_max:.1} \
                      (heights of {max_deviation_um:.3} µm around the mean at λ = {:.0} nm): check --height-um",
                         lambda_min_um * 1e3
@@ -204,7 +204,7 @@ impl TaylorTerms {
         let count = order + 1;
         let bytes = (count as u64) * (nx * ny) as u64 * 16;
         if bytes > MAX_TERMS_BYTES {
-            return Err(Error::Invalid(format!(
+            return Err(Error::too_large(format!(
                 "{count} Taylor terms of a {nx}×{ny} patch need {:.1} GiB; use fewer terms or a smaller patch",
                 bytes as f64 / (1u64 << 30) as f64
             )));

@@ -42,11 +42,13 @@ fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments:
             // A matte material's patch is never drawn: the smallest table serves it.
             let reach = if m.matte { &MATTE_REACH } else { &reaches[i.min(reaches.len() - 1)] };
             let mut material = Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
-                .map_err(|e| Error::Invalid(format!("material {:?}: {e}", m.name)))?;
+                .map_err(|e| Error::Material { name: m.name.clone(), part: "", cause: Box::new(e) })?;
             // Under an environment the grating diffracts it too (env_prefilter), by its BRDF's moments.
             if moments && scene.environment.is_some() && !m.matte {
-                material.prepare_moments(&m.heightfield).map_err(|e| {
-                    Error::Invalid(format!("material {:?}: the environment's diffraction: {e}", m.name))
+                material.prepare_moments(&m.heightfield).map_err(|e| Error::Material {
+                    name: m.name.clone(),
+                    part: "the environment's diffraction: ",
+                    cause: Box::new(e),
                 })?;
             }
             Ok(material)
@@ -125,7 +127,7 @@ impl SceneCapture {
         let frame = self.frames.render(ctx, &self.renderer, view.background)?;
         let bad = frame.linear().map_or(0, crate::io::stats::non_finite_pixels);
         if bad > 0 {
-            return Err(Error::Invalid(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
+            return Err(Error::precision(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
         }
         Ok(frame)
     }

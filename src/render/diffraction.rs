@@ -76,11 +76,14 @@ impl PatchResources {
         let (what, desc, sampler_name) = match &material.table {
             Some(table) => {
                 if !ctx.filters_linearly(TABLE_FORMAT) {
-                    return Err(Error::Invalid(format!(
-                        "{} cannot filter RGBA32F textures linearly, which the baked approach needs; use \
+                    return Err(Error::unsupported(
+                        &ctx.info.name,
+                        format!(
+                            "{} cannot filter RGBA32F textures linearly, which the baked approach needs; use \
                          --approach flss",
-                        ctx.info.name
-                    )));
+                            ctx.info.name
+                        ),
+                    ));
                 }
                 let (w, h) = (table.grid.nu as u32, table.grid.nv as u32);
                 let desc = ImageDesc::texture_array(w, h, table.layers() as u32, TABLE_FORMAT)
@@ -94,16 +97,22 @@ impl PatchResources {
             }
         };
         if desc.width > limits.max_image_dimension2_d || desc.height > limits.max_image_dimension2_d {
-            return Err(Error::Invalid(format!(
-                "a {}×{} {what} exceeds the device's {}-texel image limit",
-                desc.width, desc.height, limits.max_image_dimension2_d
-            )));
+            return Err(Error::unsupported(
+                &ctx.info.name,
+                format!(
+                    "a {}×{} {what} exceeds the device's {}-texel image limit",
+                    desc.width, desc.height, limits.max_image_dimension2_d
+                ),
+            ));
         }
         if desc.layers > limits.max_image_array_layers {
-            return Err(Error::Invalid(format!(
-                "{} layers of {what} exceed the device's {} image layers",
-                desc.layers, limits.max_image_array_layers
-            )));
+            return Err(Error::unsupported(
+                &ctx.info.name,
+                format!(
+                    "{} layers of {what} exceed the device's {} image layers",
+                    desc.layers, limits.max_image_array_layers
+                ),
+            ));
         }
         let terms = Guard::new(ctx, ctx.create_image(desc, what)?);
         let start = std::time::Instant::now();

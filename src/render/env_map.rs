@@ -47,10 +47,10 @@ pub struct EnvMapSpec<'a> {
 pub fn render_env_map(ctx: &Context, spec: &EnvMapSpec<'_>) -> Result<MapImage> {
     let material = spec.material;
     let table = material.table.as_ref().ok_or_else(|| {
-        Error::Invalid(format!(
-            "{} cannot integrate over an environment; use --approach baked",
-            material.settings.approach.name()
-        ))
+        Error::setting(
+            "approach",
+            format!("{} cannot integrate over an environment; use --approach baked", material.settings.approach.name()),
+        )
     })?;
     let proposal = TableProposal::new(table)?;
     let gain = env_gain(&material.sampling, material.settings.coherence_um)?;

@@ -209,9 +209,10 @@ impl OffscreenTarget {
     ) -> Result<Self> {
         let limit = ctx.info.limits.max_image_dimension2_d;
         if width > limit || height > limit {
-            return Err(crate::Error::Invalid(format!(
-                "{width}×{height} exceeds the device's {limit}-pixel image limit"
-            )));
+            return Err(crate::Error::unsupported(
+                &ctx.info.name,
+                format!("{width}×{height} exceeds the device's {limit}-pixel image limit"),
+            ));
         }
         let color =
             Guard::new(ctx, ctx.create_image(ImageDesc::render_target(width, height, format), "offscreen colour")?);

@@ -178,26 +178,32 @@ impl VisibilityState {
         meshes: &[&MeshBuffers],
     ) -> Result<Self> {
         if !ctx.has_visibility_buffer() {
-            return Err(Error::Invalid(format!(
-                "{} cannot draw a visibility buffer (it lacks geometryShader, vertexPipelineStoresAndAtomics or \
+            return Err(Error::unsupported(
+                &ctx.info.name,
+                format!(
+                    "{} cannot draw a visibility buffer (it lacks geometryShader, vertexPipelineStoresAndAtomics or \
                  fragmentStoresAndAtomics): use the forward path",
-                ctx.info.name
-            )));
+                    ctx.info.name
+                ),
+            ));
         }
         if samples.as_raw() > VISIBILITY_MAX_SAMPLES {
-            return Err(Error::Invalid(format!(
-                "the visibility buffer takes at most {VISIBILITY_MAX_SAMPLES} samples per pixel, not {}",
-                samples.as_raw()
-            )));
+            return Err(Error::setting(
+                "samples",
+                format!(
+                    "the visibility buffer takes at most {VISIBILITY_MAX_SAMPLES} samples per pixel, not {}",
+                    samples.as_raw()
+                ),
+            ));
         }
         if meshes.len() > MAX_OBJECTS {
-            return Err(Error::Invalid(format!(
+            return Err(Error::too_large(format!(
                 "the visibility buffer tells at most {MAX_OBJECTS} objects apart; the scene has {}",
                 meshes.len()
             )));
         }
         if let Some((i, m)) = meshes.iter().enumerate().find(|(_, m)| u64::from(m.index_count / 3) > MAX_TRIANGLES) {
-            return Err(Error::Invalid(format!(
+            return Err(Error::too_large(format!(
                 "object {i} has {} triangles; the visibility buffer takes at most {MAX_TRIANGLES} per object",
                 m.index_count / 3
             )));

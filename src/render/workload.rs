@@ -206,7 +206,7 @@ pub struct ProbeResult {
 /// `frames` frames (after one warm-up) of fetches / GPU time. `None` where the device has no timestamps.
 pub fn fetch_probe(ctx: &Context, frames: usize) -> Result<Option<ProbeResult>> {
     if frames == 0 {
-        return Err(Error::Invalid("the probe needs at least one frame".into()));
+        return Err(Error::setting("frames", "the probe needs at least one frame".into()));
     }
     let desc = ImageDesc::texture_array(PROBE_SIDE, PROBE_SIDE, PROBE_LAYERS, vk::Format::R32G32_SFLOAT);
     let texture = Guard::new(ctx, ctx.create_image(desc, "fetch probe texture")?);

@@ -505,11 +505,11 @@ impl Locator<'_> {
     }
 
     fn at(&self, span: std::ops::Range<usize>, message: impl std::fmt::Display) -> Error {
-        Error::Invalid(format!("{}:{}: {message}", self.name, self.line(span.start)))
+        Error::Scene { file: self.name.to_string(), line: Some(self.line(span.start)), message: message.to_string() }
     }
 
     fn whole(&self, message: impl std::fmt::Display) -> Error {
-        Error::Invalid(format!("{}: {message}", self.name))
+        Error::Scene { file: self.name.to_string(), line: None, message: message.to_string() }
     }
 }
 

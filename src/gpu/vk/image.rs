@@ -317,11 +317,10 @@ impl Context {
             .filter(|&n| supported.contains(vk::SampleCountFlags::from_raw(n)))
             .map(|n| n.to_string())
             .collect();
-        Err(Error::Invalid(format!(
-            "{samples} samples per pixel: {} supports {} (--samples)",
-            self.info.name,
-            counts.join(", ")
-        )))
+        Err(Error::setting(
+            "samples",
+            format!("{samples} samples per pixel: {} supports {} (--samples)", self.info.name, counts.join(", ")),
+        ))
     }
 
     /// A shadow map's sampler: with `compare`, a depth-comparison sampler (`sampler2DShadow`: a reference depth

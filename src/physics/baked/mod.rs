@@ -275,7 +275,10 @@ impl TablePlan {
         illuminant: Illuminant,
     ) -> Result<Self> {
         if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
-            return Err(Error::Invalid(format!("the table tolerance must lie in (0, 1), got {tolerance}")));
+            return Err(Error::setting(
+                "table_tolerance",
+                format!("the table tolerance must lie in (0, 1), got {tolerance}"),
+            ));
         }
         let d = request.domain;
         for (name, (a, b)) in [("u", d.u), ("v", d.v), ("w", d.w)] {
@@ -323,7 +326,10 @@ impl TablePlan {
         plan.size_grid(request);
         let segments = match request.segments {
             Some(n) if !(1..=MAX_SEGMENTS).contains(&n) => {
-                return Err(Error::Invalid(format!("a table has 1 to {MAX_SEGMENTS} segments of w, not {n}")))
+                return Err(Error::setting(
+                    "table_segments",
+                    format!("a table has 1 to {MAX_SEGMENTS} segments of w, not {n}"),
+                ))
             }
             Some(1) => return Ok(plan),
             Some(n) => plan.segmented(hf, n)?,
@@ -544,7 +550,7 @@ pub(crate) fn shortfall(table: &BakedTable) -> Option<String> {
 pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
     match shortfall(table) {
         None => Ok(()),
-        Some(m) if strict => Err(Error::Invalid(format!(
+        Some(m) if strict => Err(Error::precision(format!(
             "{m}; refused (--strict-table, or the scene's table_tolerance): raise the tolerance or narrow the views"
         ))),
         Some(m) => {

@@ -53,7 +53,7 @@ pub fn sweep_keys() -> Vec<&'static str> {
 impl Config {
     /// Sets `key` to `value` (as written on the command line).
     pub fn set(&mut self, key: &str, value: &str) -> Result<()> {
-        let bad = |what: &str| Error::Invalid(format!("--sweep {key}={value}: {what}"));
+        let bad = |what: &str| Error::setting("sweep", format!("--sweep {key}={value}: {what}"));
         match key {
             "size" => {
                 let v: u32 = value.parse().map_err(|_| bad("the size is a pixel count"))?;
@@ -86,13 +86,13 @@ impl Config {
                 self.path = Some(path);
             }
             _ if Settings::canonical(key).is_some() => {
-                self.overrides.set(key, value).map_err(|e| Error::Invalid(format!("--sweep {e}")))?
+                self.overrides.set(key, value).map_err(|e| Error::setting("sweep", format!("--sweep {e}")))?
             }
             _ => {
-                return Err(Error::Invalid(format!(
-                    "--sweep: unknown key `{key}` (the keys are {})",
-                    sweep_keys().join(", ")
-                )))
+                return Err(Error::setting(
+                    "sweep",
+                    format!("--sweep: unknown key `{key}` (the keys are {})", sweep_keys().join(", ")),
+                ))
             }
         }
         Ok(())
@@ -146,18 +146,18 @@ impl Sweep {
     pub fn parse(items: &[String]) -> Result<Self> {
         let mut parsed: Vec<(String, Vec<String>)> = Vec::new();
         for item in items {
-            let (key, values) = item
-                .split_once('=')
-                .ok_or_else(|| Error::Invalid(format!("--sweep {item}: expected KEY=V1,V2,... (e.g. order=4,8,16)")))?;
+            let (key, values) = item.split_once('=').ok_or_else(|| {
+                Error::setting("sweep", format!("--sweep {item}: expected KEY=V1,V2,... (e.g. order=4,8,16)"))
+            })?;
             let asked = key.trim().replace('-', "_");
             let key = Settings::canonical(&asked).map_or(asked.clone(), str::to_string);
             if parsed.iter().any(|(k, _)| *k == key) {
-                return Err(Error::Invalid(format!("--sweep: `{key}` appears twice in one sweep")));
+                return Err(Error::setting("sweep", format!("--sweep: `{key}` appears twice in one sweep")));
             }
             let values: Vec<String> =
                 values.split(',').map(|v| v.trim().to_string()).filter(|v| !v.is_empty()).collect();
             if values.is_empty() {
-                return Err(Error::Invalid(format!("--sweep {item}: no values")));
+                return Err(Error::setting("sweep", format!("--sweep {item}: no values")));
             }
             let mut probe = Config::default();
             for v in &values {

@@ -86,18 +86,21 @@ impl Subject {
     pub fn check_frame_keys(&self, config: &Config) -> Result<()> {
         match self {
             Subject::Scene { .. } if config.shader.is_some() => {
-                Err(Error::Invalid("--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
+                Err(Error::setting("sweep", "--sweep shader= is for BRDF maps: a scene is always rasterised".into()))
             }
-            Subject::Map { .. } if config.target.is_some() => Err(Error::Invalid(
+            Subject::Map { .. } if config.target.is_some() => Err(Error::setting(
+                "sweep",
                 "--sweep target= is for scenes (what `render` or `view` draws into): a BRDF map is linear".into(),
             )),
-            Subject::Map { .. } if config.path.is_some() => {
-                Err(Error::Invalid("--sweep path= is for scenes: a BRDF map has no triangles to raster".into()))
-            }
+            Subject::Map { .. } if config.path.is_some() => Err(Error::setting(
+                "sweep",
+                "--sweep path= is for scenes: a BRDF map has no triangles to raster".into(),
+            )),
             Subject::Scene { .. }
                 if config.path == Some(ShadingPath::Visibility) && config.target == Some(FrameTarget::Display) =>
             {
-                Err(Error::Invalid(
+                Err(Error::setting(
+                    "sweep",
                     "--sweep path=visibility draws linear frames (as `render` does): not with target=display".into(),
                 ))
             }
@@ -108,7 +111,8 @@ impl Subject {
     /// Samples per pixel of the timed frames: as asked, else the scene's; a map has one.
     pub fn frame_samples(&self, asked: Option<u32>) -> Result<u32> {
         match self {
-            Subject::Map { .. } if asked.is_some_and(|n| n > 1) => Err(Error::Invalid(
+            Subject::Map { .. } if asked.is_some_and(|n| n > 1) => Err(Error::setting(
+                "samples",
                 "--samples is for scenes: a BRDF map's pixels are directions (--reference-samples averages them)"
                     .into(),
             )),
@@ -371,7 +375,7 @@ pub fn run(
         let index = i + 1;
         let label = config.label();
         let step = |what: &str| progress(Progress::Step { index, count, label: &label, what });
-        let in_config = |e: Error| Error::Invalid(format!("configuration {label}: {e}"));
+        let in_config = |e: Error| Error::Configuration { label: label.clone(), cause: Box::new(e) };
         let size = subject.image_size(config);
         step("precomputing");
         let start = Instant::now();
@@ -536,7 +540,7 @@ fn frames(
     }
     let image = workload.image(ctx)?;
     if let Some(bad) = image.iter().position(|v| !v.is_finite()) {
-        return Err(Error::Invalid(format!(
+        return Err(Error::precision(format!(
             "pixel {} of the image is not a finite number (a bug in diffract)",
             bad / 4
         )));
