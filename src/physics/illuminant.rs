@@ -1,7 +1,7 @@
 //! The light's spectrum: CIE illuminants and measured ones, as relative spectral power at 1 nm from 380 to
 //! 780 nm (100 at 560 nm), the grid of the colour-matching functions in [`crate::physics::cie_tables`].
 //!
-//! - `D65`: the CIE table the renderer always used ([`crate::physics::cie_tables::D65`]).
+//! - `D65`: the CIE table the renderer always used ([`crate::physics::cie_tables::d65`]).
 //! - `D50`, `D55`, `D75`, … `D<N>` for N from 40 to 250: the CIE daylight series at the correlated colour
 //!   temperature N·100 K × 1.4388/1.4380 (the CIE's convention that makes D65 6504 K), from the S0, S1, S2
 //!   basis (CIE 15:2018 §4.1) as the `colorimetry` crate computes it.
@@ -23,7 +23,7 @@ use colorimetry::illuminant::CieIlluminant;
 
 use crate::error::{Error, Result};
 use crate::gpu::interface::{TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
-use crate::physics::cie_tables::{CIE1931_XYZ, D65};
+use crate::physics::cie_tables::{cie1931_xyz, d65};
 
 /// Rows of a 1 nm table from 380 to 780 nm.
 pub type Table = [f64; TABLE_ROWS];
@@ -101,8 +101,7 @@ pub const SUN_TURBIDITY: f64 = 3.0;
 impl Illuminant {
     /// CIE D65, the renderer's default: the CIE table itself.
     pub fn d65() -> Self {
-        static D65_ILLUMINANT: Illuminant = Illuminant { name: "D65", spd: &D65, white: &D65, physical: false };
-        D65_ILLUMINANT
+        Illuminant { name: "D65", spd: d65(), white: d65(), physical: false }
     }
 
     /// A CIE illuminant by name (case does not matter): see [`NAMES`].
@@ -275,7 +274,7 @@ impl Illuminant {
     /// 380 nm: 1 is what the renderer integrates, 5 how the CIE computed its published values.
     pub fn xy(&self, step_nm: usize) -> (f64, f64) {
         let mut xyz = [0.0; 3];
-        for (row, s) in CIE1931_XYZ.iter().zip(self.spd.iter()).step_by(step_nm.max(1)) {
+        for (row, s) in cie1931_xyz().iter().zip(self.spd.iter()).step_by(step_nm.max(1)) {
             for c in 0..3 {
                 xyz[c] += row[c] * s;
             }
@@ -308,7 +307,7 @@ impl Illuminant {
                 let lambda = TABLE_LAMBDA_MIN_NM + i as f64;
                 let blue = 1.0 / (1.0 + ((lambda - BAND_EDGES_NM[0]) / BAND_WIDTH_NM).exp());
                 let red = 1.0 / (1.0 + (-(lambda - BAND_EDGES_NM[1]) / BAND_WIDTH_NM).exp());
-                D65[i] * [blue, 1.0 - blue - red, red][band]
+                d65()[i] * [blue, 1.0 - blue - red, red][band]
             });
             let spd: &'static Table = Box::leak(Box::new(table));
             Illuminant { name: NAMES[band], spd, white: spd, physical: false }

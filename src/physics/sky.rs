@@ -24,7 +24,7 @@ use glam::DVec3;
 
 use crate::error::{Error, Result};
 use crate::gpu::interface::{TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
-use crate::physics::cie_tables::CIE1931_XYZ;
+use crate::physics::cie_tables::cie1931_xyz;
 use crate::physics::optics::SUN_SOLID_ANGLE;
 
 /// The turbidities the model accepts (Preetham et al.'s fitted range).
@@ -213,7 +213,7 @@ pub fn spectrum_xyz(radiance: impl Fn(f64) -> f64) -> DVec3 {
     (0..TABLE_ROWS)
         .map(|i| {
             let lambda = TABLE_LAMBDA_MIN_NM + i as f64;
-            DVec3::from(CIE1931_XYZ[i]) * radiance(lambda)
+            DVec3::from(cie1931_xyz()[i]) * radiance(lambda)
         })
         .sum::<DVec3>()
         * LUMINOUS_EFFICACY

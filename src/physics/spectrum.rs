@@ -9,7 +9,7 @@
 use glam::DVec3;
 
 use crate::gpu::interface::{TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS, XYZ_TO_LINEAR_SRGB};
-use crate::physics::cie_tables::CIE1931_XYZ;
+use crate::physics::cie_tables::cie1931_xyz;
 use crate::physics::illuminant::Illuminant;
 
 /// The visible range the renderer integrates over, nm (model.md §5.2).
@@ -27,7 +27,7 @@ pub(crate) fn spectrum_at(lambda_nm: f64, illuminant: &Illuminant, step_nm: f64)
     let x = lambda_nm - TABLE_LAMBDA_MIN_NM;
     let i = (x.floor() as usize).min(TABLE_ROWS - 2);
     let t = x - i as f64;
-    let cmf = |k: usize| CIE1931_XYZ[k];
+    let cmf = |k: usize| cie1931_xyz()[k];
     let (a, b) = (cmf(i), cmf(i + 1));
     let [xb, yb, zb] = [0, 1, 2].map(|c| a[c] + (b[c] - a[c]) * t);
     [xb, yb, zb, illuminant_over_step(illuminant, lambda_nm, step_nm) / 100.0]

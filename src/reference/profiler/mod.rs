@@ -274,50 +274,51 @@ impl TableSummary {
     }
 }
 
-/// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured.
-pub const MEASURED_COLUMNS: [&str; 37] = [
-    "order_used",
-    "lambda_count",
-    "taps",
-    "width",
-    "height",
-    "samples",
-    "map_shader",
-    "frame_target",
-    "shading_path",
-    "frames",
-    "precompute_ms",
-    "gpu_ms_median",
-    "gpu_ms_p10",
-    "gpu_ms_p90",
-    "depth_ms_median",
-    "visibility_ms_median",
-    "shading_ms_median",
-    "edges_ms_median",
-    "resolve_ms_median",
-    "copy_ms_median",
-    "cpu_ms_median",
-    "fragment_invocations",
-    "shaded_per_covered_pixel",
-    "fetches_per_pixel",
-    "fetches_per_s",
-    "roofline_fraction",
-    "mean_de2000",
-    "p99_de2000",
-    "mean_de2000_se",
-    "de_pixels",
-    "rel_xyz_rmse",
-    "table_terms",
-    "table_texels",
-    "table_mib",
-    "upload_bytes",
-    "upload_gpu_ms",
-    "label",
+/// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured, each
+/// with how a row writes it (empty where the device cannot measure).
+const MEASURED: [(&str, fn(&Row) -> String); 37] = [
+    ("order_used", |r| opt(r.order)),
+    ("lambda_count", |r| r.lambda_count.to_string()),
+    ("taps", |r| r.taps.to_string()),
+    ("width", |r| r.width.to_string()),
+    ("height", |r| r.height.to_string()),
+    ("samples", |r| r.samples.to_string()),
+    ("map_shader", |r| r.map_shader.map_or(String::new(), |s| s.name().to_string())),
+    ("frame_target", |r| r.frame_target.map_or(String::new(), |t| t.name().to_string())),
+    ("shading_path", |r| r.shading_path.map_or(String::new(), |p| p.name().to_string())),
+    ("frames", |r| r.frames.to_string()),
+    ("precompute_ms", |r| format!("{:.3}", r.precompute_ms)),
+    ("gpu_ms_median", |r| opt(r.gpu_ms.map(|s| format!("{:.4}", s.median)))),
+    ("gpu_ms_p10", |r| opt(r.gpu_ms.map(|s| format!("{:.4}", s.p10)))),
+    ("gpu_ms_p90", |r| opt(r.gpu_ms.map(|s| format!("{:.4}", s.p90)))),
+    ("depth_ms_median", |r| opt(r.pass_ms(pass::DEPTH).map(|v| format!("{v:.4}")))),
+    ("visibility_ms_median", |r| opt(r.pass_ms(pass::VISIBILITY).map(|v| format!("{v:.4}")))),
+    ("shading_ms_median", |r| opt(r.pass_ms(pass::SHADING).map(|v| format!("{v:.4}")))),
+    ("edges_ms_median", |r| opt(r.pass_ms(pass::EDGES).map(|v| format!("{v:.4}")))),
+    ("resolve_ms_median", |r| opt(r.pass_ms(pass::RESOLVE).map(|v| format!("{v:.4}")))),
+    ("copy_ms_median", |r| opt(r.pass_ms(pass::COPY).map(|v| format!("{v:.4}")))),
+    ("cpu_ms_median", |r| format!("{:.4}", r.cpu_ms.median)),
+    ("fragment_invocations", |r| opt(r.fragment_invocations)),
+    ("shaded_per_covered_pixel", |r| format!("{:.3}", r.shaded_per_pixel)),
+    ("fetches_per_pixel", |r| format!("{:.1}", r.fetches_per_pixel)),
+    ("fetches_per_s", |r| opt(r.fetches_per_s.map(|v| format!("{v:.4e}")))),
+    ("roofline_fraction", |r| opt(r.roofline_fraction.map(|v| format!("{v:.4}")))),
+    ("mean_de2000", |r| opt(r.error.map(|e| format!("{:.5}", e.mean_de)))),
+    ("p99_de2000", |r| opt(r.error.map(|e| format!("{:.5}", e.p99_de)))),
+    ("mean_de2000_se", |r| opt(r.error.and_then(|e| e.mean_de_se).map(|v| format!("{v:.5}")))),
+    ("de_pixels", |r| opt(r.error.map(|e| e.pixels))),
+    ("rel_xyz_rmse", |r| opt(r.error.map(|e| format!("{:.5e}", e.rel_rmse)))),
+    ("table_terms", |r| opt(r.table.map(|t| t.terms))),
+    ("table_texels", |r| opt(r.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1)))),
+    ("table_mib", |r| opt(r.table.map(|t| format!("{:.2}", t.mib)))),
+    ("upload_bytes", |r| opt(r.upload.map(|u| u.bytes))),
+    ("upload_gpu_ms", |r| opt(r.upload.and_then(|u| u.gpu_ms).map(|v| format!("{v:.4}")))),
+    ("label", |r| r.label()),
 ];
 
 /// The CSV's column header (the schema a test checks): the settings, then what was measured.
 pub fn csv_columns() -> Vec<&'static str> {
-    Settings::KEYS.iter().chain(&MEASURED_COLUMNS).copied().collect()
+    Settings::KEYS.iter().copied().chain(MEASURED.iter().map(|(name, _)| *name)).collect()
 }
 
 fn opt<T: std::fmt::Display>(v: Option<T>) -> String {
@@ -338,45 +339,7 @@ impl Row {
     /// The row's CSV fields, in [`csv_columns`] order (empty where the device cannot measure).
     pub fn csv_fields(&self) -> Vec<String> {
         let mut fields = self.settings.values();
-        fields.extend([
-            opt(self.order),
-            self.lambda_count.to_string(),
-            self.taps.to_string(),
-            self.width.to_string(),
-            self.height.to_string(),
-            self.samples.to_string(),
-            self.map_shader.map_or(String::new(), |s| s.name().to_string()),
-            self.frame_target.map_or(String::new(), |t| t.name().to_string()),
-            self.shading_path.map_or(String::new(), |p| p.name().to_string()),
-            self.frames.to_string(),
-            format!("{:.3}", self.precompute_ms),
-            opt(self.gpu_ms.map(|s| format!("{:.4}", s.median))),
-            opt(self.gpu_ms.map(|s| format!("{:.4}", s.p10))),
-            opt(self.gpu_ms.map(|s| format!("{:.4}", s.p90))),
-            opt(self.pass_ms(pass::DEPTH).map(|v| format!("{v:.4}"))),
-            opt(self.pass_ms(pass::VISIBILITY).map(|v| format!("{v:.4}"))),
-            opt(self.pass_ms(pass::SHADING).map(|v| format!("{v:.4}"))),
-            opt(self.pass_ms(pass::EDGES).map(|v| format!("{v:.4}"))),
-            opt(self.pass_ms(pass::RESOLVE).map(|v| format!("{v:.4}"))),
-            opt(self.pass_ms(pass::COPY).map(|v| format!("{v:.4}"))),
-            format!("{:.4}", self.cpu_ms.median),
-            opt(self.fragment_invocations),
-            format!("{:.3}", self.shaded_per_pixel),
-            format!("{:.1}", self.fetches_per_pixel),
-            opt(self.fetches_per_s.map(|v| format!("{v:.4e}"))),
-            opt(self.roofline_fraction.map(|v| format!("{v:.4}"))),
-            opt(self.error.map(|e| format!("{:.5}", e.mean_de))),
-            opt(self.error.map(|e| format!("{:.5}", e.p99_de))),
-            opt(self.error.and_then(|e| e.mean_de_se).map(|v| format!("{v:.5}"))),
-            opt(self.error.map(|e| e.pixels)),
-            opt(self.error.map(|e| format!("{:.5e}", e.rel_rmse))),
-            opt(self.table.map(|t| t.terms)),
-            opt(self.table.map(|t| format!("{}x{}", t.texels.0, t.texels.1))),
-            opt(self.table.map(|t| format!("{:.2}", t.mib))),
-            opt(self.upload.map(|u| u.bytes)),
-            opt(self.upload.and_then(|u| u.gpu_ms).map(|v| format!("{v:.4}"))),
-            self.label(),
-        ]);
+        fields.extend(MEASURED.iter().map(|(_, field)| field(self)));
         fields
     }
 }
