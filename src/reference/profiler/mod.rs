@@ -274,9 +274,12 @@ impl TableSummary {
     }
 }
 
+/// How a row writes one CSV field.
+type Field = fn(&Row) -> String;
+
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured, each
 /// with how a row writes it (empty where the device cannot measure).
-const MEASURED: [(&str, fn(&Row) -> String); 37] = [
+const MEASURED: [(&str, Field); 37] = [
     ("order_used", |r| opt(r.order)),
     ("lambda_count", |r| r.lambda_count.to_string()),
     ("taps", |r| r.taps.to_string()),
