@@ -1,25 +1,84 @@
 //! Colour differences for measuring image error: CIE XYZ → CIELAB (D65 white) and the CIEDE2000 difference
-//! ΔE₀₀ (CIE 142-2001), both from the `palette` crate. Its CIEDE2000 reproduces the published test pairs of
-//! Sharma, Wu & Dalal (*The CIEDE2000 color-difference formula*, 2005) to their four decimals (tested below).
+//! ΔE₀₀ (CIE 142-2001), as Sharma, Wu & Dalal state it (*The CIEDE2000 color-difference formula: implementation
+//! notes, supplementary test data, and mathematical observations*, Color Res. Appl. 30, 2005), whose published
+//! test pairs it reproduces to their four decimals (tested below).
 
 use glam::DVec3;
-use palette::color_difference::Ciede2000;
-use palette::white_point::D65;
-use palette::{IntoColor, Lab, Xyz};
 
 /// The D65 white point of the 2° observer (X, Y, Z with Y = 1), the white of [`xyz_to_lab`].
 pub const D65_WHITE: DVec3 = DVec3::new(0.95047, 1.0, 1.08883);
 
-/// CIELAB (L*, a*, b*) of `xyz` (on the scale where the D65 white has Y = 1) relative to [`D65_WHITE`].
+/// The box every CIELAB colour is clamped to: L* in [0, 100], a* and b* in [−128, 127]. The `palette` crate's
+/// conversion, which measured every ΔE00 diffract reported until 2026-11-28, clamps so; it is kept so that those
+/// figures stay comparable. CIELAB itself has no bounds: a glint brighter than the reference white (L* > 100) and
+/// spectral colours (a* beyond 127) are read at the box's edge.
+pub const LAB_MIN: DVec3 = DVec3::new(0.0, -128.0, -128.0);
+pub const LAB_MAX: DVec3 = DVec3::new(100.0, 127.0, 127.0);
+
+/// CIELAB (L*, a*, b*) of `xyz` (on the scale where the D65 white has Y = 1) relative to [`D65_WHITE`], with the
+/// CIE's exact constants ε = 216/24389 and κ = 24389/27.
 pub fn xyz_to_lab(xyz: DVec3) -> DVec3 {
-    let lab: Lab<D65, f64> = Xyz::<D65, f64>::new(xyz.x, xyz.y, xyz.z).into_color();
-    DVec3::new(lab.l, lab.a, lab.b)
+    const EPSILON: f64 = 216.0 / 24389.0;
+    const KAPPA: f64 = 24389.0 / 27.0;
+    let f = |t: f64| if t > EPSILON { t.cbrt() } else { (KAPPA * t + 16.0) / 116.0 };
+    let r = xyz / D65_WHITE;
+    let (fx, fy, fz) = (f(r.x), f(r.y), f(r.z));
+    let lab = DVec3::new(116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz));
+    lab.clamp(LAB_MIN, LAB_MAX)
 }
 
-/// ΔE₀₀ between two CIELAB colours (kL = kC = kH = 1).
+/// ΔE₀₀ between two CIELAB colours (kL = kC = kH = 1), in the steps of Sharma et al.'s equations (1)–(22).
 pub fn ciede2000(lab1: DVec3, lab2: DVec3) -> f64 {
-    let lab = |v: DVec3| Lab::<D65, f64>::new(v.x, v.y, v.z);
-    lab(lab1).difference(lab(lab2))
+    let pow7 = |x: f64| x.powi(7);
+    let twenty_five_7 = pow7(25.0);
+    let c_bar = (lab1.y.hypot(lab1.z) + lab2.y.hypot(lab2.z)) / 2.0;
+    let g = 0.5 * (1.0 - (pow7(c_bar) / (pow7(c_bar) + twenty_five_7)).sqrt());
+    // a′, C′ and h′ (degrees in [0, 360); 0 where a′ = b = 0).
+    let prime = |lab: DVec3| {
+        let a = (1.0 + g) * lab.y;
+        let c = a.hypot(lab.z);
+        let h = if a == 0.0 && lab.z == 0.0 { 0.0 } else { lab.z.atan2(a).to_degrees().rem_euclid(360.0) };
+        (c, h)
+    };
+    let ((c1, h1), (c2, h2)) = (prime(lab1), prime(lab2));
+    let dl = lab2.x - lab1.x;
+    let dc = c2 - c1;
+    let dh = if c1 * c2 == 0.0 {
+        0.0
+    } else {
+        let d = h2 - h1;
+        if d > 180.0 {
+            d - 360.0
+        } else if d < -180.0 {
+            d + 360.0
+        } else {
+            d
+        }
+    };
+    let dh_big = 2.0 * (c1 * c2).sqrt() * (dh.to_radians() / 2.0).sin();
+    let l_bar = (lab1.x + lab2.x) / 2.0;
+    let c_bar_prime = (c1 + c2) / 2.0;
+    let h_bar = if c1 * c2 == 0.0 {
+        h1 + h2
+    } else if (h1 - h2).abs() <= 180.0 {
+        (h1 + h2) / 2.0
+    } else if h1 + h2 < 360.0 {
+        (h1 + h2 + 360.0) / 2.0
+    } else {
+        (h1 + h2 - 360.0) / 2.0
+    };
+    let cos = |deg: f64| deg.to_radians().cos();
+    let t = 1.0 - 0.17 * cos(h_bar - 30.0) + 0.24 * cos(2.0 * h_bar) + 0.32 * cos(3.0 * h_bar + 6.0)
+        - 0.20 * cos(4.0 * h_bar - 63.0);
+    let d_theta = 30.0 * (-((h_bar - 275.0) / 25.0).powi(2)).exp();
+    let r_c = 2.0 * (pow7(c_bar_prime) / (pow7(c_bar_prime) + twenty_five_7)).sqrt();
+    let l50 = (l_bar - 50.0).powi(2);
+    let s_l = 1.0 + 0.015 * l50 / (20.0 + l50).sqrt();
+    let s_c = 1.0 + 0.045 * c_bar_prime;
+    let s_h = 1.0 + 0.015 * c_bar_prime * t;
+    let r_t = -(2.0 * d_theta).to_radians().sin() * r_c;
+    let (l, c, h) = (dl / s_l, dc / s_c, dh_big / s_h);
+    (l * l + c * c + h * h + r_t * c * h).sqrt()
 }
 
 #[cfg(test)]
@@ -46,6 +105,33 @@ mod tests {
             let d = ciede2000(DVec3::from(a), DVec3::from(b));
             assert!((d - expected).abs() < 1e-4, "{a:?} vs {b:?}: {d} instead of {expected}");
             assert!((ciede2000(DVec3::from(b), DVec3::from(a)) - d).abs() < 1e-12, "symmetric");
+        }
+    }
+
+    /// Pairs of nearly opposite hues, where the mean hue's branch matters, against colour-science 0.4.7's
+    /// `delta_E(method="CIE 2000")` (which the `palette` crate, used until 2026-11-28, missed by up to 1.8e-4).
+    #[test]
+    fn ciede2000_agrees_with_colour_science_across_the_hue_branch() {
+        let pairs = [
+            (
+                [33.23600994429265, 81.71759144100804, -67.75831169374533],
+                [94.5707819124296, 66.35195363536204, 57.45386974757952],
+                66.89539022420637,
+            ),
+            (
+                [57.72942662237993, 6.890651261030129, -24.470397573021543],
+                [71.3599262381937, 19.19001357831442, 85.5720982212348],
+                48.35793172995629,
+            ),
+            (
+                [23.422593704914004, 9.707869607110894, -13.749065352556116],
+                [7.135887866300631, 69.0650619978419, 98.53085138342985],
+                41.62528118964506,
+            ),
+        ];
+        for (a, b, expected) in pairs {
+            let d = ciede2000(DVec3::from(a), DVec3::from(b));
+            assert!((d - expected).abs() < 1e-9, "{a:?} vs {b:?}: {d} instead of {expected}");
         }
     }
 

@@ -15,7 +15,7 @@
 mod buffer;
 mod command;
 mod debug;
-pub mod device;
+mod device;
 mod guard;
 mod image;
 mod instance;
