@@ -1,9 +1,9 @@
 #version 460
-// The BRDF map under an environment (`env_light`, model.md §3.10): each pixel's radiance towards its view ω_r is
+// The BRDF map under an environment (`light::sampling`, model.md §3.10): each pixel's radiance towards its view ω_r is
 // the BRDF integrated against the environment, estimated from `n_brdf` samples drawn from the baked table's
 // envelope and `n_env` drawn from the environment's luminance, combined by the balance heuristic (`n_floor` of the
 // BRDF's samples cosine-weighted: a third strategy with a fixed count). Each strategy's points are a randomly
-// shifted R2 sequence, its cells drawn by inverting 2D CDFs. The CPU twin is `env_light::Integrator::pass` (same
+// shifted R2 sequence, its cells drawn by inverting 2D CDFs. The CPU twin is `light::sampling::Integrator::pass` (same
 // names), which the exact reference runs with the exact BRDF. One invocation per pixel; a dispatch covers a band of
 // rows.
 #define NO_DERIVATIVES
@@ -18,7 +18,7 @@ layout(local_size_x_id = SPEC_MAP_LOCAL_SIZE, local_size_y_id = SPEC_MAP_LOCAL_S
 // Read and written: a dispatch adds its chunk of samples to what the earlier ones summed.
 layout(set = 0, binding = BINDING_MAP_IMAGE, rgba32f) uniform image2D map_image;
 
-// The distributions (`env_light::Distribution2D::gpu_words`): the marginal CDF's nv + 1 values, each row's
+// The distributions (`light::sampling::Distribution2D::gpu_words`): the marginal CDF's nv + 1 values, each row's
 // conditional CDF's nu + 1, then each cell's density.
 layout(std430, set = 0, binding = BINDING_TABLE_SAMPLING) readonly buffer TableSampling { float table_sampling[]; };
 layout(std430, set = 0, binding = BINDING_ENV_SAMPLING) readonly buffer EnvSampling { float env_sampling[]; };
@@ -41,7 +41,7 @@ float cdf_at(bool table, uint i) { return table ? table_sampling[i] : env_sampli
 // One step of the search below: take the bit if the CDF there is still ≤ x.
 #define SEARCH_BIT(b) { uint mid = lo + (1u << b); if (mid < n && cdf_at(table, base + mid) <= x) lo = mid; }
 
-// The last i < n with cdf[base + i] ≤ x, and x's place within [cdf[i], cdf[i + 1]) (`env_light::invert`), for
+// The last i < n with cdf[base + i] ≤ x, and x's place within [cdf[i], cdf[i + 1]) (`light::sampling::invert`), for
 // n ≤ 2¹⁶. Written out bit by bit, without a loop: llvmpipe stops an invocation's loops after 65535 iterations in
 // all (its guard against endless loops), which a search loop inside every sample's loop reached after ~2700
 // samples.
@@ -68,18 +68,18 @@ float cell_density(bool table, uint nu, uint nv, uint cell) {
     return cdf_at(table, nv + 1u + nv * (nu + 1u) + cell);
 }
 
-// Point k of the R2 sequence shifted by `shift` (`env_light::r2`).
+// Point k of the R2 sequence shifted by `shift` (`light::sampling::r2`).
 vec2 r2(uint k, uvec2 shift) {
     uvec2 x = shift + k * uvec2(R2_STEP_X, R2_STEP_Y);
     return vec2(x >> 8u) * (1.0 / 16777216.0);
 }
 
-// The inverse CDF of the tent on [−1, 1] (`env_light::tent`).
+// The inverse CDF of the tent on [−1, 1] (`light::sampling::tent`).
 float tent(float f) {
     return f < 0.5 ? sqrt(2.0 * f) - 1.0 : 1.0 - sqrt(2.0 * (1.0 - f));
 }
 
-// The patch frame (z the normal) in the environment's (+y up), and back (`env_light::env_of_patch`).
+// The patch frame (z the normal) in the environment's (+y up), and back (`light::sampling::env_of_patch`).
 vec3 env_of_patch(vec3 omega) { return vec3(omega.x, omega.z, -omega.y); }
 vec3 patch_of_env(vec3 d) { return vec3(d.x, -d.z, d.y); }
 

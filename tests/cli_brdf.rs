@@ -365,7 +365,7 @@ fn brdf_gpu_prints_the_same_csv_as_the_cpu() {
     assert_one_line_error(&o, "--gpu evaluates the Taylor sum");
 }
 
-/// The material settings are one declaration (src/settings.rs): every command takes the same flags, old names
+/// The material settings are one declaration (src/material/settings.rs): every command takes the same flags, old names
 /// still work, and a command that does not read a setting says so instead of ignoring it.
 #[test]
 fn settings_flags_are_shared_and_old_names_still_work() {

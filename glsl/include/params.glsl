@@ -1,6 +1,7 @@
 // Specialization constants and resources shared by every diffraction shader.
-// Mirrored by `shading::DiffractionParams` (std140, 160 bytes) and `shading::Material::spec_constants`; the ids
-// and bindings are named in interface.glsl.
+// The uniform block `params` is generated from `DiffractionParams` in src/gpu/interface.rs (its size is in the
+// generated file's first line); the constants' values come from `material::Material::spec_constants`, their ids and
+// the bindings from interface.glsl.
 #include "interface.glsl"
 
 layout(constant_id = SPEC_TERMS) const uint TERMS = 1;          // Taylor terms F_0..F_{TERMS-1}; baked: Chebyshev terms in w
@@ -13,7 +14,7 @@ layout(constant_id = SPEC_FOOTPRINT) const uint FOOTPRINT = 1;
 
 #ifdef COUNT_FETCHES
 // The counting variant adds each fragment's fetches, and 1, to fetch_counts[y · COUNT_STRIDE + x] (a row of the
-// target): the texels a pixel cost and how many times it was shaded. Mirrored by `render::profile::Counts`.
+// target): the texels a pixel cost and how many times it was shaded. Mirrored by `render::workload::Counts`.
 layout(constant_id = SPEC_COUNT_STRIDE) const uint COUNT_STRIDE = 1;
 layout(std430, set = 0, binding = BINDING_FETCH_COUNTS) buffer FetchCounts { uvec2 fetch_counts[]; };
 // Texels fetched by this fragment so far (Taylor terms, or the baked table's trilinear samples).
@@ -30,7 +31,7 @@ void record_fetches() {
 #endif
 }
 
-// The material's uniforms, generated from `shading::DiffractionParams` (the Rust struct is their one source).
+// The material's uniforms, generated from `material::DiffractionParams` (the Rust struct is their one source).
 #include "diffraction_params.glsl"
 
 #ifdef BAKED

@@ -1,4 +1,4 @@
-// The environment's diffraction, prefiltered (`env_prefilter`, model.md §3.11): the environment's radiance to l = 2
+// The environment's diffraction, prefiltered (`light::prefilter`, model.md §3.11): the environment's radiance to l = 2
 // as a quadratic form of the direction (frame.sky_quadratic: c₀, c, Q in the world), seen in the patch frame
 // T = (x, y, normal) as L(ω) = Σ_j a_j m_j(ω) over the monomials (1, x, y, z, x², y², xy, xz, yz), integrated
 // against the BRDF by its nine moments M_j(ω_r) (the material's moments texture: each a colour matrix from the
@@ -17,7 +17,7 @@ layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = SKY_DIFF
 
 layout(set = 0, binding = BINDING_MOMENTS) uniform sampler2DArray env_moments;
 
-// The moments' grid coordinates of a view (`env_prefilter::grid_of_view`): the direction's azimuth at the radius
+// The moments' grid coordinates of a view (`light::prefilter::grid_of_view`): the direction's azimuth at the radius
 // θ_r/(π/2).
 vec2 moment_grid_of_view(vec3 omega_r) {
     float s = length(omega_r.xy);
@@ -83,7 +83,7 @@ bool sky_diffracts(vec3 omega_r) {
 
 // The environment's light diffracted away from the mirror direction towards omega_r (patch frame) from the patch
 // whose world axes are x, y and n: Σ_j N_j(ω_r) a_j over the nine moments, times Schlick's R/R₀ at the mirror
-// (the grid holds the moments over it: `env_prefilter::mirror_fresnel`); linear RGB in the environment's units.
+// (the grid holds the moments over it: `light::prefilter::mirror_fresnel`); linear RGB in the environment's units.
 vec3 sky_diffracted(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     if (!sky_diffracts(omega_r)) return vec3(0.0);
     vec3 a[9];

@@ -1,5 +1,5 @@
 // The Taylor sum P = Σ_taps g · Σ_n c_n F_n[tap], c_n = (k w)^n / n!; mirrors src/physics/exact.rs
-// (`taylor_sum`, `taylor_sum_f32`) and src/physics/window.rs (taps: the nearest bin floor(s + 0.5) and
+// (`taylor_sum`, `taylor_sum_f32`) and src/physics/coherence.rs (taps: the nearest bin floor(s + 0.5) and
 // WINDOW_RADIUS bins either side; bins beyond Nyquist contribute nothing).
 
 vec2 cmul(vec2 a, vec2 b) {

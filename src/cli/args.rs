@@ -44,7 +44,7 @@ impl HeightFieldArgs {
 }
 
 /// The material settings of a command that prepares one material from [`Settings::default`] (`map`, `brdf`,
-/// `terms`, a profiled BRDF map): every flag of [`SettingsPatch`] (declared in `src/settings.rs`).
+/// `terms`, a profiled BRDF map): every flag of [`SettingsPatch`] (declared in `src/material/settings.rs`).
 #[derive(Args, Debug, Clone)]
 pub struct MaterialArgs {
     #[command(flatten)]

@@ -146,7 +146,7 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
     Ok(exposure)
 }
 
-/// The map under the environment in `path` (`env_light`): a table for every pair of directions, the GPU's
+/// The map under the environment in `path` (`light::sampling`): a table for every pair of directions, the GPU's
 /// estimate, and with --env-reference the exact BRDF's at random pixels.
 fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
     use crate::light::sampling::{EnvLight, TableProposal};

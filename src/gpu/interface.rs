@@ -247,12 +247,12 @@ shared! {
     pub const BINDING_ENVIRONMENT: u32 = 9;
     /// The same shadow map read as depths (its blocker search: `render::shadow`).
     pub const BINDING_SHADOW_DEPTH: u32 = 10;
-    /// `map_env.comp`'s distributions (each a `env_light::Distribution2D`'s CDF then its densities: the baked
+    /// `map_env.comp`'s distributions (each a `light::sampling::Distribution2D`'s CDF then its densities: the baked
     /// table's texels, the environment's) and the environment's radiance.
     pub const BINDING_TABLE_SAMPLING: u32 = 11;
     pub const BINDING_ENV_SAMPLING: u32 = 12;
     pub const BINDING_ENV_RADIANCE: u32 = 13;
-    /// A material's moments against the environment's light (`env_prefilter::Moments`), read by the surface pass.
+    /// A material's moments against the environment's light (`light::prefilter::Moments`), read by the surface pass.
     pub const BINDING_MOMENTS: u32 = 14;
     /// The environment without its sun, read by the surface pass at each pixel's mirror direction (its specular
     /// reflection: `render::surface`, `glsl/include/sky_diffraction.glsl`).
@@ -340,8 +340,8 @@ gpu_struct! {
 
 gpu_struct! {
     /// `map_env.comp`'s push constants (`EnvMapPush`): the map's square, offset and band origin as in [`MapPush`]; the
-    /// table proposal's texels (`nu`×`nv`, drawn by `env_light::TableProposal`), the environment's size and rotation
-    /// (radians), the samples per pixel of each strategy, the gain K (sr⁻¹, `env_light::env_gain`), how many of
+    /// table proposal's texels (`nu`×`nv`, drawn by `light::sampling::TableProposal`), the environment's size and rotation
+    /// (radians), the samples per pixel of each strategy, the gain K (sr⁻¹, `light::sampling::env_gain`), how many of
     /// the BRDF strategy's samples are drawn cosine-weighted, and the seed of the samples.
     pub struct EnvMapPush {
         pub size: [f32; 2],

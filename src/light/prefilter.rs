@@ -181,7 +181,7 @@ pub struct Moments {
 
 impl Moments {
     /// The moments of the basis' `tables` (each built for every pair of directions, under band k of [`basis`],
-    /// with its gain K, sr⁻¹: `env_light::env_gain`), integrated over a level of each table whose texels are
+    /// with its gain K, sr⁻¹: `light::sampling::env_gain`), integrated over a level of each table whose texels are
     /// about [`MOMENT_TEXEL`] wide.
     pub fn new(tables: &[(&BakedTable, f64); 3], grid: usize) -> Self {
         use rayon::prelude::*;

@@ -105,7 +105,7 @@ pub struct Material {
     pub table_plan: Option<TablePlan>,
     pub table_ms: f64,
     pub table_cached: bool,
-    /// The BRDF's moments against the environment's light (`env_prefilter`): where a scene's environment
+    /// The BRDF's moments against the environment's light (`light::prefilter`): where a scene's environment
     /// diffracts (set by [`Material::prepare_moments`]).
     pub moments: Option<Moments>,
 }
@@ -188,8 +188,8 @@ impl Material {
         Ok(material)
     }
 
-    /// Tabulates the moments of `hf`'s BRDF under these settings (`env_prefilter::Moments`), from a table for every
-    /// pair of directions with texels of `env_prefilter::MOMENT_TEXEL` (built or read from the cache like any
+    /// Tabulates the moments of `hf`'s BRDF under these settings (`light::prefilter::Moments`), from a table for every
+    /// pair of directions with texels of `light::prefilter::MOMENT_TEXEL` (built or read from the cache like any
     /// other). The light must be in physical units.
     pub fn prepare_moments(&mut self, hf: &HeightField) -> Result<()> {
         self.moments = Some(moments_of(hf, &self.settings)?);

@@ -381,7 +381,7 @@ macro_rules! settings {
             $(, set_in $set_in:literal)?;
     )+) => {
         /// Every setting that trades speed for accuracy, with the defaults a user gets (declared in
-        /// `src/settings.rs`).
+        /// `src/material/settings.rs`).
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct Settings {
             $( $(#[doc = $doc])+ pub $key: kind::$kind::Own<$ty>, )+

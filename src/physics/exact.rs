@@ -1,5 +1,5 @@
 //! The exact CPU reference of the diffraction BRDF (model.md §1.2–§1.7), in f64: what every test reads the
-//! shaders against. (The profiler's reference image, built from it, is `profile::exact_image`.)
+//! shaders against. (The profiler's reference image, built from it, is `reference::exact_image`.)
 //!
 //! `power` = |P(u/λ, v/λ)|², where P is the coherence-windowed DTFT of p = exp(i·k·w·h) normalised so that a
 //! flat patch gives 1 at specular ([`crate::physics::coherence`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of

@@ -295,7 +295,7 @@ impl Illuminant {
     }
 
     /// Band `band` (0 blue, 1 green, 2 red) of the smooth spectral basis an RGB environment's light is upsampled
-    /// into (`env_prefilter::basis`): D65 times a partition of unity of two logistic steps,
+    /// into (`light::prefilter::basis`): D65 times a partition of unity of two logistic steps,
     /// b_blue = 1/(1 + e^((λ − 490)/15)), b_red = 1/(1 + e^(−(λ − 590)/15)), b_green = 1 − b_blue − b_red, so the
     /// three sum to D65 and a D65-coloured light is D65 itself. Each is smooth and positive everywhere.
     pub fn d65_band(band: usize) -> Self {

@@ -4,7 +4,7 @@
 //! Â_1 = 2π/3, Â_2 = π/4. A Lambertian surface of albedo ρ then returns ρ·E(n)/π.
 //!
 //! [`Irradiance::coefficients`] hold L_lm·Â_l/π, so that [`Irradiance::over_pi`] is the plain sum Σ c·Y(n):
-//! the surface shader (`sky_over_pi` in glsl/surface.frag.glsl) evaluates the same sum of the same nine numbers.
+//! the surface shader (`sky_over_pi` in glsl/include/surface_shade.glsl) evaluates the same sum of the same nine numbers.
 //! Where the light has detail beyond l = 2 (the horizon's edge, a bright circumsolar region) the sum is an
 //! approximation of the irradiance: its error for the built-in sky is measured in the tests below.
 

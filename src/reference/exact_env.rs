@@ -19,15 +19,15 @@ pub const REFERENCE_REPLICATES: u32 = 8;
 /// passes, a table only proposing where to look. Each estimate carries its standard error (from the passes' spread).
 pub struct ExactEnv {
     reference: crate::physics::exact::Reference,
-    /// The spectral basis' samplings (`env_prefilter::basis`), each with its gain (`env_gain`).
+    /// The spectral basis' samplings (`light::prefilter::basis`), each with its gain (`env_gain`).
     bands: [(crate::physics::spectrum::Sampling, f64); 3],
-    /// A⁻¹: the environment's RGB → the basis' coefficients (`env_prefilter::basis_colours`).
+    /// A⁻¹: the environment's RGB → the basis' coefficients (`light::prefilter::basis_colours`).
     to_light: DMat3,
 }
 
 impl ExactEnv {
     /// The reference of `hf` under `settings`' coherence length; the environment's light is upsampled to spectra
-    /// in the basis frames use (`env_prefilter::basis`, in physical units), whatever light `settings` names.
+    /// in the basis frames use (`light::prefilter::basis`, in physical units), whatever light `settings` names.
     pub fn new(hf: &crate::physics::heightfield::HeightField, settings: &crate::material::Settings) -> Result<Self> {
         use crate::physics::spectrum::Sampling;
         // Every view of the hemisphere: |w| up to 2.

@@ -43,7 +43,7 @@ fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments:
             let reach = if m.matte { &MATTE_REACH } else { &reaches[i.min(reaches.len() - 1)] };
             let mut material = Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
                 .map_err(|e| Error::Material { name: m.name.clone(), part: "", cause: Box::new(e) })?;
-            // Under an environment the grating diffracts it too (env_prefilter), by its BRDF's moments.
+            // Under an environment the grating diffracts it too (light::prefilter), by its BRDF's moments.
             if moments && scene.environment.is_some() && !m.matte {
                 material.prepare_moments(&m.heightfield).map_err(|e| Error::Material {
                     name: m.name.clone(),

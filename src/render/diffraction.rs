@@ -34,7 +34,7 @@ pub const TABLE_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 pub(crate) struct PatchResources {
     pub terms: Image,
     pub sampler: Sampler,
-    /// The material's moments against the environment (`env_prefilter`), or one black texel where it has none;
+    /// The material's moments against the environment (`light::prefilter`), or one black texel where it has none;
     /// filtered linearly.
     pub moments: Image,
     pub moments_sampler: Sampler,

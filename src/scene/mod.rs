@@ -167,7 +167,7 @@ struct MaterialDef {
     period_um: Option<f64>,
     seed: Option<u64>,
     tile: Option<TileDef>,
-    /// The speed/accuracy settings (`src/settings.rs`), under their keys.
+    /// The speed/accuracy settings (`src/material/settings.rs`), under their keys.
     #[serde(flatten)]
     settings: SettingsPatch,
     /// Rotation of the patch about the normal, from the mesh tangent towards the bitangent.

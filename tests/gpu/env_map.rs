@@ -1,4 +1,4 @@
-//! The BRDF map under an environment (`render::env_map`, `env_light`): the furnace, a disc against the directional
+//! The BRDF map under an environment (`render::env_map`, `light::sampling`): the furnace, a disc against the directional
 //! sun it stands for, and the baked map against the exact BRDF integrated over the same sky.
 
 use diffract::light::environment::{direction_at, texel_solid_angle, EnvironmentMap};
@@ -174,7 +174,7 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
     assert!(mean < 1.0, "mean ΔE00 {mean}");
 }
 
-/// The prefiltered form frames use (`env_prefilter`: the sky to l = 2, the BRDF's nine moments) against the map
+/// The prefiltered form frames use (`light::prefilter`: the sky to l = 2, the BRDF's nine moments) against the map
 /// integrated by sampling, under a clear sky without its sun: under the sky's own l ≤ 2 projection (the moments'
 /// quadrature and grid alone) and under the sky itself (adding what l = 2 leaves out).
 #[test]
@@ -201,7 +201,7 @@ fn the_prefiltered_sky_matches_the_sampled_one() {
     let moments = diffract::material::moments_of(&hf, &material.settings).unwrap();
     assert_eq!(moments.grid, MOMENT_GRID);
     eprintln!("moments: {:.1} s", start.elapsed().as_secs_f64());
-    // The map's frame: patch x, y, z are the environment's x, −z, y (env_light::env_of_patch).
+    // The map's frame: patch x, y, z are the environment's x, −z, y (light::sampling::env_of_patch).
     let frame = glam::DMat3::from_cols(DVec3::X, -DVec3::Z, DVec3::Y);
     let mut means = Vec::new();
     // Frames light the specular disc by the sky itself at the mirror direction ("as frames"); with the l ≤ 2 light

@@ -87,7 +87,7 @@ samples = 1
 
 /// The furnace in a frame: a ball of a flat (mirror) material with no pigment inside a uniform environment, the sun
 /// pointed away from the camera, reflects the environment times its Fresnel reflectance R(θ_r) at every pixel
-/// (`env_prefilter`: the moments of a mirror against a constant light are its reflectance). Only where the sun's
+/// (`light::prefilter`: the moments of a mirror against a constant light are its reflectance). Only where the sun's
 /// own glint is not seen: the camera looks at the ball's side away from it.
 #[test]
 fn a_mirror_ball_in_a_uniform_environment_reflects_it_by_fresnel() {

@@ -8,8 +8,8 @@
 //!
 //! A CPU device needs one more step. llvmpipe (lavapipe) bins a timestamp into every tile of the *next* scene and
 //! reads the clock when those tiles are rasterised, at the next flush: written alone, a lap would be stamped at the
-//! end of the following pass, and every pass would be charged to the one before it (measured: a depth pre-pass
-//! of 21 ms and a shading pass of 0.1 ms). An `ALL_COMMANDS` timestamp flushes what is binned, so on such a device
+//! end of the following pass, and every pass would be charged to the one before it (docs/performance.md, "Per-pass
+//! GPU times", has the figures). An `ALL_COMMANDS` timestamp flushes what is binned, so on such a device
 //! each mark is followed by a second, *settling* timestamp whose flush rasterises the (empty) scene holding the
 //! mark right away; the settling queries are never read.
 

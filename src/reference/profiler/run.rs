@@ -266,7 +266,7 @@ fn scene_pixels(
             .map_or([[0.0; 4]; 9], |e| e.irradiance(scene.light_dir))
             .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
     };
-    // The environment's diffraction, from the materials' moments (the same as the frames': env_prefilter) and
+    // The environment's diffraction, from the materials' moments (the same as the frames': light::prefilter) and
     // the environment's l ≤ 2 radiance as the shaders have it.
     let quadratic = crate::light::prefilter::Quadratic::of_irradiance(&sky);
     // The environment without its sun, which each pixel reflects at its mirror direction (the surface pass's map).
