@@ -105,16 +105,13 @@ fn main() {
         let display = format!("glsl/{file}");
         let variants = VARIANTS.iter().filter(|v| v.0 == stem).map(|&(_, variant, define)| (variant, Some(define)));
         for (variant, define) in std::iter::once((stem, None)).chain(variants) {
-            match compile(&compiler, &text, kind, &display, [&include_dir, &generated], debug, define) {
-                Ok(spirv) => {
-                    let bindings = match reflect(&spirv) {
-                        Ok(b) => b,
-                        Err(msg) => {
-                            eprintln!("{display} ({variant}): {msg}");
-                            failed = true;
-                            continue;
-                        }
-                    };
+            let compiled = compile(&compiler, &text, kind, &display, [&include_dir, &generated], debug, define)
+                .and_then(|spirv| {
+                    let bindings = reflect(&spirv).map_err(|msg| format!("{display} ({variant}): {msg}"))?;
+                    Ok((spirv, bindings))
+                });
+            match compiled {
+                Ok((spirv, bindings)) => {
                     let spv = out.join(format!("{variant}.spv"));
                     std::fs::write(&spv, spirv).expect("write .spv");
                     let konst = variant.replace(['-', '.'], "_").to_uppercase();

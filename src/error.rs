@@ -77,26 +77,6 @@ impl Error {
         Error::Setting { name: name.to_string(), message }
     }
 
-    pub fn height_field(message: String) -> Self {
-        Error::HeightField(message)
-    }
-
-    pub fn precision(message: String) -> Self {
-        Error::Precision(message)
-    }
-
-    pub fn too_large(message: String) -> Self {
-        Error::TooLarge(message)
-    }
-
-    pub fn light(message: String) -> Self {
-        Error::Light(message)
-    }
-
-    pub fn window(message: String) -> Self {
-        Error::Window(message)
-    }
-
     /// What `device` cannot do (see [`Error::Unsupported`]).
     pub fn unsupported(device: &str, message: String) -> Self {
         Error::Unsupported { device: device.to_string(), message }

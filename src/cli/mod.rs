@@ -189,8 +189,6 @@ pub fn command() -> clap::Command {
         .mut_subcommand("terms", |c| args::hide_unused_settings(c, &brdf::TERMS_SETTINGS))
 }
 
-/// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own
-/// first line, which names the argument and the reason) and exit status 2.
 /// The command line's logger: the library's warnings as `warning: …` lines and its notes as `note: …`, the
 /// validation layer's messages and plain lines as they are, all on stderr.
 struct StderrLog;
@@ -220,6 +218,8 @@ impl log::Log for StderrLog {
     fn flush(&self) {}
 }
 
+/// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own
+/// first line, which names the argument and the reason) and exit status 2.
 fn usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {

@@ -219,7 +219,7 @@ impl EnvLight {
             .map(|(i, t)| crate::physics::spectrum::luminance([t[0], t[1], t[2]]).max(0.0) * solid_angle(i))
             .collect();
         let distribution = Distribution2D::new(&weights, width as usize, height as usize, solid_angle)
-            .ok_or_else(|| Error::light("the environment gives no light (every texel is black)".into()))?;
+            .ok_or_else(|| Error::Light("the environment gives no light (every texel is black)".into()))?;
         Ok(Self { width, height, radiance, distribution, rotation: rotation_deg.to_radians() })
     }
 
@@ -299,7 +299,7 @@ impl TableProposal {
         let area = g.texel * g.texel;
         let (nu, nv) = (level.width, level.height);
         let distribution = Distribution2D::new(&weights, nu, nv, |_| area)
-            .ok_or_else(|| Error::light("the baked table is black everywhere: nothing diffracts".into()))?;
+            .ok_or_else(|| Error::Light("the baked table is black everywhere: nothing diffracts".into()))?;
         Ok(Self { u0: g.u0, v0: g.v0, texel: g.texel, nu, nv, distribution })
     }
 
@@ -334,7 +334,7 @@ impl TableProposal {
 /// (the gain carries Ω_sun for a directional sun; an environment brings its own solid angles).
 pub fn env_gain(sampling: &crate::physics::spectrum::Sampling, coherence_um: f64) -> Result<f64> {
     if !sampling.illuminant.physical {
-        return Err(Error::light("light from an environment needs the illuminant in physical units".into()));
+        return Err(Error::Light("light from an environment needs the illuminant in physical units".into()));
     }
     Ok(crate::physics::spectrum::diffraction_gain(sampling, coherence_um) / crate::physics::optics::SUN_SOLID_ANGLE)
 }

@@ -357,7 +357,7 @@ fn taylor_texels(
     let gain = window_gain(window, hf);
     let plan = TaylorPlan::new(VISIBLE_MIN_UM, w_max, &HeightStats::of(hf), gain, s.tolerance, s.order)?;
     if !plan.f32_suffices() && !s.accept_f32_error {
-        return Err(Error::precision(format!(
+        return Err(Error::Precision(format!(
             "the GPU's f32 sums cannot reach the tolerance for this patch ({}); raise --tolerance, lower the heights, \
              or pass --accept-f32-error",
             plan.describe()

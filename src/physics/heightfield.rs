@@ -37,19 +37,19 @@ impl HeightField {
     pub fn new(nx: usize, ny: usize, dx_um: f64, dy_um: f64, heights_um: Vec<f64>) -> Result<Self> {
         check_dims(nx as u64, ny as u64)?;
         if heights_um.len() != nx * ny {
-            return Err(Error::height_field(format!("{} heights given for {nx}×{ny} pixels", heights_um.len())));
+            return Err(Error::HeightField(format!("{} heights given for {nx}×{ny} pixels", heights_um.len())));
         }
         let (lo, hi) = PIXEL_UM_RANGE;
         for (name, d) in [("x", dx_um), ("y", dy_um)] {
             if !(lo..=hi).contains(&d) {
-                return Err(Error::height_field(format!(
+                return Err(Error::HeightField(format!(
                     "the pixel size along {name} is {} µm; diffract accepts {lo:e} to {hi} µm",
                     crate::error::number(d)
                 )));
             }
         }
         if let Some(i) = heights_um.iter().position(|h| !h.is_finite()) {
-            return Err(Error::height_field(format!(
+            return Err(Error::HeightField(format!(
                 "height at column {}, row {} is {}",
                 i % nx,
                 i / nx,
@@ -59,7 +59,7 @@ impl HeightField {
         let hf = Self { nx, ny, dx_um, dy_um, heights_um };
         let deviation = hf.max_deviation();
         if deviation.is_nan() || deviation > MAX_DEVIATION_UM {
-            return Err(Error::height_field(format!(
+            return Err(Error::HeightField(format!(
                 "heights vary by up to {deviation:.3e} µm about their mean; diffract models nanostructures up to \
                  {MAX_DEVIATION_UM} µm deep (heights are in µm: were metres or nm given?)"
             )));
@@ -142,7 +142,7 @@ impl HeightField {
             return Err(Error::setting("tile", "--tile counts must be at least 1".into()));
         }
         let (nx, ny) = (self.nx as u64 * tx as u64, self.ny as u64 * ty as u64);
-        check_dims(nx, ny).map_err(|e| Error::height_field(format!("tiling {tx}×{ty}: {e}")))?;
+        check_dims(nx, ny).map_err(|e| Error::HeightField(format!("tiling {tx}×{ty}: {e}")))?;
         let (nx, ny) = (nx as usize, ny as usize);
         let mut heights = Vec::with_capacity(nx * ny);
         for r in 0..ny {
@@ -158,10 +158,10 @@ impl HeightField {
 /// Refuses empty, absurd or memory-exhausting sizes before anything is allocated.
 pub(crate) fn check_dims(nx: u64, ny: u64) -> Result<()> {
     if nx == 0 || ny == 0 {
-        return Err(Error::height_field(format!("a height field of {nx}×{ny} pixels is empty")));
+        return Err(Error::HeightField(format!("a height field of {nx}×{ny} pixels is empty")));
     }
     if nx > u64::from(MAX_EDGE) || ny > u64::from(MAX_EDGE) || nx.saturating_mul(ny) > MAX_PIXELS {
-        return Err(Error::height_field(format!(
+        return Err(Error::HeightField(format!(
             "{nx}×{ny} pixels is more than diffract handles (at most {MAX_PIXELS} pixels)"
         )));
     }

@@ -138,7 +138,7 @@ impl TaylorPlan {
             Some(n) => n,
             None => {
                 (0..=MAX_ORDER).find(|&n| window_gain * truncation_tail(x_max, n) <= tolerance).ok_or_else(|| {
-                    Error::precision(format!(
+                    Error::Precision(format!(
                         "no Taylor order up to {MAX_ORDER} reaches the tolerance {tolerance:e} for x_max = {x_max:.1} \
                      (heights of {max_deviation_um:.3} µm around the mean at λ = {:.0} nm): check --height-um",
                         lambda_min_um * 1e3
@@ -204,7 +204,7 @@ impl TaylorTerms {
         let count = order + 1;
         let bytes = (count as u64) * (nx * ny) as u64 * 16;
         if bytes > MAX_TERMS_BYTES {
-            return Err(Error::too_large(format!(
+            return Err(Error::TooLarge(format!(
                 "{count} Taylor terms of a {nx}×{ny} patch need {:.1} GiB; use fewer terms or a smaller patch",
                 bytes as f64 / (1u64 << 30) as f64
             )));

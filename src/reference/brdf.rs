@@ -165,7 +165,7 @@ pub(crate) fn refuse_unless_f64_suffices(plan: &TaylorPlan) -> Result<()> {
     if plan.f64_suffices() {
         return Ok(());
     }
-    Err(Error::precision(format!(
+    Err(Error::Precision(format!(
         "the f64 Taylor sum cannot reach the tolerance here: at N = {} for x_max = {:.1} its terms grow to about \
          {:.0e} before they cancel (f64 rounding about {:.0e} > {:.0e}); use --method exact, which sums exp(i·k·w·h) \
          itself",
@@ -183,7 +183,7 @@ pub(crate) fn refuse_unless_f32_suffices(plan: &TaylorPlan, accept: bool) -> Res
     if plan.f32_suffices() || accept {
         return Ok(());
     }
-    Err(Error::precision(format!(
+    Err(Error::Precision(format!(
         "f32 sums cannot reach the tolerance for this patch (N = {} for x_max = {:.1}: f32 rounding about {:.1e} > \
          {:.0e}); use --method exact or taylor (f64), raise --tolerance, or pass --accept-f32-error",
         plan.order, plan.x_max, plan.f32_error, plan.tolerance
@@ -195,7 +195,7 @@ fn refuse_non_finite(samples: &[Sample]) -> Result<()> {
     let finite = |s: &&Sample| s.power.is_finite() && s.reflectance.is_finite() && s.brdf_sr.is_finite();
     match samples.iter().find(|s| !finite(s)) {
         None => Ok(()),
-        Some(s) => Err(Error::precision(format!(
+        Some(s) => Err(Error::Precision(format!(
             "{} of {} values are not finite numbers (an f32 sum overflowed; the first at λ = {} nm, θ_r = {}°); \
              nothing was printed — use --method exact",
             samples.iter().filter(|s| !finite(s)).count(),

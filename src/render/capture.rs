@@ -127,7 +127,7 @@ impl SceneCapture {
         let frame = self.frames.render(ctx, &self.renderer, view.background)?;
         let bad = frame.linear().map_or(0, crate::io::stats::non_finite_pixels);
         if bad > 0 {
-            return Err(Error::precision(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
+            return Err(Error::Precision(format!("{bad} pixels are not finite numbers (a bug in diffract)")));
         }
         Ok(frame)
     }

@@ -197,13 +197,13 @@ impl VisibilityState {
             ));
         }
         if meshes.len() > MAX_OBJECTS {
-            return Err(Error::too_large(format!(
+            return Err(Error::TooLarge(format!(
                 "the visibility buffer tells at most {MAX_OBJECTS} objects apart; the scene has {}",
                 meshes.len()
             )));
         }
         if let Some((i, m)) = meshes.iter().enumerate().find(|(_, m)| u64::from(m.index_count / 3) > MAX_TRIANGLES) {
-            return Err(Error::too_large(format!(
+            return Err(Error::TooLarge(format!(
                 "object {i} has {} triangles; the visibility buffer takes at most {MAX_TRIANGLES} per object",
                 m.index_count / 3
             )));

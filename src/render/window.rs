@@ -219,7 +219,7 @@ impl WindowTarget {
                 self.swapchain.record_copy(ctx, cmd, index, buffer);
                 laps.lap(cmd, crate::render::pass::COPY);
             }
-            (true, None) => return Err(Error::window("this window's images cannot be copied for a screenshot".into())),
+            (true, None) => return Err(Error::Window("this window's images cannot be copied for a screenshot".into())),
             (false, _) => ctx.barrier_raw_image(
                 cmd,
                 image,
@@ -240,7 +240,7 @@ impl WindowTarget {
 
     /// Writes the last frame copied by [`Self::end_frame`] to a PNG file.
     pub fn save_screenshot(&self, ctx: &Context, path: &Path) -> Result<()> {
-        let buffer = self.screenshot.as_ref().ok_or_else(|| Error::window("no frame to save".into()))?;
+        let buffer = self.screenshot.as_ref().ok_or_else(|| Error::Window("no frame to save".into()))?;
         self.sync.wait(ctx)?;
         let bytes = ctx.read_buffer(buffer)?;
         let bgra = self.swapchain.format == vk::Format::B8G8R8A8_UNORM;

@@ -93,10 +93,10 @@ fn resident_mib() -> Option<f64> {
 /// validation messages (0 without `--validation`).
 pub fn run(options: ViewOptions) -> Result<usize> {
     let event_loop = EventLoop::new().map_err(|e| {
-        Error::window(format!("cannot open a window ({e}); `diffract view` needs a desktop (DISPLAY or WAYLAND_DISPLAY) — use `diffract render` for headless images"))
+        Error::Window(format!("cannot open a window ({e}); `diffract view` needs a desktop (DISPLAY or WAYLAND_DISPLAY) — use `diffract render` for headless images"))
     })?;
     let mut app = App { options, state: None, error: None, log: None };
-    event_loop.run_app(&mut app).map_err(|e| Error::window(format!("the window's event loop failed: {e}")))?;
+    event_loop.run_app(&mut app).map_err(|e| Error::Window(format!("the window's event loop failed: {e}")))?;
     if let Some(e) = app.error {
         return Err(e);
     }
@@ -260,7 +260,7 @@ impl ApplicationHandler for App {
                 println!("soak: {} GPU allocations live at teardown", live.len());
             }
             if !live.is_empty() && self.error.is_none() {
-                self.error = Some(Error::window(format!(
+                self.error = Some(Error::Window(format!(
                     "a bug in diffract: {} GPU allocations still live when the window closed ({})",
                     live.len(),
                     live.join(", ")
@@ -282,7 +282,7 @@ fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -
             // The receiver is gone only when the window closed first: nothing is waiting then.
             let _ = send.send(prepare_materials(&job, &overrides, &[Reach::ANY]));
         })
-        .map_err(|e| Error::window(format!("cannot start a thread to prepare the materials: {e}")))?;
+        .map_err(|e| Error::Window(format!("cannot start a thread to prepare the materials: {e}")))?;
     match done.recv_timeout(first_frame_wait()) {
         Ok(materials) => Ok((Gpu::with_materials(ctx, scene, live, target, materials?)?, None)),
         Err(RecvTimeoutError::Timeout) => {
@@ -297,7 +297,7 @@ fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -
             Ok((gpu, Some(Pending { overrides, done, since })))
         }
         Err(RecvTimeoutError::Disconnected) => {
-            Err(Error::window("the thread preparing the materials stopped (a bug in diffract)".into()))
+            Err(Error::Window("the thread preparing the materials stopped (a bug in diffract)".into()))
         }
     }
 }
@@ -386,9 +386,9 @@ impl State {
             .with_title("diffract")
             .with_inner_size(PhysicalSize::new(options.width, options.height));
         let window =
-            event_loop.create_window(attributes).map_err(|e| Error::window(format!("cannot open a window: {e}")))?;
-        let display = window.display_handle().map_err(|e| Error::window(format!("no display handle: {e}")))?.as_raw();
-        let handle = window.window_handle().map_err(|e| Error::window(format!("no window handle: {e}")))?.as_raw();
+            event_loop.create_window(attributes).map_err(|e| Error::Window(format!("cannot open a window: {e}")))?;
+        let display = window.display_handle().map_err(|e| Error::Window(format!("no display handle: {e}")))?.as_raw();
+        let handle = window.window_handle().map_err(|e| Error::Window(format!("no window handle: {e}")))?.as_raw();
         let extensions = swapchain::required_instance_extensions(display)?;
         let desc = ContextDesc { window: true, ..options.context.clone() };
         let ctx = Context::with_instance_extensions(&desc, &extensions)?;
@@ -505,7 +505,7 @@ impl State {
         let materials = match pending.done.try_recv() {
             Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(()),
             Err(std::sync::mpsc::TryRecvError::Disconnected) => {
-                return Err(Error::window("the thread preparing the materials stopped (a bug in diffract)".into()))
+                return Err(Error::Window("the thread preparing the materials stopped (a bug in diffract)".into()))
             }
             Ok(materials) => materials?,
         };

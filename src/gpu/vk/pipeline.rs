@@ -392,22 +392,18 @@ impl Context {
         let raw_writes: Vec<_> = writes
             .iter()
             .map(|w| {
-                let base = vk::WriteDescriptorSet::default();
+                let base = vk::WriteDescriptorSet::default().dst_binding(w.binding());
                 match w {
-                    DescriptorWrite::StorageBuffer(b, _) => base
-                        .dst_binding(*b)
+                    DescriptorWrite::StorageBuffer(..) => base
                         .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
                         .buffer_info(bi.next().expect("one info per buffer write")),
-                    DescriptorWrite::UniformBuffer(b, _) => base
-                        .dst_binding(*b)
+                    DescriptorWrite::UniformBuffer(..) => base
                         .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
                         .buffer_info(bi.next().expect("one info per buffer write")),
-                    DescriptorWrite::SampledImage(b, _, _) => base
-                        .dst_binding(*b)
+                    DescriptorWrite::SampledImage(..) => base
                         .descriptor_type(vk::DescriptorType::COMBINED_IMAGE_SAMPLER)
                         .image_info(ii.next().expect("one info per image write")),
-                    DescriptorWrite::StorageImage(b, _) | DescriptorWrite::StorageView(b, _) => base
-                        .dst_binding(*b)
+                    DescriptorWrite::StorageImage(..) | DescriptorWrite::StorageView(..) => base
                         .descriptor_type(vk::DescriptorType::STORAGE_IMAGE)
                         .image_info(ii.next().expect("one info per image write")),
                 }

@@ -164,7 +164,7 @@ impl Context {
             .iter()
             .find(|f| matches!(f.format, vk::Format::B8G8R8A8_UNORM | vk::Format::R8G8B8A8_UNORM))
             .copied()
-            .ok_or_else(|| Error::window("the window offers no 8-bit UNORM format".into()))?;
+            .ok_or_else(|| Error::Window("the window offers no 8-bit UNORM format".into()))?;
         let extent = if caps.current_extent.width != u32::MAX {
             caps.current_extent
         } else {

@@ -119,7 +119,7 @@ pub(crate) fn nodes_for(
         .map(|count| Nodes { count, unseen: unseen(count) })
         .find(|n| n.unseen.iter().all(|&u| u <= 0.25 * INVISIBLE))
         .ok_or_else(|| {
-            Error::precision(format!(
+            Error::Precision(format!(
                 "the baked table cannot follow this structure in w: heights spanning {:.3} µm need more than \
                  {MAX_NODES} Chebyshev nodes over w ∈ [{:.2}, {:.2}]; check the heights, or evaluate single \
                  directions with `diffract brdf --method exact`",
@@ -368,7 +368,7 @@ pub(crate) fn certify(data: &mut [f64], fit: usize, nodes: &Nodes, tolerance: f6
         .map(|(tails, finite, _)| (tails, finite))
         .reduce(|| (Tails::new(m), true), |a, b| (a.0.merge(b.0), a.1 && b.1));
     if !finite {
-        return Err(Error::precision("the baked table has non-finite coefficients (a bug in diffract)".into()));
+        return Err(Error::Precision("the baked table has non-finite coefficients (a bug in diffract)".into()));
     }
     let needed = tails.needed(tolerance);
     let terms = needed.unwrap_or(m).min(fit.clamp(1, m));

@@ -550,7 +550,7 @@ pub(crate) fn shortfall(table: &BakedTable) -> Option<String> {
 pub fn check_certificate(table: &BakedTable, strict: bool) -> Result<()> {
     match shortfall(table) {
         None => Ok(()),
-        Some(m) if strict => Err(Error::precision(format!(
+        Some(m) if strict => Err(Error::Precision(format!(
             "{m}; refused (--strict-table, or the scene's table_tolerance): raise the tolerance or narrow the views"
         ))),
         Some(m) => {

@@ -540,7 +540,7 @@ fn frames(
     }
     let image = workload.image(ctx)?;
     if let Some(bad) = image.iter().position(|v| !v.is_finite()) {
-        return Err(Error::precision(format!(
+        return Err(Error::Precision(format!(
             "pixel {} of the image is not a finite number (a bug in diffract)",
             bad / 4
         )));
