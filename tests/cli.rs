@@ -169,9 +169,20 @@ fn gen_sky_writes_an_equirectangular_sky_and_refuses_what_the_model_cannot_do() 
     // Azimuth 91° is just past three quarters across (x = 192.7); 30° high is a third of the way down to the
     // horizon (y = 42.7).
     assert_eq!(at, (192, 42), "the sun's texel");
+    // The sun on the horizon works, and neither model writes a negative texel there.
+    for model in ["hosek-wilkie", "preetham"] {
+        let low = ["--sun-elevation-deg", "0", "--turbidity", "2", "--sky-model", model];
+        let o = diffract(&[&args[..6], &low[..]].concat());
+        assert!(o.status.success(), "{model}: {}", stderr(&o));
+        let image = image::open(&out).unwrap().into_rgb32f();
+        assert!(image.pixels().all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0)), "{model}");
+    }
     for (flags, needle) in [
-        (vec!["--turbidity", "1"], "turbidity"),
+        (vec!["--turbidity", "0.5"], "turbidity"),
+        (vec!["--turbidity", "1.5", "--sky-model", "preetham"], "Preetham"),
+        (vec!["--sky-model", "prague"], "hosek-wilkie"),
         (vec!["--sun-elevation-deg", "-5"], "elevation"),
+        (vec!["--sun-elevation-deg", "-0.1"], "elevation"),
         (vec!["--width", "7"], "width"),
         (vec!["--ground-albedo", "2"], "albedo"),
         (vec!["--exposure", "3"], "--exposure"),

@@ -56,6 +56,10 @@ fn fixtures() -> &'static Path {
         env("env-negative.exr", 16, 8, Some(-2.0));
         env("env-inf.exr", 16, 8, Some(f32::INFINITY));
         env("env-sun.exr", 16, 8, Some(1e9));
+        // A map whose sun (its one bright texel) is below its horizon: upside down.
+        let mut below = vec![1.0f32; 16 * 8 * 4];
+        below[4 * (7 * 16 + 5) + 1] = 1e9;
+        diffract::io::output::write_exr_rgb(&dir.join("env-sun-below.exr"), 16, 8, &below).unwrap();
         write("env-huge.hdr", b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n");
         write("env-text.exr", b"this is not an EXR");
         write("not-utf8.toml", &[0xff, 0xfe, b'[', 0x80]);
@@ -318,7 +322,11 @@ fn hostile_environment_maps() {
         ),
         with_scene("environment: not an EXR", scene("e6.toml", env("env-text.exr")), "env-text.exr"),
         with_scene("environment: missing", scene("e7.toml", env("env-nope.exr")), "env-nope.exr"),
-        with_scene("environment: holds a sun", scene("e8.toml", env("env-sun.exr")), "--no-sun"),
+        with_scene(
+            "environment: its sun below the horizon",
+            scene("e8.toml", env("env-sun-below.exr")),
+            "below the horizon",
+        ),
         with_scene("environment: a PNG", scene("e9.toml", env("env.png")), "expected \"sky\""),
         with_scene(
             "environment: negative intensity",

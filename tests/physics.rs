@@ -275,7 +275,7 @@ fn reflected_fraction(r: &Reference, lambda_nm: f64, omega_i: glam::DVec3, centr
     r.evaluate(&queries).unwrap().iter().map(|s| s.brdf_sr).sum::<f64>() * du * du
 }
 
-/// The BRDF in sr⁻¹ is energy-conserving in the coherence length: a flat mirror reflects Schlick's R(θ_i) of
+/// The BRDF in sr⁻¹ is energy-conserving in the coherence length: a flat mirror reflects Fresnel's R(θ_i) of
 /// the incident flux (∫ f cos θ_r dω_r) at coherence lengths from 4 µm to 1 mm, while its peak grows as
 /// (k σ_s)². (The peak-normalised `reflectance` is 1 at the mirror whatever the coherence: its lobe's energy
 /// falls as 1/coherence².) The scale is exact for a narrow lobe; a wide one (k σ_s ≈ 9 at 4 µm and 700 nm: ±6°)
@@ -299,7 +299,14 @@ fn a_flat_mirror_reflects_its_fresnel_fraction_at_every_coherence_length() {
             for theta_i in [0.0f64, 40.0, 70.0] {
                 let omega_i = diffract::physics::optics::direction(theta_i, 30.0);
                 let fraction = reflected_fraction(&r, lambda_nm, omega_i, (0.0, 0.0), 5.0 / k_sigma);
-                let fresnel = r0 + (1.0 - r0) * (1.0 - theta_i.to_radians().cos()).powi(5);
+                // Exact Fresnel (Born & Wolf's sine and tangent forms; R₀ at normal incidence).
+                let fresnel = if theta_i == 0.0 {
+                    r0
+                } else {
+                    let (t, n) = (theta_i.to_radians(), diffract::physics::optics::SKIN_INDEX);
+                    let tt = (t.sin() / n).asin();
+                    0.5 * (((t - tt).sin() / (t + tt).sin()).powi(2) + ((t - tt).tan() / (t + tt).tan()).powi(2))
+                };
                 let rel = fraction / fresnel - 1.0;
                 assert!(
                     rel.abs() < tolerance(k_sigma, theta_i),

@@ -2,12 +2,21 @@
 
 #include "interface.glsl" // SKIN_INDEX
 
-// Schlick's R(θ)/R0 with cos θ = H·ω_r, unsquared (model.md §7.2 item 2).
+// Fresnel's reflectance of unpolarised light from air at incidence cos θ on a dielectric of index n, exact: the
+// mean of the s and p reflectances (`optics::fresnel_reflectance`).
+float fresnel_reflectance(float cos_theta, float n) {
+    float c = clamp(cos_theta, 0.0, 1.0);
+    float cos_t = sqrt(1.0 - (1.0 - c * c) / (n * n));
+    float rs = (c - n * cos_t) / (c + n * cos_t);
+    float rp = (n * c - cos_t) / (n * c + cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+// R(θ)/R0 with cos θ = H·ω_r, unsquared (model.md §7.2 item 2).
 float fresnel_ratio(vec3 omega_i, vec3 omega_r, float n) {
     vec3 h = normalize(omega_i + omega_r);
-    float c = clamp(dot(h, omega_r), 0.0, 1.0);
     float r0 = (n - 1.0) * (n - 1.0) / ((n + 1.0) * (n + 1.0));
-    return 1.0 + (1.0 - r0) / r0 * pow(1.0 - c, 5.0);
+    return fresnel_reflectance(dot(h, omega_r), n) / r0;
 }
 
 // C(ω_i, ω_r) = (R/R0)·(1 + ω_i·ω_r)² / (cos θ_r · w²): |P|² -> relative reflectance (model.md §1.5).

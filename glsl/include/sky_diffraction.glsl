@@ -82,7 +82,7 @@ bool sky_diffracts(vec3 omega_r) {
 }
 
 // The environment's light diffracted away from the mirror direction towards omega_r (patch frame) from the patch
-// whose world axes are x, y and n: Σ_j N_j(ω_r) a_j over the nine moments, times Schlick's R/R₀ at the mirror
+// whose world axes are x, y and n: Σ_j N_j(ω_r) a_j over the nine moments, times Fresnel's R/R₀ at the mirror
 // (the grid holds the moments over it: `light::prefilter::mirror_fresnel`); linear RGB in the environment's units.
 vec3 sky_diffracted(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     if (!sky_diffracts(omega_r)) return vec3(0.0);
@@ -124,7 +124,7 @@ vec3 env_light_radiance(vec3 d) {
 }
 
 // The specular disc's light towards omega_r: the specular moment (a colour matrix) times the environment itself
-// at the mirror direction, times Schlick's R/R₀ there.
+// at the mirror direction, times Fresnel's R/R₀ there.
 vec3 sky_specular(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
     vec2 uv = moment_uv(omega_r);
     // Scalars 81..89: the last three of layer 20, all of 21, the first two of 22.

@@ -1,6 +1,6 @@
 // The surface's shading (surface.frag: one fragment; surface_resolve.frag: one triangle of a visibility-buffer
 // pixel): diffraction (the thesis's approaches, or the baked table) plus the skin's pigment under the grating, lit
-// by the light the surface transmits (1 − R, Schlick; the thesis's texture blending, model.md §3.8) from the sun's
+// by the light the surface transmits (1 − R, exact Fresnel; the thesis's texture blending, model.md §3.8) from the sun's
 // disc and from the sky above the horizon. Include after the diffraction, frame, shadow and sky includes.
 
 // What the vertex shader hands a surface point (surface.vert's outputs, interpolated).
@@ -17,16 +17,15 @@ struct SurfaceInputs {
 // SUN_SOLID_ANGLE (interface.glsl): the sun's solid angle (0.53° across), sr, its diffuse contribution relative to
 // its glint in a mirror.
 
-// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`optics::transmittance`).
+// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, exact Fresnel
+// (`optics::transmittance`).
 float transmittance(float cos_theta) {
-    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-    return 1.0 - (r0 + (1.0 - r0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0));
+    return 1.0 - fresnel_reflectance(cos_theta, SKIN_INDEX);
 }
 
-// The same averaged over a uniform sky's incidences (cosine-weighted): 1 − (R0 + (1 − R0)/21).
+// The same averaged over a uniform sky's incidences (cosine-weighted; SKY_TRANSMITTANCE, interface.glsl).
 float sky_transmittance() {
-    float r0 = (SKIN_INDEX - 1.0) * (SKIN_INDEX - 1.0) / ((SKIN_INDEX + 1.0) * (SKIN_INDEX + 1.0));
-    return 1.0 - (r0 + (1.0 - r0) / 21.0);
+    return SKY_TRANSMITTANCE;
 }
 
 // The light the skin's pigment returns under the grating, linear RGB; mirrors `optics::pigment_rgb` (the

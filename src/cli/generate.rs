@@ -24,7 +24,7 @@ pub enum GenCommand {
   diffract gen snake --pattern plain --out plain.obj     one colour (vertex colours untinted)
   diffract gen snake --smooth --out smooth-snake.obj     a smooth body")]
     Snake(SnakeArgs),
-    /// A clear sky and its sun (Preetham et al. 1999) as an equirectangular environment map: OpenEXR of linear
+    /// A clear sky and its sun (Hosek–Wilkie 2012, or Preetham et al. 1999) as an equirectangular environment map: OpenEXR of linear
     /// sRGB radiance whose luminance is in cd/m², or a PNG preview at a measured exposure
     #[command(after_help = "Layout: x is the azimuth from -180° (left) to +180° (right), 0 along +z and 90° along +x;
 y the elevation from +90° (top) to -90° (bottom); +y is up, as in scenes. Below the horizon: a Lambertian ground
@@ -34,7 +34,8 @@ Examples:
   diffract gen sky --out sky.exr                                   sun 50° high, turbidity 3, 1024×512
   diffract gen sky --sun-elevation-deg 15 --turbidity 2 --out low-sun.exr --width 2048
   diffract gen sky --sun-elevation-deg 35 --sun-azimuth-deg 120 --out sky.png        a preview
-  diffract gen sky --sun-elevation-deg 35 --no-sun --out around.exr   a scene's environment = \"around.exr\"")]
+  diffract gen sky --sun-elevation-deg 35 --no-sun --out around.exr   a scene's environment = \"around.exr\"
+  diffract gen sky --sky-model preetham --out preetham.exr        the 1999 model (brighter than measured skies)")]
     Sky(SkyArgs),
 }
 
@@ -50,9 +51,12 @@ pub struct SkyArgs {
     /// The sun's azimuth, degrees (0 along +z, 90 along +x)
     #[arg(long, value_parser = parse::finite, default_value_t = 0.0, allow_negative_numbers = true)]
     pub sun_azimuth_deg: f64,
-    /// Atmospheric turbidity: 2 (exceptionally clear) to 10 (light haze)
+    /// Atmospheric turbidity: 1 (exceptionally clear; 2 for Preetham's sky) to 10 (light haze)
     #[arg(long, value_parser = parse::finite, default_value_t = 3.0)]
     pub turbidity: f64,
+    /// The sky model: hosek-wilkie (Hosek & Wilkie 2012) or preetham (Preetham et al. 1999)
+    #[arg(long, default_value = "hosek-wilkie", value_parser = ["hosek-wilkie", "preetham"])]
+    pub sky_model: String,
     /// Width of the map in texels (its height is half of it)
     #[arg(long, default_value_t = 1024)]
     pub width: u32,
@@ -152,7 +156,14 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
             "exr"
         },
     )?;
-    let sky = crate::physics::sky::Sky::at(args.turbidity, args.sun_elevation_deg, args.sun_azimuth_deg)?;
+    let model = crate::physics::sky::SkyModel::named(&args.sky_model)?;
+    let sky = crate::physics::sky::Sky::at_of_model(
+        model,
+        args.turbidity,
+        args.sun_elevation_deg,
+        args.sun_azimuth_deg,
+        args.ground_albedo,
+    )?;
     let map = if args.no_sun {
         crate::light::environment::EnvironmentMap::of_sky(&sky, args.width, args.ground_albedo)?
     } else {
@@ -160,8 +171,9 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     };
     let (sun, sky_lux) = sky.horizontal_illuminance(180);
     println!(
-        "sky: turbidity {}, sun {}° high at azimuth {}°: zenith {:.0} cd/m², sun {:.3e} cd/m²; a horizontal surface \
-         gets {:.1} klx from the sun and {:.1} klx from the sky",
+        "sky ({}): turbidity {}, sun {}° high at azimuth {}°: zenith {:.0} cd/m², sun {:.3e} cd/m²; a horizontal \
+         surface gets {:.1} klx from the sun and {:.1} klx from the sky",
+        model.citation(),
         crate::error::number(args.turbidity),
         crate::error::number(args.sun_elevation_deg),
         crate::error::number(args.sun_azimuth_deg),

@@ -168,6 +168,12 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
         anyhow::bail!("--env-intensity must be positive, got {}", args.env_intensity);
     }
     let env = EnvLight::new(&map, args.env_intensity, args.env_rotation)?;
+    // The same search as a scene's: here the sun stays in the map, which the integral samples (its share of the
+    // environment's samples goes where the light is).
+    match crate::light::sun::find(&map).sun {
+        Some(sun) => eprintln!("note: {}: {}; integrated with the rest of the map", path.display(), sun.describe()),
+        None => eprintln!("note: {}: no sun in the map (no compact cap holds a quarter of its light)", path.display()),
+    }
     if env.width < map.width {
         eprintln!(
             "note: the {}×{} environment lights the map averaged down to {}×{} texels",

@@ -302,6 +302,9 @@ shared! {
     pub const PI: f64 = std::f64::consts::PI;
     /// Refractive index of snake skin (model.md §1.9: "close to the measured value from snake sheds").
     pub const SKIN_INDEX: f64 = 1.5;
+    /// The light a uniform sky sends through the skin's surface: 1 − R averaged over the hemisphere, cosine-weighted,
+    /// for exact Fresnel at SKIN_INDEX (`physics::optics::SKY_TRANSMITTANCE`, whose test integrates it).
+    pub const SKY_TRANSMITTANCE: f64 = 0.908_222_040_657_649;
     /// The sun's solid angle (0.53° across), sr: its diffuse contribution relative to its glint in a mirror.
     pub const SUN_SOLID_ANGLE: f64 = 6.8e-5;
     /// The largest factor a shadow lookup's normal offset grows by as the light grazes a surface (1/cos θ_i up to
@@ -433,7 +436,7 @@ gpu_struct! {
         pub normal_matrix: [[f32; 4]; 4],
         /// World space.
         pub camera_pos: [f32; 4],
-        /// World space, unit, towards the light.
+        /// World space, unit, towards the light; w: 1, or 0 where no sun lights the scene (a map alone).
         pub light_dir: [f32; 4],
         /// cos and sin of the patch's rotation about the normal, the material's index (the G-buffer writes it), and
         /// 1 for a matte material (pigment only: no grating, no skin over it), else 0.

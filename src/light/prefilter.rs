@@ -143,7 +143,7 @@ pub fn basis_colours() -> DMat3 {
 pub const MOMENT_LAMBDA_STEP_NM: f64 = 5.0;
 
 /// Bumped whenever the moments' definition changes: cached moments of other versions are recomputed.
-pub(crate) const MOMENTS_VERSION: u64 = 2;
+pub(crate) const MOMENTS_VERSION: u64 = 4;
 
 /// Appends to a cache key what the moments depend on beyond their tables: the grid and the sizes that
 /// [`Moments::new`] integrates with.
@@ -286,7 +286,7 @@ impl Moments {
     }
 }
 
-/// Schlick's R/R₀ for the mirror direction of `omega_r` (`optics::fresnel_ratio` there): the moments' steepest
+/// Fresnel's R/R₀ (exact) for the mirror direction of `omega_r` (`optics::fresnel_ratio` there): the moments' steepest
 /// dependence on the view, divided out of the grid and multiplied back at the view itself.
 pub fn mirror_fresnel(omega_r: DVec3) -> f64 {
     let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
@@ -374,6 +374,13 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
             if (cx * cx + cy * cy).sqrt() > 1.0 + texel {
                 continue;
             }
+            let (uc, vc) = (ua + 0.5 * texel, va + 0.5 * texel);
+            if (uc * uc + vc * vc).sqrt() < SPECULAR_RADIUS {
+                // All of it leaves along the mirror direction, which is above the surface even where part of the
+                // texel is not (beyond ~76°: counting only that part lost a quarter of a mirror's light at 87°).
+                specular += xyz_to_linear_srgb(table.level_xyz(level, a, b, -2.0 * omega_r.z)) * (gain * mirror_factor);
+                continue;
+            }
             let mut factors = [0.0; MONOMIALS];
             let mut w_sum = (0.0, 0.0);
             // Sub-samples only where the texel meets the rim (its partial coverage, 1/cos θ_i's rise).
@@ -400,11 +407,6 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
             // The texel's colour at its factors' mean w.
             let w = w_sum.1 / w_sum.0;
             let rgb = xyz_to_linear_srgb(table.level_xyz(level, a, b, w)) * gain;
-            let (uc, vc) = (ua + 0.5 * texel, va + 0.5 * texel);
-            if (uc * uc + vc * vc).sqrt() < SPECULAR_RADIUS {
-                specular += rgb * mirror_factor;
-                continue;
-            }
             for (s, f) in sum.iter_mut().zip(factors) {
                 *s += rgb * f;
             }

@@ -213,7 +213,7 @@ impl Illuminant {
                 "illuminant",
                 format!(
                     "illuminant {name:?}: the sun is sun:E or sun:E:T, its elevation E in degrees (0–90) and the \
-                 turbidity T (2–10, default {SUN_TURBIDITY}), e.g. sun:35"
+                 turbidity T (1–10, default {SUN_TURBIDITY}), e.g. sun:35"
                 ),
             )),
         }
@@ -311,6 +311,33 @@ impl Illuminant {
             });
             let spd: &'static Table = Box::leak(Box::new(table));
             Illuminant { name: NAMES[band], spd, white: spd, physical: false }
+        })
+    }
+
+    /// A light of colour `rgb` (linear sRGB, any scale) as a spectrum: upsampled in the same smooth basis an RGB
+    /// environment's light is ([`Self::d65_band`]), Σ c_k B_k with the c_k that give that colour (a D65-white
+    /// light is D65 itself); negative weights (a colour beyond the bands' reach) are clamped. `name` is what
+    /// messages call it.
+    pub fn of_linear_srgb(rgb: glam::DVec3, name: &str) -> Result<Self> {
+        if !(rgb.is_finite() && rgb.min_element() >= 0.0 && rgb.max_element() > 0.0) {
+            return Err(Error::Light(format!(
+                "{name}: its colour (linear sRGB {:.3e}, {:.3e}, {:.3e}) is not a light",
+                rgb.x, rgb.y, rgb.z
+            )));
+        }
+        let bands = [0, 1, 2].map(Self::d65_band);
+        let colour = |spd: &Table| {
+            let xyz = (0..TABLE_ROWS)
+                .map(|i| glam::DVec3::from(crate::physics::cie_tables::cie1931_xyz()[i]) * spd[i])
+                .sum::<glam::DVec3>();
+            crate::physics::spectrum::xyz_to_linear_srgb(xyz)
+        };
+        let m = glam::DMat3::from_cols(colour(bands[0].spd), colour(bands[1].spd), colour(bands[2].spd));
+        let c = (m.inverse() * rgb).max(glam::DVec3::ZERO);
+        let key =
+            format!("rgb@{:.6e}@{:.6e}@{:.6e}", c.x / c.max_element(), c.y / c.max_element(), c.z / c.max_element());
+        intern(key, name, || {
+            Ok(std::array::from_fn(|i| bands.iter().zip(c.to_array()).map(|(b, w)| b.spd[i] * w).sum()))
         })
     }
 
@@ -443,7 +470,7 @@ mod tests {
         assert!((0.45..0.55).contains(&low.0), "{low:?}");
         assert!(xy("sun:35:2").0 < xy("sun:35:8").0, "haze reddens the sun");
         assert!(Illuminant::named("sunlight").unwrap_err().to_string().contains("F1 … F12"), "an unknown name");
-        for bad in ["sun", "sun:", "sun:x", "sun:35:3:1", "sun:95", "sun:35:1"] {
+        for bad in ["sun", "sun:", "sun:x", "sun:35:3:1", "sun:95", "sun:35:0.5"] {
             let e = Illuminant::parse(bad, Path::new(".")).unwrap_err().to_string();
             assert!(e.contains("sun") || e.contains("elevation") || e.contains("turbidity"), "{bad}: {e}");
         }

@@ -12,18 +12,32 @@ pub const SKIN_INDEX: f64 = crate::gpu::interface::SKIN_INDEX;
 /// source with the shaders' (`shaders::interface`).
 pub const SUN_SOLID_ANGLE: f64 = crate::gpu::interface::SUN_SOLID_ANGLE;
 
-/// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, Schlick (`transmittance` in
-/// glsl/surface.frag.glsl).
-pub fn transmittance(cos_theta: f64) -> f64 {
-    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
-    1.0 - (r0 + (1.0 - r0) * (1.0 - cos_theta.clamp(0.0, 1.0)).powi(5))
+/// [`transmittance`] averaged over a uniform sky's incidences, cosine-weighted: ∫ (1 − R(c)) 2c dc over
+/// c ∈ [0, 1] for exact Fresnel at n = [`SKIN_INDEX`] (one source with the shaders': `gpu::interface`; a test
+/// integrates it).
+pub const SKY_TRANSMITTANCE: f64 = crate::gpu::interface::SKY_TRANSMITTANCE;
+
+/// Fresnel's reflectance of unpolarised light arriving from air at incidence cos θ = `cos_theta` on a dielectric
+/// of index `n` (the mean of the s and p reflectances, exact; `fresnel_reflectance` in glsl/include/brdf.glsl):
+/// R = (r_s² + r_p²)/2, r_s = (cos θ − n cos θ_t)/(cos θ + n cos θ_t), r_p = (n cos θ − cos θ_t)/(n cos θ +
+/// cos θ_t), with Snell's n sin θ_t = sin θ. R₀ at normal incidence, 1 at grazing.
+pub fn fresnel_reflectance(cos_theta: f64, n: f64) -> f64 {
+    let c = cos_theta.clamp(0.0, 1.0);
+    let cos_t = (1.0 - (1.0 - c * c) / (n * n)).sqrt();
+    let rs = (c - n * cos_t) / (c + n * cos_t);
+    let rp = (n * c - cos_t) / (n * c + cos_t);
+    0.5 * (rs * rs + rp * rp)
 }
 
-/// [`transmittance`] averaged over a uniform sky's incidences, cosine-weighted: ∫ (1 − R(c)) 2c dc over
-/// c ∈ [0, 1] = 1 − (R0 + (1 − R0)/21).
+/// The share of light that crosses the skin's surface at incidence cos θ: 1 − R, exact Fresnel
+/// (`transmittance` in glsl/include/surface_shade.glsl).
+pub fn transmittance(cos_theta: f64) -> f64 {
+    1.0 - fresnel_reflectance(cos_theta, SKIN_INDEX)
+}
+
+/// [`SKY_TRANSMITTANCE`], as the shaders name it.
 pub fn sky_transmittance() -> f64 {
-    let r0 = (SKIN_INDEX - 1.0).powi(2) / (SKIN_INDEX + 1.0).powi(2);
-    1.0 - (r0 + (1.0 - r0) / 21.0)
+    SKY_TRANSMITTANCE
 }
 
 /// How a pigment is lit beyond the directions: the share of the sun's disc that no shadow hides (0–1), and
@@ -89,14 +103,12 @@ pub fn uvw(omega_i: DVec3, omega_r: DVec3) -> DVec3 {
     -omega_i - omega_r
 }
 
-/// Schlick's Fresnel reflectance relative to normal incidence, R(θ)/R₀, with cos θ = H·ω_r
-/// (model.md §1.9). Unsquared on purpose: Schlick approximates the reflectance itself, which is Stam's F²
-/// (model.md §7.2 item 2).
+/// Fresnel's reflectance relative to normal incidence, R(θ)/R₀ ([`fresnel_reflectance`], exact), with
+/// cos θ = H·ω_r (model.md §1.9). Unsquared on purpose: R is already the reflectance, Stam's F² (model.md §7.2
+/// item 2).
 pub fn fresnel_ratio(omega_i: DVec3, omega_r: DVec3, n: f64) -> f64 {
     let h = (omega_i + omega_r).normalize();
-    let cos = h.dot(omega_r).clamp(0.0, 1.0);
-    let r0 = normal_reflectance(n);
-    1.0 + (1.0 - r0) / r0 * (1.0 - cos).powi(5)
+    fresnel_reflectance(h.dot(omega_r), n) / normal_reflectance(n)
 }
 
 /// The gain factor C(ω_i, ω_r) that turns |P|² into the relative reflectance ρ_λ (model.md §1.5):
@@ -152,13 +164,41 @@ mod tests {
         assert_eq!(uvw(z, z), DVec3::new(0.0, 0.0, -2.0));
     }
 
+    /// Exact Fresnel against values computed independently (mpmath, 30 digits, from the s and p amplitudes) for
+    /// n = 1.5: R₀ = 0.04; 0.0502399 at 45°, 0.0891867 at 60° and 0.6740532 at 86° (Schlick's approximation gives
+    /// 0.0421, 0.0700 and 0.7087: 16 % and 21 % low, 5 % high); at Brewster's angle r_p vanishes, so R = r_s²/2.
     #[test]
-    fn fresnel_ratio_matches_schlick_over_r0() {
+    fn fresnel_is_exact() {
+        let at = |deg: f64| fresnel_reflectance(deg.to_radians().cos(), 1.5);
+        assert!((at(0.0) - 0.04).abs() < 1e-15);
+        for (deg, expected) in
+            [(45.0, 0.050_239_911_012_236), (60.0, 0.089_186_712_802_213), (86.0, 0.674_053_187_926_252)]
+        {
+            assert!((at(deg) - expected).abs() < 1e-12, "{deg}°: {} vs {expected}", at(deg));
+        }
+        let brewster = 1.5f64.atan();
+        let cos_t = brewster.sin(); // θ_t = 90° − θ_B
+        let rs = (brewster.cos() - 1.5 * cos_t) / (brewster.cos() + 1.5 * cos_t);
+        assert!((fresnel_reflectance(brewster.cos(), 1.5) - rs * rs / 2.0).abs() < 1e-15);
+        assert!((at(90.0) - 1.0).abs() < 1e-15);
+        // The ratio at the half vector: H = z, cos θ = cos 60°.
         let (wi, wr) = (direction(60.0, 0.0), direction(60.0, 180.0));
-        // H = z, cos θ = cos 60° = 0.5.
-        let r0: f64 = 0.04;
-        let schlick = r0 + (1.0 - r0) * 0.5f64.powi(5);
-        assert!((fresnel_ratio(wi, wr, 1.5) - schlick / r0).abs() < 1e-12);
+        assert!((fresnel_ratio(wi, wr, 1.5) - 0.089_186_712_802_213 / 0.04).abs() < 1e-10);
+    }
+
+    /// The shared constant is the cosine-weighted mean of 1 − R over the hemisphere (0.908222040657649 by mpmath);
+    /// here by Gauss–Legendre-free midpoint rule on 200 000 cells.
+    #[test]
+    fn the_sky_transmittance_is_the_mean_over_the_hemisphere() {
+        let n = 200_000;
+        let mean: f64 = (0..n)
+            .map(|i| {
+                let c = (f64::from(i) + 0.5) / f64::from(n);
+                transmittance(c) * 2.0 * c / f64::from(n)
+            })
+            .sum();
+        assert!((mean - SKY_TRANSMITTANCE).abs() < 1e-9, "{mean} vs {SKY_TRANSMITTANCE}");
+        assert!((SKY_TRANSMITTANCE - 0.908_222_040_657_649).abs() < 1e-14);
     }
 
     #[test]

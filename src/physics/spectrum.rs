@@ -149,6 +149,24 @@ pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
     )
 }
 
+/// `rgb` (linear sRGB) brought into the sRGB gamut at its own luminance: where a channel is negative (a colour
+/// more saturated than the primaries reach: a sky's deep red at dusk, the sun's disc at the horizon), it is
+/// desaturated towards the grey of the same luminance Y until its smallest channel is 0; where Y itself is not
+/// positive, black. Colours inside the gamut are returned as they are. (Light cannot be negative: a map, a
+/// lookup or an SH projection holding such a texel would subtract light.)
+pub fn into_gamut(rgb: DVec3) -> DVec3 {
+    let min = rgb.min_element();
+    if min >= 0.0 {
+        return rgb;
+    }
+    let y = 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
+    if y.is_nan() || y <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let grey = DVec3::splat(y);
+    (grey + (rgb - grey) * (y / (y - min))).max(DVec3::ZERO)
+}
+
 /// Linear sRGB → XYZ: the inverse of [`xyz_to_linear_srgb`] (reading the GPU's output back as colour).
 pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
     static INVERSE: std::sync::LazyLock<glam::DMat3> = std::sync::LazyLock::new(|| {
@@ -191,6 +209,17 @@ pub fn linear_to_rgba8(rgba: &[f32], exposure_ev: f64) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn into_gamut_keeps_the_luminance_and_the_hue_side() {
+        let dusk = DVec3::new(0.77, -0.0015, -0.18);
+        let y = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        let g = into_gamut(dusk);
+        assert!(g.min_element().abs() < 1e-15 && (y(g) - y(dusk)).abs() < 1e-12, "{g}");
+        assert!(g.x > g.y && g.y > g.z, "{g}");
+        assert_eq!(into_gamut(DVec3::new(0.1, 0.2, 0.3)), DVec3::new(0.1, 0.2, 0.3));
+        assert_eq!(into_gamut(DVec3::new(-1.0, 0.01, 0.0)), DVec3::ZERO);
+    }
 
     #[test]
     fn a_mirror_under_d65_is_the_d65_white_point_and_srgb_white() {

@@ -43,8 +43,8 @@ pub const CHECK_STEP_NM: f64 = 0.5;
 const CHECK_PIXELS: usize = 64;
 /// Bumped whenever the reference's definition or its cache format changes: cached images of other versions are
 /// recomputed. (2: XYZ stored only for the pixels that count; 3: a pixel's diffraction weighted by the sun's
-/// visible share.)
-const CACHE_VERSION: u32 = 3;
+/// visible share; 4: exact Fresnel, not Schlick's.)
+const CACHE_VERSION: u32 = 4;
 /// The seed of the random pixels a sampled reference keeps (fixed: a profile repeats, and its reference caches).
 pub const SAMPLE_SEED: u64 = 0x5eed_d1ff_7ac7;
 

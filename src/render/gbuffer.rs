@@ -160,6 +160,7 @@ impl GBuffer {
             camera,
             aspect: width as f32 / height as f32,
             light_dir,
+            sun: scene.sun_strength(),
             ambient: scene.ambient,
             sky_sh,
             sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),

@@ -90,6 +90,8 @@ pub struct SceneView {
     pub camera: crate::scene::camera::Camera,
     /// World-space unit vector towards the light.
     pub light_dir: glam::Vec3,
+    /// 1, or 0 where no sun lights the scene (`Scene::sun_strength`: a map alone).
+    pub sun: f32,
     /// The sky's radiance relative to the sun seen in a mirror.
     pub ambient: f32,
     /// The environment's irradiance for this light (`surface::SurfaceUniforms::sky_sh`; zero without one).
@@ -118,6 +120,7 @@ impl SceneView {
         Self {
             camera,
             light_dir,
+            sun: scene.sun_strength(),
             ambient: scene.ambient,
             sky_sh: scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir)),
             models: scene.objects.iter().map(|o| o.model).collect(),

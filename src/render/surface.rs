@@ -56,6 +56,8 @@ pub struct ObjectView<'a> {
     pub aspect: f32,
     /// World-space unit vector towards the light.
     pub light_dir: Vec3,
+    /// 1, or 0 where no sun lights the scene (`Scene::sun_strength`).
+    pub sun: f32,
     pub ambient: f32,
     /// The environment's irradiance (`SurfaceUniforms::sky_sh`).
     pub sky_sh: [[f32; 4]; 9],
@@ -78,7 +80,7 @@ impl SurfaceUniforms {
             model: model.to_cols_array_2d(),
             normal_matrix: normal.to_cols_array_2d(),
             camera_pos: view.camera.position.extend(1.0).to_array(),
-            light_dir: view.light_dir.normalize().extend(0.0).to_array(),
+            light_dir: view.light_dir.normalize().extend(view.sun).to_array(),
             orientation: [cos, sin, index as f32, if matte { 1.0 } else { 0.0 }],
             pigment: [r, g, b, view.ambient],
             sky_sh: view.sky_sh,
@@ -449,6 +451,7 @@ impl SceneRenderer {
             camera: &view.camera,
             aspect,
             light_dir: view.light_dir,
+            sun: view.sun,
             ambient: view.ambient,
             sky_sh: view.sky_sh,
             sky_quadratic: crate::light::prefilter::sky_quadratic(&view.sky_sh),

@@ -9,7 +9,7 @@
 //! fov_y_deg = 30.0
 //!
 //! [light]                       # a directional light: the sun
-//! direction = [0.3, 1.0, 0.5]   # towards the light
+//! direction = [0.3, 1.0, 0.5]   # towards the light (optional under a map that holds its sun)
 //! # environment = "sky"         # the default: the clear sky around it; "none": the sun alone; or "sky.exr"
 //!
 //! [[object]]
@@ -115,7 +115,8 @@ fn default_far() -> f32 {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct LightDef {
-    direction: Spanned<[f32; 3]>,
+    /// Towards the sun; optional under a map that holds its sun (the map's is taken) or to light by the map alone.
+    direction: Option<Spanned<[f32; 3]>>,
     illuminant: Option<Spanned<String>>,
     /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
     #[serde(default)]
@@ -125,6 +126,8 @@ struct LightDef {
     environment: Option<Spanned<String>>,
     /// The sky's turbidity (environment = "sky").
     turbidity: Option<Spanned<f64>>,
+    /// The sky's model (environment = "sky"): "hosek-wilkie" (the default) or "preetham".
+    sky_model: Option<Spanned<String>>,
     /// An environment map's turn about the up axis, degrees, and the factor on its radiance.
     rotation_deg: Option<Spanned<f64>>,
     intensity: Option<Spanned<f64>>,
@@ -258,6 +261,7 @@ pub struct Scene {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SkyLight {
     pub turbidity: f64,
+    pub model: crate::physics::sky::SkyModel,
 }
 
 /// What lights a scene besides its sun.
@@ -269,23 +273,34 @@ pub enum Environment {
     Map(std::sync::Arc<MapLight>),
 }
 
-/// An equirectangular HDR map (`[light] environment = "FILE.exr"`): linear RGB radiance whose luminance, times
-/// `intensity`, is in cd/m² (what `diffract gen sky` writes), turned by `rotation_deg` about the up axis. It is the
-/// light around the scene's sun, not the sun itself: the sun is the light's direction, with the clear-sky model's
-/// radiance at its elevation, and the frame is in units of that radiance.
+/// An equirectangular HDR map (`[light] environment = "FILE.exr"`): linear RGB radiance in its own units (cd/m²
+/// from `diffract gen sky`, relative from a camera), times `intensity`, turned by `rotation_deg` about the up axis.
+/// Where it holds a sun ([`crate::light::sun`]), the sun is taken out of it and becomes the scene's light, in the
+/// map's units; otherwise the scene's sun is `[light] direction` with the clear-sky model's radiance, or there is
+/// none and the map lights the scene alone. The frame is in units of the sun's radiance (the map's own units
+/// where it has no sun).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MapLight {
     pub path: PathBuf,
+    /// The map, its sun (if it held one) taken out.
     pub map: crate::light::environment::EnvironmentMap,
     pub rotation_deg: f64,
     pub intensity: f64,
-    /// The map's irradiance (E/π in cd/m², scaled and turned).
+    /// The map's irradiance (E/π in its units, scaled and turned; without its sun).
     pub irradiance: crate::physics::sh::Irradiance,
+    pub sun: MapSun,
 }
 
-/// A map texel brighter than this (cd/m², after `intensity`) is a sun: the clear sky's brightest, beside the sun,
-/// is some 10⁵ cd/m², the sun's disc 10⁹.
-pub const SUN_BRIGHT: f64 = 1e7;
+/// Where the sun of a scene under a map comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MapSun {
+    /// The map's own, found in it (in the map's frame: [`MapLight::rotation_deg`] turns it).
+    Found(crate::light::sun::FoundSun),
+    /// `[light] direction`, with the clear-sky model's sun (a map without one, in cd/m²).
+    Model,
+    /// None: the map lights the scene alone.
+    Alone,
+}
 
 impl Environment {
     /// Its irradiance on the pigment for the sun towards `light_dir`: nine SH coefficients of E/π in units of the
@@ -317,7 +332,7 @@ impl Environment {
         let map = match self {
             Environment::Map(m) => std::borrow::Cow::Borrowed(&m.map),
             Environment::Sky(sky) => {
-                let model = crate::physics::sky::Sky::new(sky.turbidity, light_dir.as_dvec3())?;
+                let model = sky.sky(light_dir)?;
                 std::borrow::Cow::Owned(if with_sun {
                     crate::light::environment::EnvironmentMap::of_sky_and_sun(&model, sky_width, SKY_GROUND_ALBEDO)?
                 } else {
@@ -338,23 +353,43 @@ impl Environment {
         })
     }
 
-    /// The luminance (cd/m²) of the model's sun towards `light_dir` through [`Self::turbidity`]: the frame's unit,
-    /// which an environment's radiance is divided by; None while the sun is below the horizon.
+    /// The sun's luminance, the frame's unit, which an environment's radiance is divided by: the model's sun
+    /// towards `light_dir` through [`Self::turbidity`] (cd/m²; None while it is below the horizon), a map's own sun
+    /// as a disc of the sun's solid angle (in the map's units, times its intensity), or 1 (the map's own units) for
+    /// a map that lights the scene alone.
     pub fn sun_luminance(&self, light_dir: Vec3) -> Option<f64> {
-        crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|sky| sky.sun_xyz().y)
+        match self {
+            Environment::Map(m) => match m.sun {
+                MapSun::Found(sun) => Some(sun.illuminance() * m.intensity / crate::physics::optics::SUN_SOLID_ANGLE),
+                MapSun::Alone => Some(1.0),
+                MapSun::Model => {
+                    crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|s| s.sun_xyz().y)
+                }
+            },
+            Environment::Sky(_) => {
+                crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|s| s.sun_xyz().y)
+            }
+        }
     }
 
     /// One line for the user: what the environment does in a frame and what it does not (yet).
     pub fn describe(&self) -> String {
         let what = match self {
-            Environment::Sky(sky) => format!("the clear sky (turbidity {})", crate::error::number(sky.turbidity)),
+            Environment::Sky(sky) => {
+                format!("the clear sky ({}, turbidity {})", sky.model.citation(), crate::error::number(sky.turbidity))
+            }
             Environment::Map(m) => format!(
-                "{} ({}×{} texels, intensity {}, turned {}°)",
+                "{} ({}×{} texels, intensity {}, turned {}°; {})",
                 m.path.display(),
                 m.map.width,
                 m.map.height,
                 crate::error::number(m.intensity),
-                crate::error::number(m.rotation_deg)
+                crate::error::number(m.rotation_deg),
+                match m.sun {
+                    MapSun::Found(_) => "its own sun is the light",
+                    MapSun::Model => "the sun is [light] direction's",
+                    MapSun::Alone => "no sun",
+                }
             ),
         };
         format!(
@@ -373,23 +408,28 @@ impl Environment {
 }
 
 /// The albedo of the ground below a scene's sky (grass and soil, about 0.2).
-pub const SKY_GROUND_ALBEDO: f64 = 0.2;
+pub const SKY_GROUND_ALBEDO: f64 = crate::physics::sky::GROUND_ALBEDO;
 
 impl SkyLight {
+    /// The sky model around the sun towards `light_dir`, over a ground of [`SKY_GROUND_ALBEDO`].
+    pub fn sky(&self, light_dir: Vec3) -> Result<crate::physics::sky::Sky> {
+        crate::physics::sky::Sky::of_model(self.model, self.turbidity, light_dir.as_dvec3(), SKY_GROUND_ALBEDO)
+    }
+
     /// The sky's irradiance on the pigment for the sun towards `light_dir` (nine SH coefficients of E/π in units
     /// of the sun's radiance: `environment::sky_irradiance`); zero while the sun is below the horizon (night: the
     /// model is for daylight). The last result is kept: a viewer asks every frame, for the same light.
     pub fn irradiance(&self, light_dir: Vec3) -> [[f32; 4]; 9] {
-        type Memo = Option<((u64, [u32; 3]), [[f32; 4]; 9])>;
+        type Memo = Option<((u64, crate::physics::sky::SkyModel, [u32; 3]), [[f32; 4]; 9])>;
         static LAST: std::sync::Mutex<Memo> = std::sync::Mutex::new(None);
-        let key = (self.turbidity.to_bits(), light_dir.to_array().map(f32::to_bits));
+        let key = (self.turbidity.to_bits(), self.model, light_dir.to_array().map(f32::to_bits));
         let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((k, sh)) = *last {
             if k == key {
                 return sh;
             }
         }
-        let sh = match crate::physics::sky::Sky::new(self.turbidity, light_dir.as_dvec3()) {
+        let sh = match self.sky(light_dir) {
             Ok(sky) => crate::light::environment::sky_irradiance(&sky, SKY_GROUND_ALBEDO).to_vec4s(),
             Err(_) => [[0.0; 4]; 9],
         };
@@ -401,13 +441,29 @@ impl SkyLight {
 /// `[light] environment`, `turbidity`, `rotation_deg` and `intensity`: the sky, a map, or none; refused where the
 /// light is below the horizon, where a uniform `ambient` sky would light the pigment twice, for a turbidity outside
 /// the model's range, a map that cannot be used, or keys that belong to another kind.
-fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3) -> Result<Option<Environment>> {
+fn environment(
+    loc: &Locator<'_>,
+    base: &Path,
+    light: &LightDef,
+    direction: Option<Vec3>,
+) -> Result<(Option<Environment>, Vec3)> {
+    // Outside a map the sun is [light] direction, which must be given.
+    let required = || {
+        direction.ok_or_else(|| {
+            loc.whole(
+                "[light] direction is missing: the direction towards the sun (it may be left out only under \
+                 environment = \"FILE.exr\", whose map then gives the sun, or lights the scene alone)",
+            )
+        })
+    };
     // A scene that names no environment is outdoors, under the clear sky, unless it lights its pigment by the
     // thesis's uniform grey sky (`ambient`, relative units): then the sun alone, as `environment = "none"`.
     let implicit = light.environment.is_none();
     let kind = match &light.environment {
         Some(e) => Some((e.get_ref().trim().to_string(), e.span())),
-        None => light.ambient.is_none().then(|| ("sky".to_string(), light.direction.span())),
+        None => {
+            light.ambient.is_none().then(|| ("sky".to_string(), light.direction.as_ref().map_or(0..0, |d| d.span())))
+        }
     };
     let named = |name: &str| kind.as_ref().is_some_and(|(k, _)| k.eq_ignore_ascii_case(name));
     let is_file = |k: &str| {
@@ -428,17 +484,26 @@ fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3
     if let Some(t) = light.turbidity.as_ref().filter(|_| !named("sky")) {
         return Err(loc.at(t.span(), "turbidity belongs to environment = \"sky\""));
     }
+    if let Some(m) = light.sky_model.as_ref().filter(|_| !named("sky")) {
+        return Err(loc.at(m.span(), "sky_model belongs to environment = \"sky\""));
+    }
+    let model = match &light.sky_model {
+        Some(m) => crate::physics::sky::SkyModel::named(m.get_ref()).map_err(|e| loc.at(m.span(), e))?,
+        None => crate::physics::sky::SkyModel::default(),
+    };
     let none = named("none");
-    let Some((k, span)) = kind.filter(|_| !none) else { return Ok(None) };
+    let Some((k, span)) = kind.filter(|_| !none) else { return Ok((None, required()?)) };
     if let Some(a) = light.ambient.as_ref().filter(|a| *a.get_ref() != 0.0) {
         return Err(loc.at(a.span(), format!("ambient and environment = {k:?} would both light the pigment: keep one")));
     }
     if is_file(&k) {
-        return map_light(loc, base, light, (&k, span), light_dir)
-            .map(|m| Some(Environment::Map(std::sync::Arc::new(m))));
+        return map_light(loc, base, light, (&k, span), direction)
+            .map(|(m, light_dir)| (Some(Environment::Map(std::sync::Arc::new(m))), light_dir));
     }
+    let light_dir = required()?;
     let turbidity = light.turbidity.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, |t| *t.get_ref());
-    crate::physics::sky::Sky::new(turbidity, light_dir.as_dvec3()).map_err(|e| {
+    let sky = SkyLight { turbidity, model };
+    sky.sky(light_dir).map_err(|e| {
         let at = light.turbidity.as_ref().map_or(span, |t| t.span());
         if implicit {
             let hint = "the scene names no [light] environment, so it is under the clear sky; environment = \"none\" \
@@ -448,18 +513,19 @@ fn environment(loc: &Locator<'_>, base: &Path, light: &LightDef, light_dir: Vec3
             loc.at(at, format!("environment = \"sky\": {e}"))
         }
     })?;
-    Ok(Some(Environment::Sky(SkyLight { turbidity })))
+    Ok((Some(Environment::Sky(sky)), light_dir))
 }
 
 /// `environment = "FILE.exr"` (named `file`, at `span`) with its `rotation_deg` and `intensity`: the map loaded
-/// and checked, refused where it holds a sun or the light is below the horizon.
+/// and checked, its sun found and taken out, and the scene's light direction (the map's sun's, else
+/// `direction`, else none: the map alone). Refused where the sun is below the horizon.
 fn map_light(
     loc: &Locator<'_>,
     base: &Path,
     light: &LightDef,
     (file, span): (&str, std::ops::Range<usize>),
-    light_dir: Vec3,
-) -> Result<MapLight> {
+    direction: Option<Vec3>,
+) -> Result<(MapLight, Vec3)> {
     let number = |v: &Option<Spanned<f64>>, default: f64, what: &str, ok: &dyn Fn(f64) -> bool| {
         let x = v.as_ref().map_or(default, |v| *v.get_ref());
         if ok(x) {
@@ -471,26 +537,70 @@ fn map_light(
     let rotation_deg = number(&light.rotation_deg, 0.0, "rotation_deg must be a finite angle", &|x| x.is_finite())?;
     let intensity =
         number(&light.intensity, 1.0, "intensity must be a positive, finite factor", &|x| x.is_finite() && x > 0.0)?;
-    crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3())
-        .map_err(|e| loc.at(light.direction.span(), format!("environment = {file:?}: the sun: {e}")))?;
+    let direction_span = light.direction.as_ref().map_or(span.clone(), |d| d.span());
     let path = base.join(file);
-    let map = crate::light::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
-    let (brightest, dir) = map.brightest();
-    if brightest * intensity > SUN_BRIGHT {
-        let elevation = dir.y.clamp(-1.0, 1.0).asin().to_degrees();
-        let azimuth = dir.x.atan2(dir.z).to_degrees() + rotation_deg;
-        return Err(loc.at(
-            span,
-            format!(
-                "environment {file:?} holds a sun ({:.2e} cd/m² at {elevation:.1}° elevation, {azimuth:.1}° azimuth): \
-                 the scene's sun is [light] direction, and the map would light the pigment with a second one; use a \
-                 map without its sun (diffract gen sky --no-sun) or scale it by intensity",
-                brightest * intensity
-            ),
-        ));
-    }
+    let loaded = crate::light::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
+    let search = crate::light::sun::find(&loaded);
+    let turn = glam::DQuat::from_rotation_y(rotation_deg.to_radians());
+    let (map, sun, light_dir) = match search.sun {
+        Some(found) => {
+            let world = (turn * found.direction).as_vec3();
+            let (elevation, azimuth) =
+                (f64::from(world.y).asin().to_degrees(), f64::from(world.x.atan2(world.z)).to_degrees());
+            if world.y <= 0.0 {
+                return Err(loc.at(
+                    span,
+                    format!(
+                        "environment {file:?}: its sun ({}) lies {:.2}° below the horizon after rotation_deg: turn or \
+                         flip the map so that its sky is up",
+                        found.describe(),
+                        -elevation
+                    ),
+                ));
+            }
+            log::info!(
+                target: crate::io::LOG_PLAIN,
+                "{file}: {} (world: {elevation:.2}° elevation, {azimuth:.2}° azimuth): taken out of the map and made the \
+                 scene's light, in the map's units",
+                found.describe()
+            );
+            if let Some(second) = search.second {
+                log::warn!(
+                    "{file}: a second sun, {}, is left in the map (the brighter one is the light)",
+                    second.describe()
+                );
+            }
+            if let Some(given) = direction {
+                log::warn!(
+                    "{file}: the map's sun is the light; [light] direction [{:.3}, {:.3}, {:.3}] is not used",
+                    given.x,
+                    given.y,
+                    given.z
+                );
+            }
+            (crate::light::sun::without(&loaded, &found), MapSun::Found(found), world)
+        }
+        None => match direction {
+            Some(d) => {
+                crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, d.as_dvec3())
+                    .map_err(|e| loc.at(direction_span, format!("environment = {file:?}: the sun: {e}")))?;
+                log::info!(
+                    target: crate::io::LOG_PLAIN,
+                    "{file}: no sun in the map; the scene's sun is [light] direction, with the clear-sky model's radiance"
+                );
+                (loaded, MapSun::Model, d)
+            }
+            None => {
+                log::info!(
+                    target: crate::io::LOG_PLAIN,
+                    "{file}: no sun in the map and no [light] direction: the map lights the scene alone"
+                );
+                (loaded, MapSun::Alone, Vec3::Y)
+            }
+        },
+    };
     let irradiance = map.irradiance(intensity, rotation_deg);
-    Ok(MapLight { path, map, rotation_deg, intensity, irradiance })
+    Ok((MapLight { path, map, rotation_deg, intensity, irradiance, sun }, light_dir))
 }
 
 /// Errors located in a scene file: `file:line: message`.
@@ -532,6 +642,15 @@ impl Scene {
         s
     }
 
+    /// How much of the directional sun lights the scene: 1, or 0 where a map without a sun lights it alone
+    /// (`SurfaceUniforms::light_dir`'s w).
+    pub fn sun_strength(&self) -> f32 {
+        match &self.environment {
+            Some(Environment::Map(m)) if m.sun == MapSun::Alone => 0.0,
+            _ => 1.0,
+        }
+    }
+
     /// The built-in default scene.
     pub fn default_scene() -> Result<Self> {
         Self::parse(DEFAULT_SCENE, DEFAULT_SCENE_NAME, Path::new(BUILT_IN_BASE))
@@ -548,10 +667,21 @@ impl Scene {
             }
         })?;
         let camera = camera(&loc, &file.camera)?;
-        let light_dir = Vec3::from(*file.light.direction.get_ref())
-            .try_normalize()
-            .ok_or_else(|| loc.at(file.light.direction.span(), "the light direction must not be zero"))?;
-        let environment = environment(&loc, base, &file.light, light_dir)?;
+        let direction = match &file.light.direction {
+            Some(d) => Some(
+                Vec3::from(*d.get_ref())
+                    .try_normalize()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| loc.at(d.span(), "the light direction must be a finite, non-zero vector"))?,
+            ),
+            None => None,
+        };
+        let direction_span = file.light.direction.as_ref().map_or(0..0, |d| d.span());
+        let (environment, light_dir) = environment(&loc, base, &file.light, direction)?;
+        let map_sun = match &environment {
+            Some(Environment::Map(m)) => Some(m.sun),
+            _ => None,
+        };
         let sun = |span| {
             // The sun at the light's own elevation, to 0.01° (the direction is f32: the name reads cleanly and the
             // spectrum does not notice).
@@ -560,12 +690,20 @@ impl Scene {
                 environment.as_ref().map_or(crate::physics::illuminant::SUN_TURBIDITY, Environment::turbidity);
             Illuminant::sun(elevation, turbidity).map_err(|e| loc.at(span, e))
         };
-        let illuminant = match &file.light.illuminant {
-            Some(ill) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => sun(ill.span())?,
-            Some(ill) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
-            // Under an environment the sun is the sky model's.
-            None if environment.is_some() => sun(file.light.direction.span())?,
-            None => Illuminant::d65(),
+        let illuminant = match (&file.light.illuminant, map_sun) {
+            // A map's own sun has its own colour: upsampled from its RGB as the map's light is.
+            (None | Some(_), Some(MapSun::Found(found)))
+                if file.light.illuminant.as_ref().is_none_or(|i| i.get_ref().trim().eq_ignore_ascii_case("sun")) =>
+            {
+                Illuminant::of_linear_srgb(found.irradiance, "the map's sun")
+                    .map_err(|e| loc.at(direction_span.clone(), e))?
+            }
+            (Some(ill), _) if ill.get_ref().trim().eq_ignore_ascii_case("sun") => sun(ill.span())?,
+            (Some(ill), _) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
+            // Under an environment the sun is the sky model's (none lights a map alone: its colour is unused).
+            (None, Some(MapSun::Alone)) => Illuminant::d65(),
+            (None, _) if environment.is_some() => sun(direction_span.clone())?,
+            (None, _) => Illuminant::d65(),
         };
         // Under the sky the frame is in physical units: the diffraction in its true ratio to the sky-lit pigment.
         let illuminant = if environment.is_some() { illuminant.physical() } else { illuminant };
@@ -588,7 +726,8 @@ impl Scene {
             return Err(loc.whole("[light] ambient must be a non-negative number"));
         }
         let grounded = objects.iter().any(|o| !o.casts_shadow);
-        let shadows = file.light.shadows.unwrap_or(grounded);
+        // Without a sun there is nothing to cast a shadow.
+        let shadows = file.light.shadows.unwrap_or(grounded) && map_sun != Some(MapSun::Alone);
         let environment_behind = environment.is_some() && file.render.background.is_none();
         Ok(Self {
             name: name.to_string(),
@@ -908,7 +1047,38 @@ tile = [2, 3]
             let e = Scene::parse(&with(light), "s.toml", &dir).expect_err("refused").to_string();
             assert!(e.starts_with("s.toml:") && e.contains(needle), "{light}: {e}");
         };
-        refused("environment = \"sunny.exr\"", "--no-sun");
+        // A map with its sun (64 texels wide: the sun within one texel of 5.6°): the sun is found, taken out and
+        // made the light — its direction within half a texel of the light's, its luminance that of the model's sun
+        // (within 3 %: the cap keeps some of the bright sky about the sun), and the pigment lit by the sky once
+        // (the map's irradiance in the sun's units within 3 % of the sky's; before, the sun was counted twice).
+        let sunny = Scene::parse(&with("environment = \"sunny.exr\""), "s.toml", &dir).unwrap();
+        let texel = std::f32::consts::TAU / 64.0;
+        assert!(sunny.light_dir.angle_between(light_dir) < 0.5 * texel, "{}", sunny.light_dir);
+        let e = sunny.environment.as_ref().unwrap();
+        let unit = e.sun_luminance(sunny.light_dir).unwrap();
+        let model = crate::physics::sky::Sky::new(3.0, light_dir.as_dvec3()).unwrap().sun_xyz().y;
+        assert!((unit / model - 1.0).abs() < 0.03, "{unit:.4e} against {model:.4e}");
+        let once = e.irradiance(sunny.light_dir);
+        eprintln!(
+            "a map's own sun: luminance {:.4}× the model's, the sky's irradiance {:.4}× the sky's",
+            unit / model,
+            once[0][1] / b[0][1]
+        );
+        assert!((once[0][1] / b[0][1] - 1.0).abs() < 0.03, "{:?} against {:?}", once[0], b[0]);
+        assert!(sunny.illuminant.physical && sunny.illuminant.name.contains("map's sun"));
+        // Without [light] direction too; a map without a sun and without a direction lights the scene alone.
+        let no_direction = |light: &str| {
+            let text = with(light);
+            let start = text.find("direction = [").unwrap();
+            let end = start + text[start..].find('\n').unwrap();
+            format!("{}{}", &text[..start], &text[end + 1..])
+        };
+        let found = Scene::parse(&no_direction("environment = \"sunny.exr\""), "s.toml", &dir).unwrap();
+        assert_eq!(found.light_dir, sunny.light_dir);
+        let alone = Scene::parse(&no_direction("environment = \"around.exr\""), "s.toml", &dir).unwrap();
+        assert!(alone.sun_strength() == 0.0 && !alone.shadows && sunny.sun_strength() == 1.0);
+        let e = Scene::parse(&no_direction("environment = \"sky\""), "s.toml", &dir).unwrap_err().to_string();
+        assert!(e.contains("[light] direction is missing"), "{e}");
         refused("environment = \"missing.hdr\"", "missing.hdr");
         refused("environment = \"sky\"\nrotation_deg = 10.0", "belong to environment = \"FILE.exr\"");
         refused("environment = \"around.exr\"\nturbidity = 3.0", "turbidity belongs");
@@ -926,7 +1096,8 @@ tile = [2, 3]
         let sky =
             GOOD.replace("illuminant = \"D65\"\nenvironment = \"none\"", "environment = \"sky\"\nturbidity = 2.5");
         let s = Scene::parse(&sky, "s.toml", Path::new(".")).unwrap();
-        assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 2.5 })));
+        let model = crate::physics::sky::SkyModel::HosekWilkie;
+        assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 2.5, model })));
         let elevation = (f64::from(s.light_dir.y).asin().to_degrees() * 100.0).round() / 100.0;
         assert_eq!(s.illuminant, Illuminant::sun(elevation, 2.5).unwrap().physical());
         assert!(s.illuminant.physical && s.materials[0].settings.illuminant.physical);
@@ -940,7 +1111,20 @@ tile = [2, 3]
         patch.set("illuminant", "F11").unwrap();
         assert!(s.material_settings(&s.materials[0], &patch).illuminant.physical);
         assert!(error_of(&sky.replace("turbidity = 2.5", "ambient = 0.001")).contains("both light the pigment"));
-        assert!(error_of(&sky.replace("turbidity = 2.5", "turbidity = 1.0")).contains("turbidity"));
+        assert!(error_of(&sky.replace("turbidity = 2.5", "turbidity = 0.5")).contains("turbidity"));
+        // Preetham's sky by name: fitted from turbidity 2, so 1.5 is refused there and not under Hosek–Wilkie.
+        let preetham = sky.replace("turbidity = 2.5", "sky_model = \"preetham\"");
+        let p = Scene::parse(&preetham, "s.toml", Path::new(".")).unwrap();
+        let model = crate::physics::sky::SkyModel::Preetham;
+        assert_eq!(p.environment, Some(Environment::Sky(SkyLight { turbidity: 3.0, model })));
+        assert!(p.environment.as_ref().unwrap().describe().contains("Preetham"));
+        assert!(error_of(&preetham.replace("sky_model", "turbidity = 1.5\nsky_model")).contains("Preetham et al."));
+        assert!(Scene::parse(&sky.replace("turbidity = 2.5", "turbidity = 1.5"), "s.toml", Path::new(".")).is_ok());
+        let prague = error_of(&sky.replace("turbidity = 2.5", "sky_model = \"prague\""));
+        assert!(prague.starts_with("s.toml:") && prague.contains("hosek-wilkie"), "{prague}");
+        assert!(
+            error_of(&GOOD.replace("illuminant = \"D65\"", "sky_model = \"preetham\"")).contains("sky_model belongs")
+        );
         assert!(error_of(&GOOD.replace("illuminant = \"D65\"", "turbidity = 3.0")).contains("environment = \"sky\""));
         assert!(error_of(&sky.replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]")).contains("below the horizon"));
         let moon = error_of(&sky.replace("\"sky\"", "\"moon\""));
@@ -954,10 +1138,16 @@ tile = [2, 3]
     fn a_scene_without_an_environment_is_under_the_clear_sky() {
         let outdoors = GOOD.replace("\nenvironment = \"none\"", "");
         let s = Scene::parse(&outdoors, "s.toml", Path::new(".")).unwrap();
-        assert_eq!(s.environment, Some(Environment::Sky(SkyLight { turbidity: 3.0 })));
+        assert_eq!(
+            s.environment,
+            Some(Environment::Sky(SkyLight { turbidity: 3.0, model: crate::physics::sky::SkyModel::HosekWilkie }))
+        );
         assert!(s.illuminant.physical && s.environment_behind);
         let hazy = Scene::parse(&outdoors.replace("illuminant = \"D65\"", "turbidity = 6.0"), "s.toml", Path::new("."));
-        assert_eq!(hazy.unwrap().environment, Some(Environment::Sky(SkyLight { turbidity: 6.0 })));
+        assert_eq!(
+            hazy.unwrap().environment,
+            Some(Environment::Sky(SkyLight { turbidity: 6.0, model: crate::physics::sky::SkyModel::HosekWilkie }))
+        );
         let grey = Scene::parse(&outdoors.replace("illuminant = \"D65\"", "ambient = 0.01"), "s.toml", Path::new("."));
         let grey = grey.unwrap();
         assert!(grey.environment.is_none() && !grey.illuminant.physical && grey.ambient == 0.01);

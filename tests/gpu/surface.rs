@@ -34,6 +34,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
             far: 10.0,
         },
         light_dir: Vec3::new(-0.3, 0.45, 0.84).normalize(),
+        sun: 1.0,
         ambient: 0.0,
         sky_sh: [[0.0; 4]; 9],
         models: vec![glam::Mat4::IDENTITY],
