@@ -186,13 +186,19 @@ impl Moments {
     pub fn new(tables: &[(&BakedTable, f64); 3], grid: usize) -> Self {
         use rayon::prelude::*;
         let bright = tables.map(|(table, _)| bright_texels(table));
+        let shared = same_level(tables[0].0, tables[1].0) && same_level(tables[0].0, tables[2].0);
         let to_light = basis_colours().inverse();
         let (values, specular) = (0..grid * grid)
             .into_par_iter()
             .map(|i| {
                 let at = |k: usize| -1.0 + 2.0 * k as f64 / (grid - 1) as f64;
                 let omega_r = view_of_grid(at(i % grid), at(i / grid));
-                let bands: [_; 3] = std::array::from_fn(|k| moment(tables[k].0, tables[k].1, omega_r, &bright[k]));
+                let with: [_; 3] = std::array::from_fn(|k| (tables[k].0, tables[k].1, bright[k].as_slice()));
+                let bands: Vec<_> = if shared {
+                    moments_of_bands(&with, omega_r)
+                } else {
+                    with.iter().flat_map(|band| moments_of_bands(std::slice::from_ref(band), omega_r)).collect()
+                };
                 let f = 1.0 / mirror_fresnel(omega_r);
                 let matrix = |col: &dyn Fn(usize) -> DVec3| DMat3::from_cols(col(0), col(1), col(2)) * to_light * f;
                 let values = std::array::from_fn(|j| matrix(&|k| bands[k].0[j]));
@@ -341,22 +347,24 @@ fn bright_texels(table: &BakedTable) -> Vec<bool> {
         .collect()
 }
 
-/// The nine moments at one view: over the texels of a coarse level of the table in (u, v) (each texel's colour its
-/// average, exact in mass), times the factors averaged over the part of the texel whose ω_i lies above the surface
-/// (du dv = cos θ_i dω_i).
-fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([DVec3; MONOMIALS], DVec3) {
+/// The nine moments at one view and the specular reflectance, for each of `bands` (a table, its gain and its
+/// bright texels) whose moment levels share one geometry ([`same_level`]): over the texels of a coarse level of the
+/// table in (u, v) (each texel's colour its average, exact in mass), times the factors averaged over the part of
+/// the texel whose ω_i lies above the surface (du dv = cos θ_i dω_i). The factors depend on the geometry alone, so
+/// the bands share them: a texel's are computed once whichever bands it is bright in.
+fn moments_of_bands(bands: &[(&BakedTable, f64, &[bool])], omega_r: DVec3) -> Vec<([DVec3; MONOMIALS], DVec3)> {
     use crate::physics::optics::{gain_factor, shadow_mask};
     use crate::physics::spectrum::xyz_to_linear_srgb;
-    let (level, texel) = moment_level(table);
-    let l = &table.levels[level];
-    let (u0, v0) = (table.grid.u0, table.grid.v0);
-    let mut sum = [DVec3::ZERO; MONOMIALS];
-    let mut specular = DVec3::ZERO;
+    let (first, _, _) = bands[0];
+    let (level, texel) = moment_level(first);
+    let l = &first.levels[level];
+    let (u0, v0) = (first.grid.u0, first.grid.v0);
+    let mut out = vec![([DVec3::ZERO; MONOMIALS], DVec3::ZERO); bands.len()];
+    let levels: Vec<usize> = bands.iter().map(|(t, _, _)| moment_level(t).0).collect();
     // The specular disc's light leaves along the mirror direction: its factors there (a texel's centre can lie half
     // a texel off it, where at 70° the factors differ by 5 %).
     let mirror = DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
     let mirror_factor = gain_factor(mirror, omega_r) * shadow_mask(mirror, omega_r) / mirror.z * texel * texel;
-    let sub = FACTOR_SUBSAMPLES;
     // Only the texels of the box around the disc of (u, v) = −ω_i.xy − ω_r.xy, |ω_i.xy| < 1.
     let range = |lo: f64, centre: f64, n: usize| {
         let first = ((centre - 1.0 - lo) / texel).floor().max(0.0) as usize;
@@ -365,8 +373,9 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
     };
     for b in range(v0, -omega_r.y, l.height) {
         for a in range(u0, -omega_r.x, l.width) {
-            // The texel's (u, v) range; skip it where no ω_i of it is above the surface.
-            if !bright[b * l.width + a] {
+            let index = b * l.width + a;
+            // Skip the texel where no band is bright there or no ω_i of it is above the surface.
+            if !bands.iter().any(|(_, _, bright)| bright[index]) {
                 continue;
             }
             let (ua, va) = (u0 + a as f64 * texel, v0 + b as f64 * texel);
@@ -378,13 +387,18 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
             if (uc * uc + vc * vc).sqrt() < SPECULAR_RADIUS {
                 // All of it leaves along the mirror direction, which is above the surface even where part of the
                 // texel is not (beyond ~76°: counting only that part lost a quarter of a mirror's light at 87°).
-                specular += xyz_to_linear_srgb(table.level_xyz(level, a, b, -2.0 * omega_r.z)) * (gain * mirror_factor);
+                for (k, (table, gain, bright)) in bands.iter().enumerate() {
+                    if bright[index] {
+                        let xyz = table.level_xyz(levels[k], a, b, -2.0 * omega_r.z);
+                        out[k].1 += xyz_to_linear_srgb(xyz) * (gain * mirror_factor);
+                    }
+                }
                 continue;
             }
             let mut factors = [0.0; MONOMIALS];
             let mut w_sum = (0.0, 0.0);
             // Sub-samples only where the texel meets the rim (its partial coverage, 1/cos θ_i's rise).
-            let sub = if (cx * cx + cy * cy).sqrt() > 1.0 - 2.0 * texel { sub } else { 1 };
+            let sub = if (cx * cx + cy * cy).sqrt() > 1.0 - 2.0 * texel { FACTOR_SUBSAMPLES } else { 1 };
             let sub_area = (texel / sub as f64).powi(2);
             for k in 0..sub * sub {
                 let u = ua + ((k % sub) as f64 + 0.5) / sub as f64 * texel;
@@ -406,13 +420,26 @@ fn moment(table: &BakedTable, gain: f64, omega_r: DVec3, bright: &[bool]) -> ([D
             }
             // The texel's colour at its factors' mean w.
             let w = w_sum.1 / w_sum.0;
-            let rgb = xyz_to_linear_srgb(table.level_xyz(level, a, b, w)) * gain;
-            for (s, f) in sum.iter_mut().zip(factors) {
-                *s += rgb * f;
+            for (k, (table, gain, bright)) in bands.iter().enumerate() {
+                if !bright[index] {
+                    continue;
+                }
+                let rgb = xyz_to_linear_srgb(table.level_xyz(levels[k], a, b, w)) * *gain;
+                for (s, f) in out[k].0.iter_mut().zip(factors) {
+                    *s += rgb * f;
+                }
             }
         }
     }
-    (sum, specular)
+    out
+}
+
+/// Whether two tables' moment levels lie on one geometry (origin, texel and size), so that their moments can share
+/// the factors ([`moments_of_bands`]).
+fn same_level(a: &BakedTable, b: &BakedTable) -> bool {
+    let ((la, ta), (lb, tb)) = (moment_level(a), moment_level(b));
+    let (x, y) = (&a.levels[la], &b.levels[lb]);
+    ta == tb && a.grid.u0 == b.grid.u0 && a.grid.v0 == b.grid.v0 && (x.width, x.height) == (y.width, y.height)
 }
 
 #[cfg(test)]
