@@ -19,7 +19,7 @@ font=DejaVu-Sans
 run render --out $img/snake.png --width 800 --height 800 "$@"
 run map --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \
   --coherence-um 20 --approach baked --footprint --size 201 --light-theta 0 --exposure 8 --out "$scratch/map.png" "$@"
-gpu=$(grep -o 'GPU [0-9.]* ms per frame' "$log" | head -1 | grep -o '[0-9.]*')
+gpu=$(grep -o 'GPU [0-9.]* ms for its one frame' "$log" | head -1 | grep -o '[0-9.]*' | head -1)
 convert "$scratch/map.png" -bordercolor '#909090' -border 2 "$scratch/inset.png"
 convert $img/snake.png \
   "$scratch/inset.png" -gravity SouthWest -geometry +16+40 -composite \
