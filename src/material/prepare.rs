@@ -259,20 +259,28 @@ impl Material {
 /// `MOMENT_GRID`² grid.
 pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
     use crate::light::prefilter::{basis, key_tail, MOMENTS_VERSION, MOMENT_GRID, MOMENT_LAMBDA_STEP_NM, MOMENT_TEXEL};
-    use crate::physics::baked::load_or_build;
+    use crate::physics::baked::load_or_build_bands;
     // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
     // One segment of w: the moments read every texel once, so fewer layers a read would save nothing.
     let request = TableRequest {
         segments: Some(1),
         ..Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request()
     };
+    // The first band's plan (its estimate of the terms in w, a second or so) serves the others, under their light.
+    let lights = basis();
+    let mut first = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, lights[0])?;
+    first.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
     let mut bands = Vec::new();
-    for illuminant in basis() {
-        let mut plan = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, illuminant)?;
-        plan.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
+    for illuminant in lights {
+        let plan = if illuminant == first.illuminant { first.clone() } else { first.for_light(hf, illuminant)? };
         let sampling = Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
         let gain = crate::light::sampling::env_gain(&sampling, settings.coherence_um)?;
         bands.push((plan, gain));
+    }
+    // The bands share their nodes in w (the most any needs), so that one pass builds the three tables.
+    let most = bands.iter().map(|(plan, _)| plan.nodes.count).max().unwrap_or(2);
+    for (plan, _) in &mut bands {
+        *plan = plan.with_nodes_at_least(hf, most)?;
     }
     // Cached beside the tables: keyed by their plans and everything below.
     let mut p = crate::io::cache::PlanBytes::default();
@@ -291,14 +299,13 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
     if let Some(moments) = cached {
         return Ok(moments);
     }
-    let bar = crate::io::progress::Progress::new("the environment's moments", bands.len() + 1);
-    bar.detail("baking the spectral bands");
+    let bar = crate::io::progress::Progress::new("the environment's moments", 2);
+    bar.detail("baking the spectral bands in one pass");
     let start = std::time::Instant::now();
-    let mut tables = Vec::new();
-    for (plan, gain) in &bands {
-        tables.push((load_or_build(hf, plan, None)?.0, *gain));
-        bar.step();
-    }
+    let plans: Vec<_> = bands.iter().map(|(plan, _)| plan.clone()).collect();
+    let tables: Vec<_> =
+        load_or_build_bands(hf, &plans)?.into_iter().zip(bands.iter().map(|(_, gain)| *gain)).collect();
+    bar.step();
     let baked = start.elapsed();
     bar.detail(format!("integrating over {MOMENT_GRID}² views"));
     let moments = Moments::new(

@@ -118,17 +118,49 @@ fn erf_difference(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Node values of one build: `data[t·nodes·3 + c·3 + ch]` is channel ch at w-node c of texel t.
+/// Node values of one build: `data[t·nodes·C + c·C + ch]` is channel ch at w-node c of texel t, with C = 3 per
+/// band (X, Y, Z under each band's light).
 struct NodeValues {
     nodes: usize,
     data: Vec<f64>,
+}
+
+/// The wavelengths a build sums and, per wavelength, the weights of its channels: (x̄S, ȳS, z̄S)·Δλ/Σ ȳSΔλ of each
+/// band's light S, band after band. Several bands (lights) share every wavelength's |P|², the costly part.
+struct Weights {
+    lambda_um: Vec<f64>,
+    /// `per_lambda[l·channels + ch]`.
+    per_lambda: Vec<f64>,
+    channels: usize,
+}
+
+impl Weights {
+    /// The weights of `spectrals` (one per band); None where their wavelengths differ.
+    fn of(spectrals: &[Spectral]) -> Option<Self> {
+        let lambda_um = spectrals.first()?.lambda_um.clone();
+        if spectrals.iter().any(|s| s.lambda_um != lambda_um) {
+            return None;
+        }
+        let channels = 3 * spectrals.len();
+        let mut per_lambda = Vec::with_capacity(lambda_um.len() * channels);
+        for l in 0..lambda_um.len() {
+            for s in spectrals {
+                per_lambda.extend_from_slice(&s.weight[l]);
+            }
+        }
+        Some(Self { lambda_um, per_lambda, channels })
+    }
+
+    fn at(&self, l: usize) -> &[f64] {
+        &self.per_lambda[l * self.channels..(l + 1) * self.channels]
+    }
 }
 
 /// What one build pass covers.
 struct Pass<'a> {
     grid: Grid,
     nodes: usize,
-    spectral: Spectral,
+    spectral: Weights,
     cell: &'a Cell,
     ax: Axis,
     ay: Axis,
@@ -148,7 +180,7 @@ struct Lobe {
 
 /// One wavelength of the lattice path: the lobe weights per cell column and row, and the lobes.
 struct Wavelength {
-    weight: [f64; 3],
+    weight: Vec<f64>,
     columns: Vec<(usize, Vec<f64>)>,
     rows: Vec<(usize, Vec<f64>)>,
     /// Sorted by their first row.
@@ -217,7 +249,7 @@ impl Pass<'_> {
                 }
                 lobes.sort_by_key(|lobe| lobe.rows.0);
                 Self::tick(progress, &done, offset, total);
-                Wavelength { weight: self.spectral.weight[l], columns, rows, lobes }
+                Wavelength { weight: self.spectral.at(l).to_vec(), columns, rows, lobes }
             })
             .collect()
     }
@@ -225,7 +257,8 @@ impl Pass<'_> {
     /// Lattice path, step 2: bands of texel rows gather every lobe that reaches them.
     fn lattice(&self, progress: Option<Progress<'_>>, offset: usize, total: usize) -> NodeValues {
         let wavelengths = self.wavelengths(progress, offset, total);
-        let (nu, nv, stride) = (self.grid.nu, self.grid.nv, self.nodes * 3);
+        let channels = self.spectral.channels;
+        let (nu, nv, stride) = (self.grid.nu, self.grid.nv, self.nodes * channels);
         let band = (BAND_BYTES / (nu * stride * 8)).clamp(1, nv);
         let tallest = wavelengths.iter().flat_map(|w| w.lobes.iter().map(|l| l.rows.1 - l.rows.0)).max().unwrap_or(0);
         let mut data = vec![0.0; nu * nv * stride];
@@ -243,8 +276,8 @@ impl Pass<'_> {
                         continue;
                     }
                     for (c, &i) in lobe.intensity.iter().enumerate() {
-                        for ch in 0..3 {
-                            f[c * 3 + ch] = i * wl.weight[ch];
+                        for (ch, &weight) in wl.weight.iter().enumerate() {
+                            f[c * channels + ch] = i * weight;
                         }
                     }
                     let (x0, wx) = &wl.columns[lobe.kx];
@@ -274,7 +307,8 @@ impl Pass<'_> {
         let (nu, nv, s) = (self.grid.nu, self.grid.nv, self.subsamples);
         let (px, py) = (self.cell.px, self.cell.py);
         let ws = self.ws();
-        let mut planes: Vec<Vec<f64>> = (0..self.nodes).map(|_| vec![0.0; nu * nv * 3]).collect();
+        let channels = self.spectral.channels;
+        let mut planes: Vec<Vec<f64>> = (0..self.nodes).map(|_| vec![0.0; nu * nv * channels]).collect();
         let done = AtomicUsize::new(0);
         let share = 1.0 / (s * s) as f64;
         let lambdas: Vec<usize> = (0..self.spectral.lambda_um.len()).collect();
@@ -315,7 +349,7 @@ impl Pass<'_> {
                 // batch's colour in that texel row.
                 let mut p = vec![Complex64::default(); nu * s];
                 let mut texels = vec![0.0; nu];
-                let mut colour = vec![0.0; nu * 3];
+                let mut colour = vec![0.0; nu * channels];
                 for row in 0..nv {
                     let mut touched = false;
                     for ((&l, (_, rows)), q) in chunk.iter().zip(&taps).zip(&q) {
@@ -337,10 +371,10 @@ impl Pass<'_> {
                             any = true;
                         }
                         if any {
-                            let weight = self.spectral.weight[l].map(|c| c * share);
-                            for (texel, sum) in colour.chunks_exact_mut(3).zip(&mut texels) {
-                                for ch in 0..3 {
-                                    texel[ch] += weight[ch] * *sum;
+                            let weight: Vec<f64> = self.spectral.at(l).iter().map(|c| c * share).collect();
+                            for (texel, sum) in colour.chunks_exact_mut(channels).zip(&mut texels) {
+                                for (t, w) in texel.iter_mut().zip(&weight) {
+                                    *t += w * *sum;
                                 }
                                 *sum = 0.0;
                             }
@@ -348,7 +382,7 @@ impl Pass<'_> {
                         }
                     }
                     if touched {
-                        for (dst, c) in plane[row * nu * 3..][..nu * 3].iter_mut().zip(&mut colour) {
+                        for (dst, c) in plane[row * nu * channels..][..nu * channels].iter_mut().zip(&mut colour) {
                             *dst += *c;
                             *c = 0.0;
                         }
@@ -359,11 +393,11 @@ impl Pass<'_> {
                 Self::tick(progress, &done, offset, total);
             }
         }
-        let stride = self.nodes * 3;
+        let stride = self.nodes * channels;
         let mut data = vec![0.0; nu * nv * stride];
         for (c, plane) in planes.iter().enumerate() {
-            for (t, v) in plane.chunks_exact(3).enumerate() {
-                data[t * stride + c * 3..][..3].copy_from_slice(v);
+            for (t, v) in plane.chunks_exact(channels).enumerate() {
+                data[t * stride + c * channels..][..channels].copy_from_slice(v);
             }
         }
         NodeValues { nodes: self.nodes, data }
@@ -373,6 +407,12 @@ impl Pass<'_> {
 impl<'a> Pass<'a> {
     /// The pass that builds `plan`'s table: its grid, its nodes in w, its wavelength step.
     fn new(hf: &HeightField, plan: &TablePlan, cell: &'a Cell) -> Self {
+        let spectral = Spectral::new(plan.lambda_step_nm, &plan.illuminant);
+        Self::of_weights(hf, plan, cell, Weights::of(std::slice::from_ref(&spectral)).expect("one band"))
+    }
+
+    /// The pass of `plan` with the channels of `weights` (one band or several).
+    fn of_weights(hf: &HeightField, plan: &TablePlan, cell: &'a Cell, weights: Weights) -> Self {
         let (grid, point) = (plan.grid, plan.point);
         let (lx, ly) = hf.size_um();
         let axis = |origin, count, length, sigma, pixels, stride, radius| Axis {
@@ -389,7 +429,7 @@ impl<'a> Pass<'a> {
         Self {
             grid,
             nodes: plan.nodes.count,
-            spectral: Spectral::new(plan.lambda_step_nm, &plan.illuminant),
+            spectral: weights,
             cell,
             ax: axis(grid.u0, grid.nu, lx, w.sigma_x, hf.nx, cell.tx, w.radius_x),
             ay: axis(grid.v0, grid.nv, ly, w.sigma_y, hf.ny, cell.ty, w.radius_y),
@@ -448,4 +488,62 @@ pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>)
         return Ok(table);
     }
     Ok(BakedTable::from_segments(plan.grid, parts, report))
+}
+
+/// Builds the tables of `plans`, which differ only in their light (the spectral bands of the environment's moments:
+/// `light::prefilter::basis`), in one pass: every wavelength's |P|² — the FFTs and the windowed sums, nearly all
+/// of a build — is computed once and weighted for each band. Each table is then certified on its own values, as
+/// [`build`] would; a table from here equals [`build`]'s for its plan to rounding (the sums' order is the same).
+/// Plans that cannot share a pass (several segments of w, different grids, nodes or wavelengths) are built one by
+/// one.
+pub fn build_bands(hf: &HeightField, plans: &[TablePlan]) -> Result<Vec<BakedTable>> {
+    let Some(first) = plans.first() else { return Ok(Vec::new()) };
+    let alike = |p: &TablePlan| {
+        p.segments.len() == 1
+            && p.grid == first.grid
+            && p.nodes.count == first.nodes.count
+            && p.lattice == first.lattice
+            && p.point == first.point
+            && p.cell == first.cell
+            && p.window == first.window
+            && p.lambda_step_nm == first.lambda_step_nm
+            && p.lobe_width == first.lobe_width
+    };
+    let spectrals: Vec<Spectral> = plans.iter().map(|p| Spectral::new(p.lambda_step_nm, &p.illuminant)).collect();
+    let weights = Weights::of(&spectrals);
+    let (Some(weights), true) = (weights, plans.iter().all(alike)) else {
+        return plans.iter().map(|p| build(hf, p, None)).collect();
+    };
+    let cell = Cell::new(hf, first.cell);
+    let one = first.with_segment(&first.segments[0]);
+    let pass = Pass::of_weights(hf, &one, &cell, weights);
+    let values = pass.run(one.lattice, None);
+    let (nodes, channels) = (values.nodes, pass.spectral.channels);
+    let texels = values.data.len() / (nodes * channels);
+    let subsamples = first.subsamples();
+    let report = format!(
+        "{} path, {}{}, with {} other band(s) in one pass",
+        if first.lattice { "lattice" } else { "coherent" },
+        if first.point { "texel-centre values" } else { "texel averages" },
+        if subsamples > 1 { format!(" of {subsamples}×{subsamples} sub-samples") } else { String::new() },
+        plans.len() - 1
+    );
+    plans
+        .iter()
+        .enumerate()
+        .map(|(b, plan)| {
+            // Band b's X, Y, Z at every node of every texel, in a single band's layout.
+            let mut data = Vec::with_capacity(texels * nodes * 3);
+            for t in 0..texels {
+                for c in 0..nodes {
+                    let at = t * nodes * channels + c * channels + 3 * b;
+                    data.extend_from_slice(&values.data[at..at + 3]);
+                }
+            }
+            let one = plan.with_segment(&plan.segments[0]);
+            let fit = degree::terms_that_fit(&plan.grid, one.nodes.count);
+            let certificate = degree::certify(&mut data, fit, &one.nodes, one.tolerance)?;
+            Ok(BakedTable::from_coefficients(one.grid, &data, 3 * nodes, certificate, report.clone()))
+        })
+        .collect()
 }

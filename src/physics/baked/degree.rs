@@ -89,7 +89,8 @@ pub struct Nodes {
     pub unseen: [f64; 3],
 }
 
-/// The fewest nodes (at least 2) whose unseen error is below INVISIBLE/4 in every channel, for w ∈ `w`:
+/// The fewest nodes (at least `at_least`, and 2) whose unseen error is below INVISIBLE/4 in every channel, for
+/// w ∈ `w`:
 /// Σ_λ weight_λ · 2 · 2·gain²·Σ_{d≥M}|J_d(Ω_λ·ρ)| (the Chebyshev coefficients of e^{iωρt} are 2·i^d·J_d(ωρ),
 /// the interpolant's error at most twice the tail). Refused beyond [`MAX_NODES`].
 pub(crate) fn nodes_for(
@@ -98,6 +99,7 @@ pub(crate) fn nodes_for(
     cell: (usize, usize),
     w: (f64, f64),
     illuminant: &Illuminant,
+    at_least: usize,
 ) -> Result<Nodes> {
     let (h0, h1) = hf.range();
     let rho = 0.5 * (w.1 - w.0);
@@ -115,7 +117,7 @@ pub(crate) fn nodes_for(
         }
         u
     };
-    (2..=MAX_NODES)
+    (at_least.max(2)..=MAX_NODES)
         .map(|count| Nodes { count, unseen: unseen(count) })
         .find(|n| n.unseen.iter().all(|&u| u <= 0.25 * INVISIBLE))
         .ok_or_else(|| {

@@ -299,7 +299,7 @@ impl TablePlan {
         let cell = hf.period_cell();
         let (tx, ty) = ((hf.nx / cell.0) as f64, (hf.ny / cell.1) as f64);
         let lattice = tx / window.sigma_x >= INDEPENDENT_STRIDE && ty / window.sigma_y >= INDEPENDENT_STRIDE;
-        let nodes = degree::nodes_for(hf, &window, cell, d.w, &illuminant)?;
+        let nodes = degree::nodes_for(hf, &window, cell, d.w, &illuminant, 2)?;
         let blank = Estimate { terms: 1, points: 0, every_lobe: true, tail: 0.0 };
         let mut plan = Self {
             domain: d,
@@ -364,7 +364,7 @@ impl TablePlan {
         let mut segments = Vec::with_capacity(n);
         for s in 0..n {
             let w = grid.segment_w(s);
-            let nodes = degree::nodes_for(hf, &self.window, cell, w, &self.illuminant)?;
+            let nodes = degree::nodes_for(hf, &self.window, cell, w, &self.illuminant, 2)?;
             let mut one = Segment { w, nodes, estimate: self.estimate };
             let probe = self.with_segment(&one);
             one.estimate = cache::estimate(hf, &probe, || degree::estimate(hf, &probe));
@@ -385,6 +385,31 @@ impl TablePlan {
 
     /// The one-segment plan of `segment` (its w-interval, nodes and estimate on this plan's texels): what the
     /// estimate and the build of that segment read.
+    /// This plan under another light (one of the environment's spectral bands after the first): the same domain,
+    /// grid and estimate of the terms in w — the estimate sizes the grid, and each table's own certificate decides
+    /// its degree — with the nodes in w that light needs (at least this plan's, so that one pass builds both).
+    pub fn for_light(&self, hf: &HeightField, illuminant: Illuminant) -> Result<Self> {
+        let mut plan = Self { illuminant, ..self.clone() };
+        if plan.segments.len() == 1 {
+            let nodes = degree::nodes_for(hf, &plan.window, plan.cell, plan.grid.w, &illuminant, self.nodes.count)?;
+            plan.nodes = nodes;
+            plan.segments[0].nodes = nodes;
+        }
+        Ok(plan)
+    }
+
+    /// This plan sampling w at `count` nodes or more (a single segment's plan; a plan of several is returned as
+    /// it is): the spectral bands of one material share their nodes, so that one pass builds them all
+    /// ([`build::build_bands`]).
+    pub fn with_nodes_at_least(&self, hf: &HeightField, count: usize) -> Result<Self> {
+        if self.segments.len() != 1 || self.nodes.count >= count {
+            return Ok(self.clone());
+        }
+        let nodes = degree::nodes_for(hf, &self.window, self.cell, self.grid.w, &self.illuminant, count)?;
+        let segments = vec![Segment { nodes, ..self.segments[0] }];
+        Ok(Self { nodes, segments, ..self.clone() })
+    }
+
     pub fn with_segment(&self, segment: &Segment) -> Self {
         let domain = Domain { w: segment.w, ..self.domain };
         Self {
@@ -525,6 +550,26 @@ pub fn load_or_build(
         }
     }
     Ok((table, false))
+}
+
+/// [`load_or_build`] for plans that differ only in their light (the environment's spectral bands): from the cache
+/// where every one is there, else all built in one pass ([`build::build_bands`]) and cached.
+pub fn load_or_build_bands(hf: &HeightField, plans: &[TablePlan]) -> Result<Vec<BakedTable>> {
+    let dir = crate::io::cache::default_dir();
+    let cached: Option<Vec<BakedTable>> =
+        plans.iter().map(|plan| dir.as_deref().and_then(|d| cache::read(d, hf, plan))).collect();
+    if let Some(tables) = cached {
+        return Ok(tables);
+    }
+    let tables = build::build_bands(hf, plans)?;
+    if let Some(d) = &dir {
+        for (plan, table) in plans.iter().zip(&tables) {
+            if let Err(e) = cache::write(d, hf, plan, table) {
+                log::warn!("could not cache the baked table in {}: {e}", d.display());
+            }
+        }
+    }
+    Ok(tables)
 }
 
 /// Where `table`'s certificate misses its tolerance (memory or [`MAX_TERMS`] kept fewer terms than it needs, or
