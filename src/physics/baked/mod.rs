@@ -817,3 +817,49 @@ mod tests {
         assert!(plan.lattice && plan.cell == (100, 100));
     }
 }
+
+#[cfg(test)]
+mod band_tests {
+    use super::*;
+
+    /// The environment's spectral bands built in one pass are the tables each band's own build gives, to rounding
+    /// (the same sums in the same order, weighted per band), on both paths: a random-height patch (coherent) and a
+    /// tiled one (lattice); and a plan that cannot share a pass is built on its own.
+    #[test]
+    fn bands_built_in_one_pass_are_each_bands_own_table() {
+        let cell: Vec<f64> = (0..16 * 16).map(|i| ((i * 7919) % 23) as f64 * 4e-3).collect();
+        let random = HeightField::new(16, 16, 0.25, 0.25, cell.clone()).unwrap();
+        let tiled = HeightField::new(16, 16, 0.25, 0.25, cell).unwrap().tiled(20, 20).unwrap();
+        let request =
+            TableRequest { segments: Some(1), ..crate::material::Reach::Hemisphere { footprint: 0.1 }.table_request() };
+        let lights = [0, 1, 2].map(|k| Illuminant::d65_band(k).physical());
+        for (name, hf, coherence) in [("coherent", &random, 4.0), ("lattice", &tiled, 65.0)] {
+            let first = TablePlan::new_under(hf, coherence, &request, 1e-4, lights[0]).unwrap();
+            let mut plans: Vec<TablePlan> = lights.iter().map(|&l| first.for_light(hf, l).unwrap()).collect();
+            let most = plans.iter().map(|p| p.nodes.count).max().unwrap();
+            for p in &mut plans {
+                *p = p.with_nodes_at_least(hf, most).unwrap();
+            }
+            assert_eq!(plans[0].lattice, name == "lattice", "{name}");
+            let together = build::build_bands(hf, &plans).unwrap();
+            assert!(together[0].report.contains("one pass"), "{name}: {}", together[0].report);
+            for (plan, table) in plans.iter().zip(&together) {
+                let alone = build::build(hf, plan, None).unwrap();
+                assert_eq!(alone.certificate.terms, table.certificate.terms, "{name}");
+                let level = &table.levels[0];
+                let mut worst = 0.0f64;
+                let mut largest = 0.0f64;
+                for b in (0..level.height).step_by(3) {
+                    for a in (0..level.width).step_by(3) {
+                        for w in [-1.9, -1.3, -0.6] {
+                            let (p, q) = (table.level_xyz(0, a, b, w), alone.level_xyz(0, a, b, w));
+                            worst = worst.max((p - q).abs().max_element());
+                            largest = largest.max(q.abs().max_element());
+                        }
+                    }
+                }
+                assert!(largest > 0.0 && worst <= 1e-6 * largest, "{name}: {worst:e} of {largest:e}");
+            }
+        }
+    }
+}
