@@ -29,6 +29,9 @@ check_offscreen_paths() {
   sed -e 's|^environment = "sky".*|environment = "around.exr"|' -e '/^turbidity = /d' \
     -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" assets/scenes/elaphe-snake-ground.toml >"$out/map-scene.toml"
   check scene-env-map "$bin" render "$out/map-scene.toml" --out "$out/map-scene.png" --width 64 --height 64
+  # The same map without a [light] direction: no sun in it, so the map lights the scene alone (no directional light).
+  sed -e '/^direction = /d' "$out/map-scene.toml" >"$out/map-alone.toml"
+  check scene-map-alone "$bin" render "$out/map-alone.toml" --out "$out/map-alone.png" --width 64 --height 64
   check preview "$bin" render --out "$out/preview.png" --width 64 --height 64 --preview
   check sequence "$bin" render assets/scenes/blazed-disk.toml --out "$out/turn.png" --width 48 --height 48 \
     --frames 3 --orbit

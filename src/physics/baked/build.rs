@@ -448,6 +448,18 @@ impl<'a> Pass<'a> {
     }
 }
 
+/// How `plan`'s table is built, for its report: the path and what a texel holds (its segments share the grid, so
+/// their sub-samples too).
+fn path_report(plan: &TablePlan) -> String {
+    let subsamples = plan.subsamples();
+    format!(
+        "{} path, {}{}",
+        if plan.lattice { "lattice" } else { "coherent" },
+        if plan.point { "texel-centre values" } else { "texel averages" },
+        if subsamples > 1 { format!(" of {subsamples}×{subsamples} sub-samples") } else { String::new() },
+    )
+}
+
 /// Builds the table `plan` describes for `hf`: node values at `plan.nodes` nodes in w, turned into Chebyshev
 /// coefficients and certified (`crate::physics::baked::degree::certify`), the degree kept the certificate's.
 /// `progress(done, total)` counts wavelengths.
@@ -458,13 +470,9 @@ pub fn build(hf: &HeightField, plan: &TablePlan, progress: Option<Progress<'_>>)
     let cell = Cell::new(hf, plan.cell);
     let segments = plan.grid.segments;
     let mut parts = Vec::with_capacity(segments);
-    // The segments share the grid, so their sub-samples too.
-    let subsamples = plan.subsamples();
     let report = format!(
-        "{} path, {}{}{}",
-        if plan.lattice { "lattice" } else { "coherent" },
-        if plan.point { "texel-centre values" } else { "texel averages" },
-        if subsamples > 1 { format!(" of {subsamples}×{subsamples} sub-samples") } else { String::new() },
+        "{}{}",
+        path_report(plan),
         if segments > 1 { format!(", {segments} segments of w") } else { String::new() },
     );
     for segment in &plan.segments {
@@ -520,14 +528,7 @@ pub fn build_bands(hf: &HeightField, plans: &[TablePlan]) -> Result<Vec<BakedTab
     let values = pass.run(one.lattice, None);
     let (nodes, channels) = (values.nodes, pass.spectral.channels);
     let texels = values.data.len() / (nodes * channels);
-    let subsamples = first.subsamples();
-    let report = format!(
-        "{} path, {}{}, with {} other band(s) in one pass",
-        if first.lattice { "lattice" } else { "coherent" },
-        if first.point { "texel-centre values" } else { "texel averages" },
-        if subsamples > 1 { format!(" of {subsamples}×{subsamples} sub-samples") } else { String::new() },
-        plans.len() - 1
-    );
+    let report = format!("{}, with {} other band(s) in one pass", path_report(first), plans.len() - 1);
     plans
         .iter()
         .enumerate()
