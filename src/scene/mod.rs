@@ -289,6 +289,8 @@ pub struct MapLight {
     /// The map's irradiance (E/π in its units, scaled and turned; without its sun).
     pub irradiance: crate::physics::sh::Irradiance,
     pub sun: MapSun,
+    /// The texels the sun was taken out of, as the file had them (index, radiance): drawn behind the scene.
+    pub sun_texels: Vec<(usize, [f32; 3])>,
 }
 
 /// Where the sun of a scene under a map comes from.
@@ -330,6 +332,14 @@ impl Environment {
     ) -> Result<Option<(std::borrow::Cow<'_, crate::light::environment::EnvironmentMap>, f64, f64)>> {
         let Some((scale, rotation)) = self.panorama_units(light_dir) else { return Ok(None) };
         let map = match self {
+            // Behind the scene the map's sun is drawn as the file has it; the light it gives is the directional one.
+            Environment::Map(m) if with_sun && !m.sun_texels.is_empty() => {
+                let mut map = m.map.clone();
+                for &(i, rgb) in &m.sun_texels {
+                    map.rgb[i] = rgb;
+                }
+                std::borrow::Cow::Owned(map)
+            }
             Environment::Map(m) => std::borrow::Cow::Borrowed(&m.map),
             Environment::Sky(sky) => {
                 let model = sky.sky(light_dir)?;
@@ -542,7 +552,7 @@ fn map_light(
     let loaded = crate::light::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
     let search = crate::light::sun::find(&loaded);
     let turn = glam::DQuat::from_rotation_y(rotation_deg.to_radians());
-    let (map, sun, light_dir) = match search.sun {
+    let (map, sun, light_dir, sun_texels) = match search.sun {
         Some(found) => {
             let world = (turn * found.direction).as_vec3();
             let (elevation, azimuth) =
@@ -578,7 +588,16 @@ fn map_light(
                     given.z
                 );
             }
-            (crate::light::sun::without(&loaded, &found), MapSun::Found(found), world)
+            let filled = crate::light::sun::without(&loaded, &found);
+            let sun_texels: Vec<_> = loaded
+                .rgb
+                .iter()
+                .zip(&filled.rgb)
+                .enumerate()
+                .filter(|(_, (a, b))| a != b)
+                .map(|(i, (a, _))| (i, *a))
+                .collect();
+            (filled, MapSun::Found(found), world, sun_texels)
         }
         None => match direction {
             Some(d) => {
@@ -588,19 +607,19 @@ fn map_light(
                     target: crate::io::LOG_PLAIN,
                     "{file}: no sun in the map; the scene's sun is [light] direction, with the clear-sky model's radiance"
                 );
-                (loaded, MapSun::Model, d)
+                (loaded, MapSun::Model, d, Vec::new())
             }
             None => {
                 log::info!(
                     target: crate::io::LOG_PLAIN,
                     "{file}: no sun in the map and no [light] direction: the map lights the scene alone"
                 );
-                (loaded, MapSun::Alone, Vec3::Y)
+                (loaded, MapSun::Alone, Vec3::Y, Vec::new())
             }
         },
     };
     let irradiance = map.irradiance(intensity, rotation_deg);
-    Ok((MapLight { path, map, rotation_deg, intensity, irradiance, sun }, light_dir))
+    Ok((MapLight { path, map, rotation_deg, intensity, irradiance, sun, sun_texels }, light_dir))
 }
 
 /// Errors located in a scene file: `file:line: message`.
@@ -1066,6 +1085,11 @@ tile = [2, 3]
         );
         assert!((once[0][1] / b[0][1] - 1.0).abs() < 0.03, "{:?} against {:?}", once[0], b[0]);
         assert!(sunny.illuminant.physical && sunny.illuminant.name.contains("map's sun"));
+        // Behind the scene the map is drawn as the file has it, sun included; its light comes without it.
+        let file = crate::light::environment::EnvironmentMap::load(&dir.join("sunny.exr")).unwrap();
+        let (behind, _, _) = e.panorama(sunny.light_dir, true, 64).unwrap().unwrap();
+        let (lighting, _, _) = e.panorama(sunny.light_dir, false, 64).unwrap().unwrap();
+        assert!(behind.rgb == file.rgb && lighting.rgb != file.rgb);
         // Without [light] direction too; a map without a sun and without a direction lights the scene alone.
         let no_direction = |light: &str| {
             let text = with(light);
