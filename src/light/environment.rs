@@ -17,9 +17,9 @@ use std::path::Path;
 use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::physics::colour::{into_gamut, xyz_to_linear_srgb};
 use crate::physics::optics::SUN_SOLID_ANGLE;
 use crate::physics::sky::{sun_angular_radius, Sky};
-use crate::physics::spectrum::{into_gamut, xyz_to_linear_srgb};
 
 /// The widest map accepted (16384×8192 texels, 1.5 GiB of f32 RGB).
 pub const MAX_WIDTH: u32 = 16384;
@@ -366,7 +366,7 @@ mod tests {
         let map = EnvironmentMap::of_sky_and_sun(&sky, 64, 0.2).unwrap();
         let (sun, sky_lux) = sky.horizontal_illuminance(GROUND_RINGS);
         let [r, g, b] = map.rgb[map.rgb.len() - 1].map(f64::from);
-        let ground = crate::physics::spectrum::linear_srgb_to_xyz(DVec3::new(r, g, b)).y;
+        let ground = crate::physics::colour::linear_srgb_to_xyz(DVec3::new(r, g, b)).y;
         assert!((ground / (0.2 * (sun + sky_lux) / std::f64::consts::PI) - 1.0).abs() < 1e-5, "{ground}");
     }
 

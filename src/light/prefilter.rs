@@ -353,8 +353,8 @@ fn bright_texels(table: &BakedTable) -> Vec<bool> {
 /// the texel whose ω_i lies above the surface (du dv = cos θ_i dω_i). The factors depend on the geometry alone, so
 /// the bands share them: a texel's are computed once whichever bands it is bright in.
 fn moments_of_bands(bands: &[(&BakedTable, f64, &[bool])], omega_r: DVec3) -> Vec<([DVec3; MONOMIALS], DVec3)> {
+    use crate::physics::colour::xyz_to_linear_srgb;
     use crate::physics::optics::{gain_factor, shadow_mask};
-    use crate::physics::spectrum::xyz_to_linear_srgb;
     let (first, _, _) = bands[0];
     let (level, texel) = moment_level(first);
     let l = &first.levels[level];

@@ -19,6 +19,7 @@
 use glam::DVec3;
 
 use crate::light::environment::{direction_at, texel_solid_angle, EnvironmentMap};
+use crate::physics::colour::luminance;
 
 /// The smallest share of the irradiance on a surface facing it that makes a compact cap a sun.
 pub const MIN_SHARE: f64 = 0.25;
@@ -73,15 +74,20 @@ impl FoundSun {
     }
 }
 
-/// What a search found: the sun (if any), and a second compact sun left in the map (if any).
+/// What a search found: the sun (if any), the map without it, and a second compact sun left in that (if any).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SunSearch {
     pub sun: Option<FoundSun>,
+    /// The map with the sun taken out ([`without`]), where there is one.
+    pub rest: Option<TakenOut>,
     pub second: Option<FoundSun>,
 }
 
-fn luminance(rgb: DVec3) -> f64 {
-    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
+/// A map with its sun taken out, and the texels that held it as they were (index, radiance).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TakenOut {
+    pub map: EnvironmentMap,
+    pub texels: Vec<(usize, [f32; 3])>,
 }
 
 fn rgb_at(map: &EnvironmentMap, i: usize) -> DVec3 {
@@ -157,7 +163,7 @@ pub fn facing_irradiance(map: &EnvironmentMap, normal: DVec3) -> f64 {
                 .map(|(c, &(sin_a, cos_a))| {
                     let cos = cos_e * (sin_a * normal.x + cos_a * normal.z) + sin_e * normal.y;
                     if cos > 0.0 {
-                        (0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2])) * cos
+                        crate::physics::spectrum::luminance(*c) * cos
                     } else {
                         0.0
                     }
@@ -230,23 +236,22 @@ fn sun_at_brightest(map: &EnvironmentMap) -> Option<FoundSun> {
     (share >= MIN_SHARE && luminance(irradiance) > 0.0).then_some(sun)
 }
 
-/// Searches `map` for its sun, and for a second one in what the first leaves.
+/// Searches `map` for its sun, takes it out, and searches what remains for a second one.
 pub fn find(map: &EnvironmentMap) -> SunSearch {
-    let Some(sun) = sun_at_brightest(map) else { return SunSearch { sun: None, second: None } };
-    let second = sun_at_brightest(&without(map, &sun));
-    SunSearch { sun: Some(sun), second }
+    let Some(sun) = sun_at_brightest(map) else { return SunSearch { sun: None, rest: None, second: None } };
+    let rest = without(map, &sun);
+    let second = sun_at_brightest(&rest.map);
+    SunSearch { sun: Some(sun), rest: Some(rest), second }
 }
 
 /// `map` with `sun` taken out: its cap filled with the mean of the ring around it (what the sun's light was
-/// measured above), so that the light removed is the sun's irradiance.
-pub fn without(map: &EnvironmentMap, sun: &FoundSun) -> EnvironmentMap {
+/// measured above), so that the light removed is the sun's irradiance; and the cap's texels as they were.
+pub fn without(map: &EnvironmentMap, sun: &FoundSun) -> TakenOut {
     let (cap, background) = cap_and_background(map, sun.cap_centre, sun.cap_radius);
     let mut out = map.clone();
     let fill = background.max(DVec3::ZERO).as_vec3().to_array();
-    for &(i, _, _) in &cap {
-        out.rgb[i] = fill;
-    }
-    out
+    let texels = cap.iter().map(|&(i, _, _)| (i, std::mem::replace(&mut out.rgb[i], fill))).collect();
+    TakenOut { map: out, texels }
 }
 
 #[cfg(test)]
@@ -338,7 +343,7 @@ mod tests {
             assert!(off < 0.5 * texel, "{width}: {:.3}°", off.to_degrees());
             assert!(rel.abs() < 0.02, "{width}: {rel}");
             assert!(search.second.is_none());
-            let rest = without(&map, &found);
+            let rest = without(&map, &found).map;
             let facing = |m: &EnvironmentMap| -> f64 {
                 (0..m.rgb.len())
                     .map(|i| {
@@ -386,7 +391,7 @@ mod tests {
                 })
                 .collect(),
         };
-        assert_eq!(find(&overcast), SunSearch { sun: None, second: None });
+        assert_eq!(find(&overcast), SunSearch { sun: None, rest: None, second: None });
         let (a, b) = (crate::physics::sky::direction(50.0, 0.0), crate::physics::sky::direction(20.0, 150.0));
         let one = sky_with_sun(width, a, 2e5 * SUN_SOLID_ANGLE);
         let two = sky_with_sun(width, b, 1.4e5 * SUN_SOLID_ANGLE);

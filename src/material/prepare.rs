@@ -270,21 +270,21 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
     let lights = basis();
     let mut first = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, lights[0])?;
     first.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
-    let mut bands = Vec::new();
+    let mut plans = Vec::new();
+    let mut gains = Vec::new();
     for illuminant in lights {
-        let plan = if illuminant == first.illuminant { first.clone() } else { first.for_light(hf, illuminant)? };
+        plans.push(if illuminant == first.illuminant { first.clone() } else { first.for_light(hf, illuminant)? });
         let sampling = Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
-        let gain = crate::light::sampling::env_gain(&sampling, settings.coherence_um)?;
-        bands.push((plan, gain));
+        gains.push(crate::light::sampling::env_gain(&sampling, settings.coherence_um)?);
     }
     // The bands share their nodes in w (the most any needs), so that one pass builds the three tables.
-    let most = bands.iter().map(|(plan, _)| plan.nodes.count).max().unwrap_or(2);
-    for (plan, _) in &mut bands {
+    let most = plans.iter().map(|plan| plan.nodes.count).max().unwrap_or(2);
+    for plan in &mut plans {
         *plan = plan.with_nodes_at_least(hf, most)?;
     }
     // Cached beside the tables: keyed by their plans and everything below.
     let mut p = crate::io::cache::PlanBytes::default();
-    for (plan, gain) in &bands {
+    for (plan, gain) in plans.iter().zip(&gains) {
         p.0.extend(crate::physics::baked::cache::table_identity(hf, plan));
         p.f64(*gain);
     }
@@ -302,9 +302,7 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
     let bar = crate::io::progress::Progress::new("the environment's moments", 2);
     bar.detail("baking the spectral bands in one pass");
     let start = std::time::Instant::now();
-    let plans: Vec<_> = bands.iter().map(|(plan, _)| plan.clone()).collect();
-    let tables: Vec<_> =
-        load_or_build_bands(hf, &plans)?.into_iter().zip(bands.iter().map(|(_, gain)| *gain)).collect();
+    let tables: Vec<_> = load_or_build_bands(hf, &plans)?.into_iter().zip(gains).collect();
     bar.step();
     let baked = start.elapsed();
     bar.detail(format!("integrating over {MOMENT_GRID}² views"));

@@ -5,6 +5,8 @@
 
 use glam::DVec3;
 
+use crate::gpu::interface::XYZ_TO_LINEAR_SRGB;
+
 /// The D65 white point of the 2° observer (X, Y, Z with Y = 1), the white of [`xyz_to_lab`].
 pub const D65_WHITE: DVec3 = DVec3::new(0.95047, 1.0, 1.08883);
 
@@ -81,9 +83,63 @@ pub fn ciede2000(lab1: DVec3, lab2: DVec3) -> f64 {
     (l * l + c * c + h * h + r_t * c * h).sqrt()
 }
 
+/// Relative luminance Y of linear sRGB (IEC 61966-2-1's second row of the RGB → XYZ matrix).
+pub fn luminance(rgb: DVec3) -> f64 {
+    0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z
+}
+
+/// CIE XYZ → linear sRGB (IEC 61966-2-1's matrix, one source with the shaders': `XYZ_TO_LINEAR_SRGB`).
+pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
+    let m = XYZ_TO_LINEAR_SRGB;
+    DVec3::new(
+        m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
+        m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
+        m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
+    )
+}
+
+/// `rgb` (linear sRGB) brought into the sRGB gamut at its own luminance: where a channel is negative (a colour
+/// more saturated than the primaries reach: a sky's deep red at dusk, the sun's disc at the horizon), it is
+/// desaturated towards the grey of the same luminance Y until its smallest channel is 0; where Y itself is not
+/// positive, black. Colours inside the gamut are returned as they are. (Light cannot be negative: a map, a
+/// lookup or an SH projection holding such a texel would subtract light.)
+pub fn into_gamut(rgb: DVec3) -> DVec3 {
+    let min = rgb.min_element();
+    if min >= 0.0 {
+        return rgb;
+    }
+    let y = luminance(rgb);
+    if y.is_nan() || y <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let grey = DVec3::splat(y);
+    (grey + (rgb - grey) * (y / (y - min))).max(DVec3::ZERO)
+}
+
+/// Linear sRGB → XYZ: the inverse of [`xyz_to_linear_srgb`] (reading the GPU's output back as colour).
+pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
+    static INVERSE: std::sync::LazyLock<glam::DMat3> = std::sync::LazyLock::new(|| {
+        let m = XYZ_TO_LINEAR_SRGB;
+        // glam is column-major: the rows of `m` are the columns of its transpose.
+        glam::DMat3::from_cols(DVec3::from(m[0]), DVec3::from(m[1]), DVec3::from(m[2])).transpose().inverse()
+    });
+    *INVERSE * rgb
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn into_gamut_keeps_the_luminance_and_the_hue_side() {
+        let dusk = DVec3::new(0.77, -0.0015, -0.18);
+        let y = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        let g = into_gamut(dusk);
+        assert!(g.min_element().abs() < 1e-15 && (y(g) - y(dusk)).abs() < 1e-12, "{g}");
+        assert!(g.x > g.y && g.y > g.z, "{g}");
+        assert_eq!(into_gamut(DVec3::new(0.1, 0.2, 0.3)), DVec3::new(0.1, 0.2, 0.3));
+        assert_eq!(into_gamut(DVec3::new(-1.0, 0.01, 0.0)), DVec3::ZERO);
+    }
 
     /// Pairs from the test data of Sharma, Wu & Dalal (2005), Table 1: (Lab1, Lab2, ΔE00).
     const SHARMA: [([f64; 3], [f64; 3], f64); 10] = [

@@ -330,7 +330,7 @@ impl Illuminant {
             let xyz = (0..TABLE_ROWS)
                 .map(|i| glam::DVec3::from(crate::physics::cie_tables::cie1931_xyz()[i]) * spd[i])
                 .sum::<glam::DVec3>();
-            crate::physics::spectrum::xyz_to_linear_srgb(xyz)
+            crate::physics::colour::xyz_to_linear_srgb(xyz)
         };
         let m = glam::DMat3::from_cols(colour(bands[0].spd), colour(bands[1].spd), colour(bands[2].spd));
         let c = (m.inverse() * rgb).max(glam::DVec3::ZERO);

@@ -288,8 +288,8 @@ impl Sky {
                 // The datasets' linear sRGB, W·m⁻²·sr⁻¹ weighted by the CIE functions: × 683 lm/W is cd/m². With
                 // the sun within ~5° of the horizon the fit leaves the gamut along the far horizon (blue down to
                 // −0.19 against red 0.77 at turbidity 3): brought back at its luminance.
-                let rgb = crate::physics::spectrum::into_gamut(DVec3::from(rgb));
-                crate::physics::spectrum::linear_srgb_to_xyz(rgb) * LUMINOUS_EFFICACY
+                let rgb = crate::physics::colour::into_gamut(DVec3::from(rgb));
+                crate::physics::colour::linear_srgb_to_xyz(rgb) * LUMINOUS_EFFICACY
             }
             Distribution::Preetham { .. } => {
                 self.yxy(dir).map_or(DVec3::ZERO, |(y, cx, cy)| DVec3::new(cx / cy * y, y, (1.0 - cx - cy) / cy * y))
@@ -409,7 +409,7 @@ mod tests {
                 for e in [0.01, 0.5, 5.0, 30.0, 60.0, 89.9] {
                     for a in (0..360).step_by(10) {
                         let xyz = s.xyz(direction(e, f64::from(a)));
-                        let rgb = crate::physics::spectrum::xyz_to_linear_srgb(xyz);
+                        let rgb = crate::physics::colour::xyz_to_linear_srgb(xyz);
                         assert!(
                             xyz.is_finite() && xyz.y >= 0.0 && rgb.min_element() >= -1e-9 * xyz.y,
                             "T {t}, sun {elevation}°, at ({e}°, {a}°): {xyz}"

@@ -8,8 +8,9 @@
 
 use glam::DVec3;
 
-use crate::gpu::interface::{TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS, XYZ_TO_LINEAR_SRGB};
+use crate::gpu::interface::{TABLE_LAMBDA_MAX_NM, TABLE_LAMBDA_MIN_NM, TABLE_ROWS};
 use crate::physics::cie_tables::cie1931_xyz;
+use crate::physics::colour::xyz_to_linear_srgb;
 use crate::physics::illuminant::Illuminant;
 
 /// The visible range the renderer integrates over, nm (model.md §5.2).
@@ -135,46 +136,9 @@ pub fn white_rgb(illuminant: Illuminant) -> DVec3 {
     xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible_under(1.0, illuminant.light()), |_| 1.0))
 }
 
-/// Relative luminance Y of linear sRGB (IEC 61966-2-1's second row of the RGB → XYZ matrix).
+/// Relative luminance Y of a linear sRGB texel or pixel (f32 channels: [`crate::physics::colour::luminance`]).
 pub fn luminance(rgb: [f32; 3]) -> f64 {
-    0.2126 * f64::from(rgb[0]) + 0.7152 * f64::from(rgb[1]) + 0.0722 * f64::from(rgb[2])
-}
-
-pub fn xyz_to_linear_srgb(xyz: DVec3) -> DVec3 {
-    let m = XYZ_TO_LINEAR_SRGB;
-    DVec3::new(
-        m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z,
-        m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
-        m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z,
-    )
-}
-
-/// `rgb` (linear sRGB) brought into the sRGB gamut at its own luminance: where a channel is negative (a colour
-/// more saturated than the primaries reach: a sky's deep red at dusk, the sun's disc at the horizon), it is
-/// desaturated towards the grey of the same luminance Y until its smallest channel is 0; where Y itself is not
-/// positive, black. Colours inside the gamut are returned as they are. (Light cannot be negative: a map, a
-/// lookup or an SH projection holding such a texel would subtract light.)
-pub fn into_gamut(rgb: DVec3) -> DVec3 {
-    let min = rgb.min_element();
-    if min >= 0.0 {
-        return rgb;
-    }
-    let y = 0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z;
-    if y.is_nan() || y <= 0.0 {
-        return DVec3::ZERO;
-    }
-    let grey = DVec3::splat(y);
-    (grey + (rgb - grey) * (y / (y - min))).max(DVec3::ZERO)
-}
-
-/// Linear sRGB → XYZ: the inverse of [`xyz_to_linear_srgb`] (reading the GPU's output back as colour).
-pub fn linear_srgb_to_xyz(rgb: DVec3) -> DVec3 {
-    static INVERSE: std::sync::LazyLock<glam::DMat3> = std::sync::LazyLock::new(|| {
-        let m = XYZ_TO_LINEAR_SRGB;
-        // glam is column-major: the rows of `m` are the columns of its transpose.
-        glam::DMat3::from_cols(DVec3::from(m[0]), DVec3::from(m[1]), DVec3::from(m[2])).transpose().inverse()
-    });
-    *INVERSE * rgb
+    crate::physics::colour::luminance(DVec3::from(rgb.map(f64::from)))
 }
 
 /// The sRGB transfer function (IEC 61966-2-1) of one channel, clamped to [0, 1].
@@ -209,17 +173,6 @@ pub fn linear_to_rgba8(rgba: &[f32], exposure_ev: f64) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn into_gamut_keeps_the_luminance_and_the_hue_side() {
-        let dusk = DVec3::new(0.77, -0.0015, -0.18);
-        let y = |c: DVec3| 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
-        let g = into_gamut(dusk);
-        assert!(g.min_element().abs() < 1e-15 && (y(g) - y(dusk)).abs() < 1e-12, "{g}");
-        assert!(g.x > g.y && g.y > g.z, "{g}");
-        assert_eq!(into_gamut(DVec3::new(0.1, 0.2, 0.3)), DVec3::new(0.1, 0.2, 0.3));
-        assert_eq!(into_gamut(DVec3::new(-1.0, 0.01, 0.0)), DVec3::ZERO);
-    }
 
     #[test]
     fn a_mirror_under_d65_is_the_d65_white_point_and_srgb_white() {

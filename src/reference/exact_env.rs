@@ -62,7 +62,7 @@ impl ExactEnv {
             }
             let xyz = self.reference.flss_xyz_bands(omega_i, omega_r, &samplings);
             let rgb: [DVec3; 3] =
-                std::array::from_fn(|k| crate::physics::spectrum::xyz_to_linear_srgb(xyz[k]) * self.bands[k].1);
+                std::array::from_fn(|k| crate::physics::colour::xyz_to_linear_srgb(xyz[k]) * self.bands[k].1);
             DMat3::from_cols(rgb[0], rgb[1], rgb[2]) * self.to_light
         };
         integrator.pixel(omega_r, rho, seed, REFERENCE_REPLICATES)
@@ -124,7 +124,7 @@ pub fn compare(
     reference: &[Option<Estimate>],
     exposure_ev: f64,
 ) -> Comparison {
-    use crate::physics::spectrum::linear_srgb_to_xyz;
+    use crate::physics::colour::linear_srgb_to_xyz;
     let mut errors = Vec::new();
     let mut relative = Vec::new();
     for (&(x, y), r) in pixels.iter().zip(reference) {

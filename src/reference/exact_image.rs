@@ -23,11 +23,12 @@ use crate::error::{Error, Result};
 use crate::io::cache::KeyHash;
 use crate::io::progress::Progress;
 use crate::physics::coherence::CoherenceWindow;
+use crate::physics::colour::linear_srgb_to_xyz;
 use crate::physics::colour::{ciede2000, xyz_to_lab};
 use crate::physics::exact::{window_gain, Method, Reference};
 use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
-use crate::physics::spectrum::{diffraction_gain, linear_srgb_to_xyz, Sampling};
+use crate::physics::spectrum::{diffraction_gain, Sampling};
 use crate::physics::taylor::{HeightStats, TaylorPlan};
 
 /// The reference's bound on the Taylor amplitude error |P − P_N| (a flat mirror has |P| = 1 at specular).
@@ -497,8 +498,8 @@ fn parse_cached(bytes: &[u8], job: &ReferenceJob<'_>) -> Option<ReferenceImage> 
 mod tests {
     use super::*;
 
+    use crate::physics::colour::xyz_to_linear_srgb;
     use crate::physics::colour::D65_WHITE;
-    use crate::physics::spectrum::xyz_to_linear_srgb;
 
     /// Random pixels: as many as asked, whole (all of a pixel's positions), among the covered ones only, the same
     /// on every run; a count beyond the covered pixels keeps them all.

@@ -368,18 +368,16 @@ impl Environment {
     /// as a disc of the sun's solid angle (in the map's units, times its intensity), or 1 (the map's own units) for
     /// a map that lights the scene alone.
     pub fn sun_luminance(&self, light_dir: Vec3) -> Option<f64> {
-        match self {
-            Environment::Map(m) => match m.sun {
-                MapSun::Found(sun) => Some(sun.illuminance() * m.intensity / crate::physics::optics::SUN_SOLID_ANGLE),
-                MapSun::Alone => Some(1.0),
-                MapSun::Model => {
-                    crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|s| s.sun_xyz().y)
+        if let Environment::Map(m) = self {
+            match m.sun {
+                MapSun::Found(sun) => {
+                    return Some(sun.illuminance() * m.intensity / crate::physics::optics::SUN_SOLID_ANGLE)
                 }
-            },
-            Environment::Sky(_) => {
-                crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|s| s.sun_xyz().y)
+                MapSun::Alone => return Some(1.0),
+                MapSun::Model => {}
             }
         }
+        crate::physics::sky::Sky::new(self.turbidity(), light_dir.as_dvec3()).ok().map(|s| s.sun_xyz().y)
     }
 
     /// One line for the user: what the environment does in a frame and what it does not (yet).
@@ -552,8 +550,8 @@ fn map_light(
     let loaded = crate::light::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
     let search = crate::light::sun::find(&loaded);
     let turn = glam::DQuat::from_rotation_y(rotation_deg.to_radians());
-    let (map, sun, light_dir, sun_texels) = match search.sun {
-        Some(found) => {
+    let (map, sun, light_dir, sun_texels) = match (search.sun, search.rest) {
+        (Some(found), Some(rest)) => {
             let world = (turn * found.direction).as_vec3();
             let (elevation, azimuth) =
                 (f64::from(world.y).asin().to_degrees(), f64::from(world.x.atan2(world.z)).to_degrees());
@@ -588,18 +586,9 @@ fn map_light(
                     given.z
                 );
             }
-            let filled = crate::light::sun::without(&loaded, &found);
-            let sun_texels: Vec<_> = loaded
-                .rgb
-                .iter()
-                .zip(&filled.rgb)
-                .enumerate()
-                .filter(|(_, (a, b))| a != b)
-                .map(|(i, (a, _))| (i, *a))
-                .collect();
-            (filled, MapSun::Found(found), world, sun_texels)
+            (rest.map, MapSun::Found(found), world, rest.texels)
         }
-        None => match direction {
+        _ => match direction {
             Some(d) => {
                 crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, d.as_dvec3())
                     .map_err(|e| loc.at(direction_span, format!("environment = {file:?}: the sun: {e}")))?;

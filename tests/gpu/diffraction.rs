@@ -4,11 +4,12 @@ use diffract::material::{Approach, Settings};
 use diffract::material::{Material, Reach};
 use diffract::physics::baked::sample::{MipFilter, TableMips};
 use diffract::physics::coherence::CoherenceWindow;
+use diffract::physics::colour::xyz_to_linear_srgb;
 use diffract::physics::exact::{Method, Query, Reference};
 use diffract::physics::formats::png::PngScale;
 use diffract::physics::heightfield::HeightField;
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
-use diffract::physics::spectrum::{xyz_to_linear_srgb, Sampling};
+use diffract::physics::spectrum::Sampling;
 use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader, MapSpec};
 use glam::DVec3;
 

@@ -5,11 +5,12 @@ use diffract::light::environment::{direction_at, texel_solid_angle, EnvironmentM
 use diffract::light::sampling::{env_of_patch, map_view, EnvLight, TableProposal};
 use diffract::material::{Approach, Settings};
 use diffract::material::{Material, Reach};
+use diffract::physics::colour::linear_srgb_to_xyz;
 use diffract::physics::heightfield::HeightField;
 use diffract::physics::illuminant::Illuminant;
 use diffract::physics::optics::{direction, fresnel_ratio, normal_reflectance, SKIN_INDEX, SUN_SOLID_ANGLE};
 use diffract::physics::sky::Sky;
-use diffract::physics::spectrum::{linear_srgb_to_xyz, white_rgb};
+use diffract::physics::spectrum::white_rgb;
 use diffract::reference::exact_env::reference_map_pixels;
 use diffract::reference::exact_image::delta_e;
 use diffract::render::diffraction::{render_map, MapImage};
@@ -281,7 +282,7 @@ fn the_elaphe_scans_moments_conserve_energy() {
         let (moments, specular) = m.at(omega_r);
         // Under a white (D65) light of unit luminance.
         let white = white_rgb(diffract::physics::illuminant::Illuminant::d65());
-        let y = |rgb: DVec3| diffract::physics::spectrum::linear_srgb_to_xyz(rgb).y;
+        let y = |rgb: DVec3| diffract::physics::colour::linear_srgb_to_xyz(rgb).y;
         let albedo = y((moments[0] + specular) * white);
         eprintln!(
             "θ_r {theta}°: hemispherical reflectance {albedo:.4} (specular {:.4}), Fresnel {r:.4}",

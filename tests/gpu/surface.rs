@@ -2,9 +2,10 @@
 
 use diffract::material::Settings;
 use diffract::material::{Material, Reach};
+use diffract::physics::colour::xyz_to_linear_srgb;
 use diffract::physics::exact::{Method, Reference};
 use diffract::physics::formats::png::PngScale;
-use diffract::physics::spectrum::{display_encode, xyz_to_linear_srgb};
+use diffract::physics::spectrum::display_encode;
 use diffract::render::surface::render_surface;
 use diffract::render::SceneView;
 use diffract::scene::camera::Camera;

@@ -306,7 +306,7 @@ fn scene_pixels(
                 + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated)
                 + sky_diffraction;
             let diffracted = if coated { sun_visible } else { 0.0 };
-            let extra_xyz = spectrum::linear_srgb_to_xyz(extra_rgb);
+            let extra_xyz = crate::physics::colour::linear_srgb_to_xyz(extra_rgb);
             Some(PixelQuery { omega_i, omega_r, material, diffracted, extra_xyz })
         })
         .collect())
