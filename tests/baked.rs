@@ -67,6 +67,7 @@ fn map_table(hf: &HeightField, coherence_um: f64, size: u32) -> (TablePlan, diff
         aligned: true,
         centres_only: false,
         segments: None,
+        mass_only: false,
     };
     let plan = TablePlan::new(hf, coherence_um, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let table = build::build(hf, &plan, None).unwrap();
@@ -109,7 +110,8 @@ fn texel_averages_and_the_coarsest_level_equal_means_computed_directly() {
     let hf = tiled();
     let (lx, _) = hf.size_um();
     let domain = Domain { u: (-0.15, 0.15), v: (-0.15, 0.15), w: (-1.9, -1.7) };
-    let request = TableRequest { domain, footprint: 0.12, aligned: false, centres_only: false, segments: None };
+    let request =
+        TableRequest { domain, footprint: 0.12, aligned: false, centres_only: false, segments: None, mass_only: false };
     let plan = TablePlan::new(&hf, lx, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     assert!(plan.lattice && !plan.point && plan.grid.texel > plan.lobe_width.1, "{}", plan.describe());
     let table = build::build(&hf, &plan, None).unwrap();
@@ -202,6 +204,7 @@ fn deeper_structures_need_more_terms_in_w() {
         aligned: false,
         centres_only: false,
         segments: Some(1),
+        mass_only: false,
     };
     let plan = |hf: &HeightField| TablePlan::new(hf, 6.4, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
     let (a, b) = (plan(&shallow), plan(&deep));
@@ -281,6 +284,7 @@ fn a_map_read_at_pixel_centres_has_one_texel_per_pixel() {
         aligned: true,
         centres_only,
         segments: None,
+        mass_only: false,
     };
     let point = TablePlan::new(&hf, lx, &request(true), DEFAULT_TABLE_TOLERANCE).unwrap();
     let filtered = TablePlan::new(&hf, lx, &request(false), DEFAULT_TABLE_TOLERANCE).unwrap();

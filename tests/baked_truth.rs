@@ -296,7 +296,14 @@ fn a_deep_sinusoid_under_short_coherence_is_within_its_certificate() {
 
 /// Every pair of directions, texels as fine as the lobes.
 fn hemisphere() -> TableRequest {
-    TableRequest { domain: Domain::HEMISPHERE, footprint: 0.0, aligned: false, centres_only: false, segments: None }
+    TableRequest {
+        domain: Domain::HEMISPHERE,
+        footprint: 0.0,
+        aligned: false,
+        centres_only: false,
+        segments: None,
+        mass_only: false,
+    }
 }
 
 /// The same deep grating's table with w cut into 2 and 4 segments, each its own series: the certificate's claim
@@ -334,8 +341,14 @@ fn a_table_in_segments_of_w_is_within_its_certificate_and_reads_fewer_layers() {
 fn a_long_coherence_scene_table_is_within_its_certificate() {
     let g = Grating { px: 16, py: 1, p: 1, q: 0, a: 0.05, pixel: 0.05, tx: 16, ty: 16 };
     let domain = Domain { u: (-0.44, 0.74), v: (-1.02, 1.11), w: (-1.06, -0.001) };
-    let request =
-        TableRequest { domain, footprint: 0.0113 * 3f64.sqrt(), aligned: false, centres_only: false, segments: None };
+    let request = TableRequest {
+        domain,
+        footprint: 0.0113 * 3f64.sqrt(),
+        aligned: false,
+        centres_only: false,
+        segments: None,
+        mass_only: false,
+    };
     let (plan, table) = check("sine 0.8 µm, 0.1 µm deep, scene box, 1000 µm", &g, 1000.0, request, 10_000);
     assert!(plan.lattice && plan.grid.texel > 10.0 * plan.lobe_width.1, "{}", plan.describe());
     assert!(table.terms >= 3, "{}", table.certificate.describe());
@@ -353,12 +366,14 @@ fn a_rotated_lattice_is_within_its_certificate_in_a_map_and_a_scene() {
         aligned: true,
         centres_only: false,
         segments: None,
+        mass_only: false,
     };
     let (plan, _) = check("rotated lattice, map at 30°, 20 µm", &g, 20.0, map, 10_000);
     assert!(plan.point && plan.lattice, "{}", plan.describe());
     let g = Grating { tx: 4, ty: 3, ..g };
     let domain = Domain { u: (-0.9, 0.3), v: (-0.7, 0.7), w: (-1.9, -1.2) };
-    let scene = TableRequest { domain, footprint: 0.3, aligned: false, centres_only: false, segments: None };
+    let scene =
+        TableRequest { domain, footprint: 0.3, aligned: false, centres_only: false, segments: None, mass_only: false };
     let (plan, _) = check("rotated lattice, scene box, 4 µm", &g, 4.0, scene, 10_000);
     assert!(!plan.lattice && plan.subsamples() > 1, "{}", plan.describe());
 }

@@ -13,7 +13,7 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::gpu::interface::DiffractionParams;
 use crate::io::progress::Progress;
-use crate::light::prefilter::Moments;
+use crate::light::prefilter::{Moments, Quadrature};
 use crate::material::{Approach, Settings, MAX_WINDOW_RADIUS};
 use crate::physics::baked;
 use crate::physics::baked::{BakedTable, Domain, TablePlan, TableRequest};
@@ -60,6 +60,7 @@ impl Reach {
                 aligned: false,
                 centres_only: false,
                 segments: None,
+                mass_only: false,
             },
             Reach::Map { light, size, filtered } => TableRequest {
                 domain: Domain::map(light),
@@ -67,10 +68,16 @@ impl Reach {
                 aligned: true,
                 centres_only: !filtered,
                 segments: None,
+                mass_only: false,
             },
-            Reach::Seen { domain, footprint } => {
-                TableRequest { domain, footprint, aligned: false, centres_only: false, segments: None }
-            }
+            Reach::Seen { domain, footprint } => TableRequest {
+                domain,
+                footprint,
+                aligned: false,
+                centres_only: false,
+                segments: None,
+                mass_only: false,
+            },
         }
     }
 }
@@ -255,26 +262,34 @@ impl Material {
 
 /// The moments of `hf`'s BRDF under `settings`' coherence length and table tolerance (their light is the basis',
 /// whatever `settings` names): from a baked table per band of the basis, for every pair of directions with texels
-/// of `MOMENT_TEXEL` and spectral sums at `MOMENT_LAMBDA_STEP_NM` (built, or read from the cache), on a
-/// `MOMENT_GRID`² grid.
+/// of `MOMENT_TEXEL` (built, or read from the cache), on a `MOMENT_GRID`² grid, by the fast quadrature
+/// (`light::prefilter::Quadrature::FAST`).
 pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
-    use crate::light::prefilter::{basis, key_tail, MOMENTS_VERSION, MOMENT_GRID, MOMENT_LAMBDA_STEP_NM, MOMENT_TEXEL};
+    moments_by(hf, settings, &crate::light::prefilter::Quadrature::FAST)
+}
+
+/// [`moments_of`] integrated by `quadrature` (the fast one, or the careful one to measure it against).
+pub fn moments_by(hf: &HeightField, settings: &Settings, quadrature: &Quadrature) -> Result<Moments> {
+    use crate::light::prefilter::{basis, key_tail, MOMENTS_VERSION, MOMENT_GRID, MOMENT_TEXEL};
     use crate::physics::baked::load_or_build_bands;
     // Texels of MOMENT_TEXEL (a table's texel is a footprint over √3: `TablePlan::size_grid`).
     // One segment of w: the moments read every texel once, so fewer layers a read would save nothing.
     let request = TableRequest {
         segments: Some(1),
+        mass_only: quadrature.mass_only,
         ..Reach::Hemisphere { footprint: MOMENT_TEXEL * 3f64.sqrt() }.table_request()
     };
     // The first band's plan (its estimate of the terms in w, a second or so) serves the others, under their light.
     let lights = basis();
     let mut first = TablePlan::new_under(hf, settings.coherence_um, &request, settings.table_tolerance, lights[0])?;
-    first.lambda_step_nm = MOMENT_LAMBDA_STEP_NM;
+    first.lambda_step_nm = quadrature.lambda_step_nm;
     let mut plans = Vec::new();
     let mut gains = Vec::new();
     for illuminant in lights {
         plans.push(if illuminant == first.illuminant { first.clone() } else { first.for_light(hf, illuminant)? });
-        let sampling = Sampling::visible_under(MOMENT_LAMBDA_STEP_NM, illuminant);
+        // Binned weights are normalised as the 1 nm tables' (`Sampling::binned_weights`): so is the gain.
+        let step = if quadrature.mass_only { 1.0 } else { quadrature.lambda_step_nm };
+        let sampling = Sampling::visible_under(step, illuminant);
         gains.push(crate::light::sampling::env_gain(&sampling, settings.coherence_um)?);
     }
     // The bands share their nodes in w (the most any needs), so that one pass builds the three tables.
@@ -288,7 +303,7 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
         p.0.extend(crate::physics::baked::cache::table_identity(hf, plan));
         p.f64(*gain);
     }
-    key_tail(&mut p);
+    key_tail(&mut p, quadrature);
     let stamp =
         crate::io::cache::Stamp { kind: "moments", what: "environment moments", version: MOMENTS_VERSION, plan: p.0 };
     let dir = crate::io::cache::default_dir();
@@ -309,6 +324,7 @@ pub fn moments_of(hf: &HeightField, settings: &Settings) -> Result<Moments> {
     let moments = Moments::new(
         &[(&tables[0].0, tables[0].1), (&tables[1].0, tables[1].1), (&tables[2].0, tables[2].1)],
         MOMENT_GRID,
+        quadrature.blocks,
     );
     bar.step();
     bar.finish();

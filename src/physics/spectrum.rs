@@ -98,6 +98,32 @@ impl Sampling {
     pub fn y_norm(&self) -> f64 {
         self.wavelengths().map(|l| self.weights_at(l)[1] * self.weights_at(l)[3] * self.step_nm).sum()
     }
+
+    /// Each wavelength's (x̄, ȳ, z̄)·S/100 integrated over its bin from the 1 nm rows (a row halfway between two
+    /// wavelengths split between them), so that the weights sum to the 1 nm tables' integrals: a spectrally flat
+    /// reflectance then has exactly the colour of the light, however coarse the step, where point samples of the
+    /// colour-matching functions at 10 nm are 0.7 % off in blue under a band of D65. For sums that integrate further
+    /// (the environment's moments), whose values change slowly with λ.
+    pub fn binned_weights(&self) -> Vec<[f64; 3]> {
+        let fine = Self { step_nm: 1.0, count: TABLE_ROWS, lambda_min_nm: TABLE_LAMBDA_MIN_NM, ..*self };
+        let mut weights = vec![[0.0; 3]; self.count];
+        for m in fine.wavelengths() {
+            let at = fine.weights_at(m);
+            let row = [0, 1, 2].map(|c| at[c] * at[3]);
+            let x = (m - self.lambda_min_nm) / self.step_nm;
+            let halfway = (x - x.floor() - 0.5).abs() < 1e-9;
+            let bins =
+                if halfway { [(x.floor(), 0.5), (x.floor() + 1.0, 0.5)] } else { [(x.round(), 1.0), (0.0, 0.0)] };
+            for (bin, share) in bins {
+                if share > 0.0 && bin >= 0.0 && (bin as usize) < self.count {
+                    for (w, v) in weights[bin as usize].iter_mut().zip(row) {
+                        *w += share * v;
+                    }
+                }
+            }
+        }
+        weights
+    }
 }
 
 /// The factor a frame's diffraction is multiplied by: 1 in relative units; in physical units (an
@@ -190,6 +216,27 @@ mod tests {
         let coarse = xyz_to_linear_srgb(reflectance_to_xyz(&Sampling::visible(5.0), |_| 1.0));
         for c in coarse.to_array() {
             assert!((c - 1.0).abs() < 2e-3, "5 nm sampling: {coarse}");
+        }
+    }
+
+    /// Binned weights at any step sum to the 1 nm tables' integrals (each 1 nm row counted once), under a band of
+    /// the environment's basis, whose edges point samples at 10 nm miss.
+    #[test]
+    fn binned_weights_sum_to_the_fine_integral() {
+        let band = Illuminant::d65_band(0).physical();
+        let fine = Sampling::visible_under(1.0, band);
+        let integral = fine.wavelengths().fold([0.0; 3], |acc, l| {
+            let w = fine.weights_at(l);
+            [acc[0] + w[0] * w[3], acc[1] + w[1] * w[3], acc[2] + w[2] * w[3]]
+        });
+        for step in [2.0, 5.0, 10.0, 20.0, 7.0] {
+            let sampling = Sampling::visible_under(step, band);
+            let binned = sampling.binned_weights();
+            assert_eq!(binned.len(), sampling.count);
+            for c in 0..3 {
+                let sum: f64 = binned.iter().map(|w| w[c]).sum();
+                assert!((sum / integral[c] - 1.0).abs() < 1e-12, "{step} nm, channel {c}: {sum} vs {}", integral[c]);
+            }
         }
     }
 

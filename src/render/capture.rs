@@ -41,16 +41,21 @@ fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments:
         .map(|(i, m)| {
             // A matte material's patch is never drawn: the smallest table serves it.
             let reach = if m.matte { &MATTE_REACH } else { &reaches[i.min(reaches.len() - 1)] };
-            let mut material = Material::prepare(&m.heightfield, scene.material_settings(m, overrides), reach)
-                .map_err(|e| Error::Material { name: m.name.clone(), part: "", cause: Box::new(e) })?;
-            // Under an environment the grating diffracts it too (light::prefilter), by its BRDF's moments.
-            if moments && scene.environment.is_some() && !m.matte {
-                material.prepare_moments(&m.heightfield).map_err(|e| Error::Material {
-                    name: m.name.clone(),
-                    part: "the environment's diffraction: ",
-                    cause: Box::new(e),
-                })?;
-            }
+            let settings = scene.material_settings(m, overrides);
+            // Under an environment the grating diffracts it too (light::prefilter), by its BRDF's moments: tabulated
+            // beside the material's own table (each leaves a core idle part of the time).
+            let want_moments = moments && scene.environment.is_some() && !m.matte;
+            let (material, moments) = rayon::join(
+                || Material::prepare(&m.heightfield, settings, reach),
+                || want_moments.then(|| crate::material::moments_of(&m.heightfield, &settings)),
+            );
+            let mut material =
+                material.map_err(|e| Error::Material { name: m.name.clone(), part: "", cause: Box::new(e) })?;
+            material.moments = moments.transpose().map_err(|e| Error::Material {
+                name: m.name.clone(),
+                part: "the environment's diffraction: ",
+                cause: Box::new(e),
+            })?;
             Ok(material)
         })
         .collect()

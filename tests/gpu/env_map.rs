@@ -292,6 +292,54 @@ fn the_elaphe_scans_moments_conserve_energy() {
     }
 }
 
+/// The moments' fast quadrature (the tables at 10 nm in bins, their texels holding only their light's mass, the
+/// views reading blocks of 2×2 texels: `Quadrature::FAST`) against the careful one (5 nm points, texel averages,
+/// texels one by one) on the default snake's scan and coherence, under a clear sky's l ≤ 2 light: the radiance
+/// each gives at views over the hemisphere, with its specular disc lit by the same light.
+#[test]
+fn the_fast_moments_agree_with_the_careful_ones() {
+    use diffract::light::prefilter::{Quadrature, MONOMIALS};
+    let scale = diffract::physics::formats::png::PngScale { pixel_size_um: 0.065, height_um: 0.375 };
+    let afm = crate::harness::place::afm("elaphe-100px.png");
+    let hf = diffract::physics::formats::load(&afm, Some(scale)).unwrap().tiled(10, 10).unwrap();
+    let settings = Settings { coherence_um: 20.0, ..physical() };
+    let sky = Sky::new(3.0, diffract::physics::sky::direction(50.0, 90.0)).unwrap();
+    let map = EnvironmentMap::of_sky(&sky, 256, 0.2).unwrap();
+    let quadratic = diffract::light::prefilter::Quadratic::of_irradiance(&map.irradiance(1.0 / sky.sun_xyz().y, 0.0));
+    let [fast, careful] = [Quadrature::FAST, Quadrature::CAREFUL].map(|q| {
+        let start = std::time::Instant::now();
+        let m = diffract::material::moments_by(&hf, &settings, &q).unwrap();
+        eprintln!("{q:?}: {:.1} s", start.elapsed().as_secs_f64());
+        m
+    });
+    let (mut worst, mut sum, mut n) = (0.0f64, 0.0, 0);
+    for frame in
+        [glam::DMat3::from_cols(DVec3::X, -DVec3::Z, DVec3::Y), glam::DMat3::from_cols(DVec3::Z, DVec3::X, DVec3::Y)]
+    {
+        let a = quadratic.coefficients(frame);
+        for theta in (0..17).map(|t| 2.5 + 5.0 * f64::from(t)) {
+            for phi in (0..12).map(|p| 7.0 + 30.0 * f64::from(p)) {
+                let omega_r = direction(theta, phi);
+                let mirror = frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
+                let radiance = |m: &diffract::light::prefilter::Moments| {
+                    let (moments, specular) = m.at(omega_r);
+                    (0..MONOMIALS).map(|j| moments[j] * a[j]).sum::<DVec3>() + specular * quadratic.radiance(mirror)
+                };
+                let (f, c) = (radiance(&fast), radiance(&careful));
+                let off = (f - c).abs().max_element() / c.max_element();
+                worst = worst.max(off);
+                sum += off;
+                n += 1;
+            }
+        }
+    }
+    eprintln!(
+        "fast vs careful moments: mean {:.4}, worst {worst:.4} of the radiance over {n} views",
+        sum / f64::from(n)
+    );
+    assert!(sum / f64::from(n) < 3e-3 && worst < 1.5e-2, "mean {}, worst {worst}", sum / f64::from(n));
+}
+
 /// The snake under the clear sky: at random pixels of the frame, its prefiltered sky diffraction (what the frame
 /// shows) against the exact BRDF integrated over the sky itself (without its sun, which diffracts as the light),
 /// each pixel's whole colour compared at the frame's exposure.

@@ -407,7 +407,7 @@ impl Pass<'_> {
 impl<'a> Pass<'a> {
     /// The pass that builds `plan`'s table: its grid, its nodes in w, its wavelength step.
     fn new(hf: &HeightField, plan: &TablePlan, cell: &'a Cell) -> Self {
-        let spectral = Spectral::new(plan.lambda_step_nm, &plan.illuminant);
+        let spectral = Spectral::of_plan(plan);
         Self::of_weights(hf, plan, cell, Weights::of(std::slice::from_ref(&spectral)).expect("one band"))
     }
 
@@ -515,9 +515,10 @@ pub fn build_bands(hf: &HeightField, plans: &[TablePlan]) -> Result<Vec<BakedTab
             && p.cell == first.cell
             && p.window == first.window
             && p.lambda_step_nm == first.lambda_step_nm
+            && p.mass_only == first.mass_only
             && p.lobe_width == first.lobe_width
     };
-    let spectrals: Vec<Spectral> = plans.iter().map(|p| Spectral::new(p.lambda_step_nm, &p.illuminant)).collect();
+    let spectrals: Vec<Spectral> = plans.iter().map(Spectral::of_plan).collect();
     let weights = Weights::of(&spectrals);
     let (Some(weights), true) = (weights, plans.iter().all(alike)) else {
         return plans.iter().map(|p| build(hf, p, None)).collect();

@@ -56,6 +56,9 @@ fn table_stamp(hf: &HeightField, plan: &TablePlan) -> Stamp {
     if plan.lambda_step_nm != crate::physics::baked::TABLE_LAMBDA_STEP_NM {
         p.f64(plan.lambda_step_nm);
     }
+    if plan.mass_only {
+        p.u64(1);
+    }
     if g.segments > 1 {
         p.u64(g.segments as u64);
         for s in &plan.segments {

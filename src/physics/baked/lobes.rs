@@ -33,6 +33,31 @@ impl Spectral {
         }
         Self { lambda_um, weight }
     }
+
+    /// [`Self::new`] with each wavelength weighing its bin's integral ([`Sampling::binned_weights`]), normalised
+    /// by the 1 nm tables' Σ ȳS: a mirror's colour is the light's at any step (a [`super::TablePlan::mass_only`]
+    /// table's).
+    pub(super) fn binned(step_nm: f64, illuminant: &Illuminant) -> Self {
+        let sampling = Sampling::visible_under(step_nm, *illuminant);
+        let norm = Sampling::visible_under(1.0, *illuminant).y_norm();
+        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
+        for (l, w) in sampling.wavelengths().zip(sampling.binned_weights()) {
+            if w.iter().any(|&c| c != 0.0) {
+                lambda_um.push(l * 1e-3);
+                weight.push(w.map(|c| c / norm));
+            }
+        }
+        Self { lambda_um, weight }
+    }
+
+    /// The wavelengths and weights a table of `plan` sums: binned for a [`super::TablePlan::mass_only`] table.
+    pub(super) fn of_plan(plan: &super::TablePlan) -> Self {
+        if plan.mass_only {
+            Self::binned(plan.lambda_step_nm, &plan.illuminant)
+        } else {
+            Self::new(plan.lambda_step_nm, &plan.illuminant)
+        }
+    }
 }
 
 /// The patch's tiling cell and its FFT plans.

@@ -127,6 +127,11 @@ pub struct TableRequest {
     /// ([`TablePlan::new`]: two where w spans more than 1.5 and they need fewer layers a read, within twice the
     /// memory of one).
     pub segments: Option<usize>,
+    /// The table is only integrated further, against factors that change slowly across a texel (the
+    /// environment's moments): its texels need hold only the mass of their light ([`TablePlan::mass_only`]), and
+    /// the grid is the footprint's whatever the degree in w, so no estimate of the degree is made (the build
+    /// certifies the degree it keeps, as always).
+    pub mass_only: bool,
 }
 
 /// The texel grid: texel (a, b) covers u ∈ [u0 + a·texel, u0 + (a + 1)·texel) and likewise v; `w` is cut into
@@ -238,7 +243,17 @@ pub struct TablePlan {
     /// The wavelength step of the build's spectral sums, nm: [`TABLE_LAMBDA_STEP_NM`] unless a table that is only
     /// integrated further (the environment's moments) asks for a coarser one.
     pub lambda_step_nm: f64,
+    /// Whether a texel need only hold the mass of the light in it, not how it lies within (a table that is only
+    /// integrated further against smooth factors: the environment's moments): sub-samples [`MASS_SPACING`] lobe
+    /// widths apart instead of one.
+    pub mass_only: bool,
 }
+
+/// The spacing of the sub-samples of a [`TablePlan::mass_only`] table, in lobe widths (standard deviations of
+/// the narrowest intensity lobe): the samples of a Gaussian of standard deviation σ at spacing h sum to its
+/// integral within 2·exp(−2π²σ²/h²) (Poisson's summation formula), 2·10⁻⁶ at h = 1.2σ. A lobe's light is then
+/// counted whole, split between the texels it straddles in proportions a sub-sample or so off.
+pub const MASS_SPACING: f64 = 1.2;
 
 /// One segment of a table's w-interval ([`Grid::segments`]), planned like a table of its own.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -319,8 +334,14 @@ impl TablePlan {
             coherence_um,
             illuminant,
             lambda_step_nm: TABLE_LAMBDA_STEP_NM,
+            mass_only: request.mass_only,
         };
-        plan.estimate = cache::estimate(hf, &plan, || degree::estimate(hf, &plan));
+        // (Without an estimate, the grid is sized for as many terms as the nodes can certify.)
+        plan.estimate = if request.mass_only {
+            Estimate { terms: nodes.count, ..blank }
+        } else {
+            cache::estimate(hf, &plan, || degree::estimate(hf, &plan))
+        };
         plan.terms = plan.estimate.terms;
         plan.segments[0].estimate = plan.estimate;
         plan.size_grid(request);
@@ -424,13 +445,15 @@ impl TablePlan {
     }
 
     /// Sub-samples per texel axis whose mean is a texel's value: on the coherent path, enough that their spacing is
-    /// at most the lobe width (sub-sample i of texel a sits at u0 + (a + (i + ½)/s)·texel); 1 for point tables and
-    /// on the lattice path, whose texel averages are exact.
+    /// at most the lobe width (sub-sample i of texel a sits at u0 + (a + (i + ½)/s)·texel), or [`MASS_SPACING`]
+    /// lobe widths for a [`Self::mass_only`] table; 1 for point tables and on the lattice path, whose texel averages
+    /// are exact.
     pub fn subsamples(&self) -> usize {
         if self.point || self.lattice {
             1
         } else {
-            ((self.grid.texel / self.lobe_width.0).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
+            let spacing = if self.mass_only { MASS_SPACING * self.lobe_width.0 } else { self.lobe_width.0 };
+            ((self.grid.texel / spacing).ceil() as usize).clamp(1, MAX_SUBSAMPLES)
         }
     }
 
@@ -804,6 +827,7 @@ mod tests {
             aligned: true,
             centres_only: false,
             segments: None,
+            mass_only: false,
         };
         let plan = TablePlan::new(&hf, 65.0, &request, DEFAULT_TABLE_TOLERANCE).unwrap();
         assert!(plan.point && plan.terms >= 1 && plan.estimate.every_lobe && plan.estimate.points > 0);
