@@ -45,6 +45,19 @@
 //! 10. [`reference`](mod@reference): the BRDF by every evaluator, exact reference images, the profiler.
 //! 11. `view` and `cli` (feature `cli`): the viewer's window and the `diffract` command line.
 
+/// `println!` that cannot panic: a line on stdout through [`io::stream::out`].
+#[allow(unused_macros)]
+macro_rules! outln {
+    () => { $crate::io::stream::out(format_args!("")) };
+    ($($arg:tt)*) => { $crate::io::stream::out(format_args!($($arg)*)) };
+}
+
+/// `eprintln!` that cannot panic: a line on stderr through [`io::stream::err`].
+#[allow(unused_macros)]
+macro_rules! errln {
+    ($($arg:tt)*) => { $crate::io::stream::err(format_args!($($arg)*)) };
+}
+
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod display;

@@ -219,9 +219,8 @@ fn a_damaged_profiler_reference_is_recomputed_not_measured_against() {
     assert_eq!(mean_de(&second), mean_de(&first), "measured against the recomputed reference");
 }
 
-#[test]
-fn a_closed_pipe_ends_every_command_quietly() {
-    let dir = folder("pipes");
+/// Every command, small, writing its files (if any) into `dir`, with the file each writes.
+fn every_command(dir: &Path) -> Vec<(Vec<String>, Option<PathBuf>)> {
     let patch = dir.join("sine.gsf");
     common::sine_patch(&patch);
     let p = patch.to_str().unwrap();
@@ -242,10 +241,23 @@ fn a_closed_pipe_ends_every_command_quietly() {
         ["profile", "--heightfield", p, "--width", "8", "--frames", "1", "--no-reference", "--sweep", "approach=gem"]
             .map(String::from)
             .to_vec(),
+        ["gen", "sky", "--width", "32", "--out", &out("s.exr")].map(String::from).to_vec(),
         vec!["--help".into()],
         vec!["render".into(), "--help".into()],
     ];
-    for args in commands {
+    commands
+        .into_iter()
+        .map(|args| {
+            let written = args.iter().position(|a| a == "--out").map(|i| PathBuf::from(&args[i + 1]));
+            (args, written)
+        })
+        .collect()
+}
+
+#[test]
+fn a_closed_pipe_ends_every_command_quietly() {
+    let dir = folder("pipes");
+    for (args, _) in every_command(&dir) {
         let args: Vec<OsString> = args.iter().map(OsString::from).collect();
         // stdout is a pipe whose reading end is closed before the command writes to it.
         let mut child =
@@ -257,6 +269,37 @@ fn a_closed_pipe_ends_every_command_quietly() {
         assert!(quiet, "{args:?}: {:?}: {err}", o.status);
         let error_line = err.lines().any(|l| l.starts_with("error"));
         assert!(!err.contains("panicked") && !err.contains("Broken pipe") && !error_line, "{args:?}: {err}");
+    }
+}
+
+/// A stream that cannot be written (`> /dev/full`, `2> /dev/full`: a full disk) fails the run in one line and a
+/// non-zero status, never a panic, and what the command writes to files is written all the same.
+#[test]
+fn a_full_stdout_or_stderr_fails_every_command_without_a_panic() {
+    let dir = folder("full");
+    for (args, written) in every_command(&dir) {
+        if args.iter().any(|a| a == "--help") {
+            continue; // clap writes help itself; it ignores a failed write
+        }
+        let args: Vec<OsString> = args.iter().map(OsString::from).collect();
+        let full = || std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+        // stdout on a full disk: one error line naming it, status 1.
+        let o = command(&dir.join("cache"), &refs(&args)).stdout(full()).stderr(Stdio::piped()).output().unwrap();
+        let err = stderr(&o);
+        let last = err.lines().last().unwrap_or("");
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(last.starts_with("error: could not write to standard output"), "{args:?}: {err}");
+        assert_eq!(err.lines().filter(|l| l.starts_with("error")).count(), 1, "{args:?}: {err}");
+        // stderr on a full disk: no panic (status 101), the files written; status 1 where it had lines to write.
+        if let Some(path) = &written {
+            let _ = std::fs::remove_file(path);
+        }
+        let o = command(&dir.join("cache"), &refs(&args)).stdout(Stdio::piped()).stderr(full()).output().unwrap();
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{args:?}: {:?}", o.status);
+        if let Some(path) = &written {
+            assert!(path.exists(), "{args:?}: {} not written", path.display());
+        }
     }
 }
 

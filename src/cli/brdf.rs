@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use anyhow::{bail, Context as _};
+use anyhow::bail;
 use clap::{Args, ValueEnum};
 
 use crate::cli::args::{HeightFieldArgs, LightArgs, MaterialArgs};
@@ -101,9 +101,9 @@ pub fn brdf(gpu: &crate::cli::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::p
     };
     let evaluation = prepared.run(ctx.as_ref())?;
     if let Some(plan) = &evaluation.plan {
-        eprintln!("note: {}", plan.describe());
+        errln!("note: {}", plan.describe());
         if !plan.f32_suffices() && matches!(evaluator, Evaluator::Gpu | Evaluator::Cpu(Method::TaylorF32)) {
-            eprintln!("warning: f32 cannot reach the tolerance here (see the note); these rows carry that error");
+            errln!("warning: f32 cannot reach the tolerance here (see the note); these rows carry that error");
         }
     }
     write_csv(&hf, &evaluation.samples)?;
@@ -118,9 +118,14 @@ pub fn brdf(gpu: &crate::cli::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::p
 }
 
 fn write_csv(hf: &HeightField, samples: &[crate::physics::exact::Sample]) -> anyhow::Result<()> {
+    csv_rows(hf, samples).map_err(|e| anyhow::anyhow!("could not write to standard output: {e}"))
+}
+
+/// The CSV of [`write_csv`] on stdout (the warning above it on stderr).
+fn csv_rows(hf: &HeightField, samples: &[crate::physics::exact::Sample]) -> std::io::Result<()> {
     let out_of_band = samples.iter().filter(|s| !s.in_band).count();
     if out_of_band > 0 {
-        eprintln!(
+        errln!(
             "note: {out_of_band} of {} rows ask for frequencies beyond what {:.4}×{:.4} µm pixels sample \
              (|u/λ| ≤ {:.3}/µm): their power is 0",
             samples.len(),
@@ -150,8 +155,7 @@ fn write_csv(hf: &HeightField, samples: &[crate::physics::exact::Sample]) -> any
         let line: Vec<String> = fields.iter().map(|&x| crate::error::number(x)).collect();
         writeln!(out, "{}", line.join(","))?;
     }
-    out.flush().context("writing the CSV")?;
-    Ok(())
+    out.flush()
 }
 
 #[derive(Args, Debug)]
@@ -192,33 +196,35 @@ pub fn terms(args: &TermsArgs) -> anyhow::Result<()> {
         acc.order,
     )?;
     let (lo, hi) = hf.range();
-    println!("patch: {}×{} pixels of {:.4}×{:.4} µm = {:.3}×{:.3} µm", hf.nx, hf.ny, hf.dx_um, hf.dy_um, lx, ly);
-    println!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
-    println!(
+    outln!("patch: {}×{} pixels of {:.4}×{:.4} µm = {:.3}×{:.3} µm", hf.nx, hf.ny, hf.dx_um, hf.dy_um, lx, ly);
+    outln!("heights: {lo:.4}..{hi:.4} µm, mean {:.4} µm, max |h − mean| {:.4} µm", hf.mean(), hf.max_deviation());
+    outln!(
         "window: σ = {:.4}×{:.4} bins (coherence {} µm), weight sum up to {gain:.3}",
-        window.sigma_x, window.sigma_y, acc.coherence_um
+        window.sigma_x,
+        window.sigma_y,
+        acc.coherence_um
     );
     let (gx, gy, spacing) = crate::material::dominant_grating(&hf);
     if spacing > 0.0 {
-        println!("dominant spacing: {spacing:.4} µm along ({gx:.3}, {gy:.3}) (what the gem approach uses)");
+        outln!("dominant spacing: {spacing:.4} µm along ({gx:.3}, {gy:.3}) (what the gem approach uses)");
     }
-    println!("{}", plan.describe());
+    outln!("{}", plan.describe());
     let mib = (plan.order + 1) as f64 * (hf.nx * hf.ny) as f64 * 8.0 / (1 << 20) as f64;
-    println!("GPU texture: {} RG32F layers, {mib:.1} MiB", plan.order + 1);
+    outln!("GPU texture: {} RG32F layers, {mib:.1} MiB", plan.order + 1);
     if args.compute {
         let start = std::time::Instant::now();
         crate::physics::taylor::TaylorTerms::compute(&hf, plan.order, None)?;
-        println!("precomputed {} terms in {:.1} ms", plan.order + 1, start.elapsed().as_secs_f64() * 1e3);
+        outln!("precomputed {} terms in {:.1} ms", plan.order + 1, start.elapsed().as_secs_f64() * 1e3);
     }
     // The table `view` and rendered sequences use: any light and view, as fine as the lobes within 256 MiB.
     let request = crate::material::Reach::ANY.table_request();
     let table = crate::physics::baked::TablePlan::new(&hf, acc.coherence_um, &request, acc.table_tolerance)?;
-    println!("any light and view: {}", table.describe());
+    outln!("any light and view: {}", table.describe());
     if args.compute {
         let start = std::time::Instant::now();
         let (built, cached) = crate::physics::baked::load_or_build(&hf, &table, None)?;
         let how = if cached { "loaded from the cache" } else { "built" };
-        println!(
+        outln!(
             "{how} the baked table in {:.1} ms: {}",
             start.elapsed().as_secs_f64() * 1e3,
             built.certificate.describe()

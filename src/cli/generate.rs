@@ -170,7 +170,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
         crate::light::environment::EnvironmentMap::of_sky_and_sun(&sky, args.width, args.ground_albedo)?
     };
     let (sun, sky_lux) = sky.horizontal_illuminance(180);
-    println!(
+    outln!(
         "sky ({}): turbidity {}, sun {}° high at azimuth {}°: zenith {:.0} cd/m², sun {:.3e} cd/m²; a horizontal \
          surface gets {:.1} klx from the sun and {:.1} klx from the sky",
         model.citation(),
@@ -186,7 +186,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     if png {
         let ev = args.exposure.unwrap_or_else(|| {
             let (ev, line) = crate::display::measure(&rgba, "the map");
-            println!("{line}");
+            outln!("{line}");
             ev
         });
         crate::io::output::write_png_rgba8(
@@ -201,7 +201,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
         crate::io::output::write_exr_rgb(&args.out, map.width, map.height, &rgba)?;
     }
     let without = if args.no_sun { ", without its sun" } else { "" };
-    println!("wrote {} ({}×{} texels{without})", args.out.display(), map.width, map.height);
+    outln!("wrote {} ({}×{} texels{without})", args.out.display(), map.width, map.height);
     Ok(())
 }
 
@@ -234,7 +234,7 @@ fn snake(args: &SnakeArgs) -> anyhow::Result<()> {
     };
     let mesh = crate::scene::mesh::snake::snake(&spec);
     crate::scene::mesh::obj::save(&args.out, &mesh, "diffract gen snake: tangents along the body follow increasing u")?;
-    println!("wrote {} ({} vertices, {} triangles)", args.out.display(), mesh.vertices.len(), mesh.indices.len() / 3);
+    outln!("wrote {} ({} vertices, {} triangles)", args.out.display(), mesh.vertices.len(), mesh.indices.len() / 3);
     Ok(())
 }
 
@@ -256,7 +256,7 @@ fn patch(args: &PatchArgs) -> anyhow::Result<()> {
         crate::io::output::write_png_gray16(p, hf.nx as u32, hf.ny as u32, grey)?;
     }
     let (lo, hi) = hf.range();
-    println!(
+    outln!(
         "wrote {} ({}×{} pixels of {} µm, {:.2}×{:.2} µm, heights {lo:.3}..{hi:.3} µm)",
         args.out.display(),
         hf.nx,

@@ -91,7 +91,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
         diffraction::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
     write_map(args, &map)?;
     if let Some(line) = material.table_line() {
-        eprintln!("{line}");
+        errln!("{line}");
     }
     let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
     let shader = diffraction::MapShader::for_device(&ctx).name();
@@ -109,7 +109,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     };
     let window =
         if material.settings.approach == Approach::Baked { String::new() } else { format!(", {taps}×{taps} taps") };
-    println!(
+    outln!(
         "wrote {} ({size}×{size} {approach}: {plan}{sampling}{window}; precompute {prep_ms:.0} ms{gpu_time} on {device})",
         args.out.display(),
         size = args.size,
@@ -132,12 +132,12 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
         Some(ev) => ev,
         None => {
             let (ev, line) = crate::display::measure(&map.rgba, "the map");
-            eprintln!("{line}");
+            errln!("{line}");
             ev
         }
     };
     if let Some(line) = crate::display::verdict(&map.rgba, exposure) {
-        eprintln!("{line}");
+        errln!("{line}");
     }
     crate::io::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
     if let Some(exr) = &args.exr {
@@ -171,13 +171,16 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     // The same search as a scene's: here the sun stays in the map, which the integral samples (its share of the
     // environment's samples goes where the light is).
     match crate::light::sun::find(&map).sun {
-        Some(sun) => eprintln!("note: {}: {}; integrated with the rest of the map", path.display(), sun.describe()),
-        None => eprintln!("note: {}: no sun in the map (no compact cap holds a quarter of its light)", path.display()),
+        Some(sun) => errln!("note: {}: {}; integrated with the rest of the map", path.display(), sun.describe()),
+        None => errln!("note: {}: no sun in the map (no compact cap holds a quarter of its light)", path.display()),
     }
     if env.width < map.width {
-        eprintln!(
+        errln!(
             "note: the {}×{} environment lights the map averaged down to {}×{} texels",
-            map.width, map.height, env.width, env.height
+            map.width,
+            map.height,
+            env.width,
+            env.height
         );
     }
     let hf = args.heightfield.load()?;
@@ -201,10 +204,10 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
         crate::render::env_map::render_env_map(&ctx, &spec).context("integrating the map over the environment")?;
     let exposure = write_map(args, &image)?;
     if let Some(line) = material.table_line() {
-        eprintln!("{line}");
+        errln!("{line}");
     }
     let gpu_time = image.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms")).unwrap_or_default();
-    println!(
+    outln!(
         "wrote {} ({size}×{size} baked under {}: {} samples per pixel; precompute {prep_ms:.0} ms{gpu_time} on {device})",
         args.out.display(),
         path.display(),
@@ -228,7 +231,7 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
             samples,
         )?;
         let check = crate::reference::exact_env::compare(&image, &pixels, &reference, exposure);
-        println!(
+        outln!(
             "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
              {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
             pixels.len(),

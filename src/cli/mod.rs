@@ -173,12 +173,21 @@ pub fn main() -> ExitCode {
             .map(|groups| groups.map(|g| g.cloned().collect()).collect())
             .unwrap_or_default();
     }
-    match run(&cli) {
+    let code = match run(&cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            errln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    };
+    // A line that could not be written (stdout or stderr on a full disk) fails the run, once everything else is
+    // done: what went to files is kept.
+    match crate::io::stream::failure() {
+        Some(why) => {
+            errln!("error: {why}");
+            ExitCode::FAILURE
+        }
+        None => code,
     }
 }
 
@@ -210,9 +219,8 @@ impl log::Log for StderrLog {
             (_, log::Level::Warn) => "warning: ",
             _ => "note: ",
         };
-        // A stderr that cannot be written (a full disk) loses the line, not the run.
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), "{prefix}{}", record.args());
+        // A stderr that cannot be written (a full disk) loses the line, and fails the run at its end.
+        errln!("{prefix}{}", record.args());
     }
 
     fn flush(&self) {}
@@ -227,7 +235,7 @@ fn usage_error(e: clap::Error) -> ExitCode {
     }
     if matches!(e.kind(), ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
         let text = e.render().to_string();
-        eprint!("{text}");
+        crate::io::stream::err_text(&text);
         return ExitCode::from(2);
     }
     // Clap's first paragraph is the error (a missing argument's name is on the lines after the first).
@@ -235,7 +243,7 @@ fn usage_error(e: clap::Error) -> ExitCode {
     let paragraph: Vec<&str> =
         text.lines().skip_while(|l| l.trim().is_empty()).take_while(|l| !l.trim().is_empty()).map(str::trim).collect();
     let line = if paragraph.is_empty() { "error: invalid arguments".to_string() } else { paragraph.join(" ") };
-    eprintln!("{line} (diffract --help)");
+    errln!("{line} (diffract --help)");
     ExitCode::from(2)
 }
 
@@ -262,7 +270,7 @@ fn validation_count_status(count: usize) -> ExitCode {
     match count {
         0 => ExitCode::SUCCESS,
         n => {
-            eprintln!("error: the validation layer reported {n} message(s)");
+            errln!("error: the validation layer reported {n} message(s)");
             ExitCode::FAILURE
         }
     }
@@ -273,9 +281,9 @@ fn devices(gpu: &GpuArgs) -> anyhow::Result<ExitCode> {
     if devices.is_empty() {
         return Err(crate::Error::NoDevice.into());
     }
-    println!("{:<5} {:<40} {:<15} {:<8} driver", "index", "name", "type", "vulkan");
+    outln!("{:<5} {:<40} {:<15} {:<8} driver", "index", "name", "type", "vulkan");
     for d in &devices {
-        println!("{:<5} {:<40} {:<15} {:<8} {}", d.index, d.name, d.kind_name(), d.api_version_string(), d.driver);
+        outln!("{:<5} {:<40} {:<15} {:<8} {}", d.index, d.name, d.kind_name(), d.api_version_string(), d.driver);
     }
     Ok(validation_status(&log))
 }

@@ -135,7 +135,7 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     }
     if let Subject::Scene { scene, .. } = &subject {
         if let Some(environment) = &scene.environment {
-            eprintln!("{}", environment.describe());
+            errln!("{}", environment.describe());
         }
     }
     // The reference covers each pixel as the frames' multisampling does (its sample count's square root per axis).
@@ -207,10 +207,10 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
 }
 
 fn roofline(ctx: &Context, frames: u32) -> anyhow::Result<Option<ProbeResult>> {
-    eprintln!("roofline: measuring RG32F texel-fetch throughput …");
+    errln!("roofline: measuring RG32F texel-fetch throughput …");
     let p = fetch_probe(ctx, frames.max(3) as usize).context("the fetch probe")?;
     if p.is_none() {
-        eprintln!("roofline: the device has no timestamps; no throughput figures");
+        errln!("roofline: the device has no timestamps; no throughput figures");
     }
     Ok(p)
 }
@@ -264,26 +264,26 @@ fn print_report(
     if let Some(p) = &options.probe {
         comments.push(roofline_line(p));
     }
-    println!("{}", comments.iter().map(|c| format!("- {c}")).collect::<Vec<_>>().join("\n"));
-    println!();
-    print!("{}", prof::markdown(rows));
+    outln!("{}", comments.iter().map(|c| format!("- {c}")).collect::<Vec<_>>().join("\n"));
+    outln!();
+    crate::io::stream::out_text(&prof::markdown(rows));
     let passes = prof::markdown_passes(rows);
     if !passes.is_empty() {
-        println!();
-        println!("Where each frame's GPU time goes (median ms per pass; the passes of a frame sum to its time):");
-        println!();
-        print!("{passes}");
+        outln!();
+        outln!("Where each frame's GPU time goes (median ms per pass; the passes of a frame sum to its time):");
+        outln!();
+        crate::io::stream::out_text(&passes);
     }
     if let Some(path) = &args.csv {
         let mut all = comments.clone();
         all.push(format!("command: diffract {}", std::env::args().skip(1).collect::<Vec<_>>().join(" ")));
         crate::io::output::write_file(path, prof::csv(&all, rows).as_bytes())?;
-        eprintln!("wrote {}", path.display());
+        errln!("wrote {}", path.display());
     }
     if let Some(path) = &args.plot {
         let title = format!("{} — {}", subject.short_name(), ctx.info.name);
         prof::plot::plot(path, &title, rows, args.plot_font.as_deref())?;
-        eprintln!("wrote {}", path.display());
+        errln!("wrote {}", path.display());
     }
     Ok(())
 }

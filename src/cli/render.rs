@@ -187,13 +187,13 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     };
     let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
     if let Some(environment) = &scene.environment {
-        eprintln!("{}", environment.describe());
+        errln!("{}", environment.describe());
     }
     for (m, material) in scene.materials.iter().zip(&materials) {
         if m.matte {
-            eprintln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
+            errln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
         } else if let Some(line) = material.table_line() {
-            eprintln!("material {:?}: {line}", m.name);
+            errln!("material {:?}: {line}", m.name);
         }
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -208,7 +208,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
                 return Err(e.into());
             }
             // The scene is beyond the visibility buffer's limits (objects, triangles): the forward path draws it.
-            eprintln!("drawing forward: {e}");
+            errln!("drawing forward: {e}");
             path = ShadingPath::Forward;
         }
     }
@@ -230,7 +230,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         ""
     };
     let what = if args.frames == 1 { args.out.display().to_string() } else { format!("{} frames", args.frames) };
-    println!(
+    outln!(
         "wrote {what} ({width}×{height}, {} sample(s) per pixel{}, {} object(s), {} material(s); precompute \
          {prep_ms:.0} ms{median} on {}{first_use})",
         samples.as_raw(),
@@ -240,7 +240,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         ctx.info.name
     );
     if let Some(line) = pass_line(&times, &uploads) {
-        println!("{line}");
+        outln!("{line}");
     }
     let log = ctx.validation();
     drop(ctx);
@@ -344,7 +344,7 @@ fn preview(
             frame.rgba8().expect("preview frames are RGBA8"),
         )?;
     }
-    println!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
+    outln!("wrote a preview of {} ({width}×{height}, lit without diffraction)", scene.name);
     Ok(crate::cli::validation_status(&ctx.validation()))
 }
 

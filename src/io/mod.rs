@@ -12,6 +12,7 @@ pub(crate) mod input;
 pub mod output;
 pub(crate) mod progress;
 pub mod stats;
+pub mod stream;
 
 /// The log target of the Vulkan validation layer's messages (each a whole line of its own).
 pub const LOG_VALIDATION: &str = "diffract::validation";

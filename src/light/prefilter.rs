@@ -194,7 +194,8 @@ pub struct Moments {
     pub values: Vec<[DMat3; MONOMIALS]>,
     /// Each point's specular reflectance: ∫ ρ·K dω_i over the texels within [`SPECULAR_RADIUS`] of (u, v) = 0, the
     /// light the environment sends from (within a degree of) the mirror direction, which a frame reads from the
-    /// environment itself rather than from its l ≤ 2 projection.
+    /// environment itself rather than from its l ≤ 2 projection. It depends on θ_r alone (the disc's texels at
+    /// w = −2 cos θ_r, the factors at the mirror direction).
     pub specular: Vec<DMat3>,
 }
 

@@ -197,7 +197,7 @@ impl ApplicationHandler for App {
         match State::new(event_loop, &self.options) {
             Ok(state) => {
                 self.log = Some(state.ctx.validation());
-                println!("{BINDINGS}");
+                outln!("{BINDINGS}");
                 self.state = Some(state);
             }
             Err(e) => self.fail(event_loop, e),
@@ -257,7 +257,7 @@ impl ApplicationHandler for App {
         if let Some(state) = self.state.take() {
             let live = state.destroy();
             if self.options.soak {
-                println!("soak: {} GPU allocations live at teardown", live.len());
+                outln!("soak: {} GPU allocations live at teardown", live.len());
             }
             if !live.is_empty() && self.error.is_none() {
                 self.error = Some(Error::Window(format!(
@@ -288,7 +288,7 @@ fn first_gpu(ctx: &Context, scene: &Scene, live: &Live, target: &WindowTarget) -
         Err(RecvTimeoutError::Timeout) => {
             let stand_in = SettingsPatch { approach: Some(STAND_IN), ..overrides };
             let materials = crate::render::capture::prepare_stand_ins(scene, &stand_in)?;
-            println!(
+            outln!(
                 "view: preparing the materials (a baked table that is not in the cache yet takes a while); {} stands \
                  in until they are ready",
                 STAND_IN.name()
@@ -395,7 +395,7 @@ impl State {
         let samples = options.samples.unwrap_or_else(|| {
             let wanted = options.scene.render.samples;
             if ctx.info.kind == vk::PhysicalDeviceType::CPU && wanted > 1 {
-                eprintln!("view: {} {CPU_MSAA_NOTE}", ctx.info.name);
+                errln!("view: {} {CPU_MSAA_NOTE}", ctx.info.name);
                 1
             } else {
                 wanted
@@ -444,7 +444,7 @@ impl State {
         let view = SceneView::lit(scene, self.live.camera(&scene.camera), self.live.light());
         let frame = capture.render(&self.ctx, &view)?;
         let (ev, line) = crate::display::measure(frame.linear().unwrap_or_default(), "the first frame");
-        println!("view: {line}");
+        outln!("view: {line}");
         self.live.exposure_ev = ev;
         self.gpu.renderer.set_exposure(ev)?;
         Ok(())
@@ -476,7 +476,7 @@ impl State {
         match self.live.key(&event.logical_key, shift, &self.gpu.materials[0]) {
             Request::Nothing => {}
             Request::Quit => event_loop.exit(),
-            Request::Help => println!("{BINDINGS}"),
+            Request::Help => outln!("{BINDINGS}"),
             Request::Screenshot => {
                 self.screenshots_taken += 1;
                 let path = PathBuf::from(format!("diffract-{:04}.png", self.screenshots_taken));
@@ -513,7 +513,7 @@ impl State {
         self.pending = None;
         let gpu = Gpu::with_materials(&self.ctx, &options.scene, &self.live, &self.target, materials)?;
         self.install(gpu)?;
-        println!("view: the materials are ready after {seconds:.1} s; drawing them from now on");
+        outln!("view: the materials are ready after {seconds:.1} s; drawing them from now on");
         self.measure_exposure(options)?;
         self.timing = Timing::new();
         Ok(())
@@ -559,7 +559,7 @@ impl State {
         }
         if last {
             let mib = |m: Option<f64>| m.map_or("n/a".to_string(), |m| format!("{m:.1} MiB"));
-            println!(
+            outln!(
                 "soak: {frame} frames, {} resizes, {} approach switches; resident memory {} after the first frame, \
                  {} after the first round of approaches, {} at the end",
                 self.soak.resizes,
@@ -594,7 +594,7 @@ impl State {
         let totals: Vec<f64> = t.frame_times.iter().map(FrameTimes::total_ms).collect();
         let Some(spread) = crate::io::stats::Spread::of(&totals) else { return };
         let fps = t.timed_since.map(|since| (t.frame_times.len() + 1) as f64 / since.elapsed().as_secs_f64());
-        println!(
+        outln!(
             "{} frames at {}×{} after the first: GPU {:.1} ms per frame (median; p10 {:.1}, p90 {:.1}){}",
             t.frame_times.len(),
             size.width,
@@ -605,7 +605,7 @@ impl State {
             fps.map(|f| format!(", {f:.1} fps in the window")).unwrap_or_default()
         );
         if let Some(passes) = crate::render::pass_medians(&t.frame_times) {
-            println!("GPU ms per pass (median): {passes}");
+            outln!("GPU ms per pass (median): {passes}");
         }
     }
 
@@ -620,7 +620,7 @@ impl State {
         self.target.end_frame(&self.ctx, frame, copy)?;
         self.last_drawn = Instant::now();
         if self.timing.frame == 0 && self.pending.is_some() {
-            println!("view: first frame (the stand-in) after {:.1} s", self.opened.elapsed().as_secs_f64());
+            outln!("view: first frame (the stand-in) after {:.1} s", self.opened.elapsed().as_secs_f64());
         }
         if self.timing.presented() {
             self.update_title();
@@ -659,7 +659,7 @@ impl State {
 
     fn save_screenshot(&self, path: &Path) -> Result<()> {
         self.target.save_screenshot(&self.ctx, path)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display());
         Ok(())
     }
 
