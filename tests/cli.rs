@@ -54,6 +54,33 @@ fn render_writes_a_nonblank_png_without_validation_messages() {
     assert!(img.pixels().any(|p| p != first), "the image is blank");
 }
 
+/// What the help and the docs accept is accepted: `auto` where the help shows `[default: auto]`, the daylight
+/// series' ends, an exposure at the scene files' limit.
+#[test]
+fn the_documented_values_are_accepted() {
+    let path = scratch("accepted.png");
+    let o = diffract(&[
+        "render",
+        "--out",
+        path.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--table-segments",
+        "auto",
+        "--order",
+        "auto",
+        "--illuminant",
+        "D250",
+        "--exposure",
+        "100",
+        "--device",
+        &place::test_device(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
 #[test]
 fn unknown_device_is_one_line() {
     assert_one_line_error(

@@ -56,6 +56,7 @@ fn fixtures() -> &'static Path {
         env("env-negative.exr", 16, 8, Some(-2.0));
         env("env-inf.exr", 16, 8, Some(f32::INFINITY));
         env("env-sun.exr", 16, 8, Some(1e9));
+        env("env-overflow.exr", 16, 8, Some(3e38));
         // A map whose sun (its one bright texel) is below its horizon: upside down.
         let mut below = vec![1.0f32; 16 * 8 * 4];
         below[4 * (7 * 16 + 5) + 1] = 1e9;
@@ -361,6 +362,8 @@ fn hostile_environment_maps_of_a_map() {
         map("map environment: intensity 0", "env-good.exr", &["--env-intensity", "0"], "positive"),
         map("map environment: and a light", "env-good.exr", &["--light-theta", "10"], "cannot be used with"),
         map("map environment: 1 sample", "env-good.exr", &["--env-samples", "1"], "2..=65536"),
+        map("map environment: 3e38 texel", "env-overflow.exr", &[], "brighter than 1e20"),
+        map("map environment: intensity 1e32", "env-good.exr", &["--env-intensity", "1e32"], "beyond 1e20"),
         case("map: no light", &["map", "--heightfield", "good.gsf", "--out", "OUT/keep.png"], "--light-theta"),
     ]);
 }
@@ -375,6 +378,13 @@ fn hostile_flags() {
     run_all(&[
         render("exposure NaN", &["--exposure", "nan"], "finite"),
         render("exposure inf", &["--exposure", "inf"], "finite"),
+        render("exposure 1000", &["--exposure", "1000"], "within ±100"),
+        case("gen sky: a TIFF", &["gen", "sky", "--out", "OUT/keep.tif"], ".exr or .hdr (radiance) or .png"),
+        case(
+            "gen sky: wider than a scene loads",
+            &["gen", "sky", "--width", "16384", "--out", "OUT/s.exr"],
+            "8..=8192",
+        ),
         case("width 0", &["render", "--out", "OUT/keep.png", "--width", "0"], "width"),
         case("width 10^5", &["render", "--out", "OUT/keep.png", "--width", "100000"], "width"),
         render("unknown device", &["--device", "no-such-gpu"], "no-such-gpu"),

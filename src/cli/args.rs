@@ -93,7 +93,7 @@ pub struct SceneOverrideArgs {
     #[command(flatten)]
     pub patch: SettingsPatch,
     /// Exposure in stops (default: the scene's, else measured from the frame; `profile --heightfield`: 0)
-    #[arg(value_parser = parse::finite, long, value_name = "EV", alias = "exposure-ev")]
+    #[arg(value_parser = parse::exposure, long, value_name = "EV", alias = "exposure-ev")]
     pub exposure: Option<f64>,
     /// Samples per pixel: multisample anti-aliasing of edges, 1 for none (default: the scene's, else 4; a BRDF
     /// map has one)

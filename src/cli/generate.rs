@@ -57,8 +57,8 @@ pub struct SkyArgs {
     /// The sky model: hosek-wilkie (Hosek & Wilkie 2012) or preetham (Preetham et al. 1999)
     #[arg(long, default_value = "hosek-wilkie", value_parser = ["hosek-wilkie", "preetham"])]
     pub sky_model: String,
-    /// Width of the map in texels (its height is half of it)
-    #[arg(long, default_value_t = 1024)]
+    /// Width of the map in texels (its height is half of it), 8 to 8192: the widest map a scene loads
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(8..=8192))]
     pub width: u32,
     /// The ground's albedo below the horizon (0: black)
     #[arg(long, value_parser = parse::finite, default_value_t = 0.2)]
@@ -145,7 +145,11 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
         bail!("--exposure sets the PNG preview's exposure; an EXR or HDR file holds the radiance itself");
     }
     let png = png_path(&args.out);
-    let hdr = args.out.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
+    let extension = args.out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let hdr = extension.as_deref() == Some("hdr");
+    if !matches!(extension.as_deref(), Some("exr" | "hdr" | "png")) {
+        bail!("cannot write {}: a sky is written as .exr or .hdr (radiance) or .png (a preview)", args.out.display());
+    }
     crate::io::output::check_path(
         &args.out,
         if png {

@@ -58,7 +58,7 @@ pub struct MapArgs {
     pub size: u32,
     /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear); default:
     /// measured from the map (its lit pixels' 99.5th percentile of luminance shown at 0.9)
-    #[arg(value_parser = parse::finite, long, value_name = "EV", alias = "exposure-ev")]
+    #[arg(value_parser = parse::exposure, long, value_name = "EV", alias = "exposure-ev")]
     pub exposure: Option<f64>,
     #[command(flatten)]
     pub material: MaterialArgs,

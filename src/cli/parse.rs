@@ -33,6 +33,16 @@ pub fn finite(text: &str) -> Result<f64, String> {
     text.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{text:?} is not a finite number"))
 }
 
+/// An exposure in stops, within ±100 as a scene's `exposure_ev` (2^100 already takes any radiance f32 holds from
+/// black to white).
+pub fn exposure(text: &str) -> Result<f64, String> {
+    let ev = finite(text)?;
+    if ev.abs() > 100.0 {
+        return Err(format!("{} stops: an exposure lies within ±100", text.trim()));
+    }
+    Ok(ev)
+}
+
 /// Samples per pixel: a power of two from 1 to 64 (whether the device has that many is checked later).
 pub fn samples(text: &str) -> Result<u32, String> {
     text.trim()

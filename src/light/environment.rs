@@ -23,6 +23,9 @@ use crate::physics::sky::{sun_angular_radius, Sky};
 
 /// The widest map accepted (16384×8192 texels, 1.5 GiB of f32 RGB).
 pub const MAX_WIDTH: u32 = 16384;
+/// The brightest texel a map may hold, in its units: far beyond any sky (the sun at noon is 1.6·10⁹ cd/m²), and far
+/// enough below f32's 3.4·10³⁸ that the sums over a map's texels and their products with the BRDF stay finite.
+pub const MAX_RADIANCE: f32 = 1e20;
 /// The widest map a scene may load from a file (8192×4096 texels: 384 MiB of f32 RGB, 512 MiB as the GPU's
 /// RGBA).
 pub const MAX_FILE_WIDTH: u32 = 8192;
@@ -113,9 +116,17 @@ impl EnvironmentMap {
         Ok(())
     }
 
-    /// Every texel a finite, non-negative radiance.
+    /// Every texel a finite, non-negative radiance no brighter than [`MAX_RADIANCE`].
     fn check_texels(&self) -> std::result::Result<(), String> {
         let bad = |c: f32| !(c.is_finite() && c >= 0.0);
+        if let Some(t) = self.rgb.iter().find(|t| t.iter().all(|&c| !bad(c)) && t.iter().any(|&c| c > MAX_RADIANCE)) {
+            let count = self.rgb.iter().filter(|t| t.iter().any(|&c| c > MAX_RADIANCE)).count();
+            return Err(format!(
+                "has {count} texel(s) brighter than {MAX_RADIANCE:.0e} (one is {:?}; the sun at noon is 1.6e9 cd/m²): \
+                 a damaged file, or units that need scaling down",
+                t
+            ));
+        }
         let count = self.rgb.iter().filter(|t| t.iter().any(|&c| bad(c))).count();
         match self.rgb.iter().position(|t| t.iter().any(|&c| bad(c))) {
             None => Ok(()),

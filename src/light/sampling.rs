@@ -201,6 +201,18 @@ impl EnvLight {
                 ),
             ));
         }
+        let brightest = map.rgb.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
+        if f64::from(brightest) * intensity > f64::from(crate::light::environment::MAX_RADIANCE) {
+            return Err(Error::setting(
+                "env_intensity",
+                format!(
+                    "the environment's brightest texel ({brightest:.3e}) times its intensity {} is {:.1e}, beyond {:.0e}",
+                    crate::error::number(intensity),
+                    f64::from(brightest) * intensity,
+                    crate::light::environment::MAX_RADIANCE
+                ),
+            ));
+        }
         let mut map = std::borrow::Cow::Borrowed(map);
         while map.width > MAX_LIGHTING_WIDTH {
             map = std::borrow::Cow::Owned(halve(&map));

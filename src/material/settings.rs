@@ -311,8 +311,20 @@ mod kind {
             }
             Ok(())
         }
+        /// A flag that takes a value or `auto` (the patch's None: the material's own).
         #[cfg(feature = "cli")]
-        pub use super::value::{arg, get};
+        pub fn arg<T: SettingValue>(arg: clap::Arg, check: fn(&T) -> Result<(), String>) -> clap::Arg {
+            arg.num_args(1).value_parser(move |text: &str| -> Result<Option<T>, String> {
+                if text.trim() == "auto" {
+                    return Ok(None);
+                }
+                super::super::parse_checked(text, check).map(Some).map_err(|e| format!("{e} (or auto)"))
+            })
+        }
+        #[cfg(feature = "cli")]
+        pub fn get<T: SettingValue>(m: &clap::ArgMatches, id: &str) -> Option<T> {
+            m.get_one::<Option<T>>(id).copied().flatten()
+        }
     }
 
     /// Off unless a material or the patch turns it on.

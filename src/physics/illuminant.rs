@@ -149,7 +149,10 @@ impl Illuminant {
                         format!("illuminant {name:?}: the daylight series runs from D40 to D250 (4000 to 25000 K)"),
                     ));
                 }
-                intern(upper.clone(), &upper, || daylight_table(f64::from(n) * 100.0 * 1.4388 / 1.4380))
+                // The CIE's D-series names count the old c₂: D65 is 6504 K. D250's 25013.9 K lies past the end of
+                // the series' fit (25000 K), where it is taken (its chromaticity moves by ~1e-5).
+                let kelvin = (f64::from(n) * 100.0 * 1.4388 / 1.4380).min(DAYLIGHT_MAX_K);
+                intern(upper.clone(), &upper, || daylight_table(kelvin))
             }
             _ => Err(unknown()),
         }
@@ -347,6 +350,9 @@ impl Illuminant {
     }
 }
 
+/// The hottest daylight the CIE series' fit covers, K.
+const DAYLIGHT_MAX_K: f64 = 25000.0;
+
 /// The CIE daylight series' table at `cct_k` kelvin (before normalisation), as the `colorimetry` crate computes it.
 fn daylight_table(cct_k: f64) -> Result<Table> {
     let d = colorimetry::illuminant::Illuminant::d_illuminant(cct_k).map_err(|_| {
@@ -510,6 +516,10 @@ mod tests {
         assert_eq!(Illuminant::named("d65").unwrap(), Illuminant::d65());
         for name in ["A", "D50", "F11"] {
             assert!((Illuminant::named(name).unwrap().power(560.0) - 100.0).abs() < 1e-9, "{name}");
+        }
+        // The series' ends, as the docs name them: D250's nominal 25013.9 K is taken at the fit's 25000 K.
+        for name in ["D40", "D250"] {
+            assert!(Illuminant::named(name).is_ok(), "{name}");
         }
     }
 
