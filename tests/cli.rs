@@ -81,6 +81,42 @@ fn the_documented_values_are_accepted() {
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
+/// A flat `[render] background` under the sky is in the frame's units (the sun's radiance is 1): one far from
+/// the sky's own light is named in a warning, one near it is not.
+#[test]
+fn a_background_far_from_the_skys_light_is_named() {
+    let dir = scratch("background");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (colour, warned) in [("[0.5, 0.7, 1.0]", true), ("[4e-6, 5e-6, 6e-6]", false)] {
+        let scene = dir.join("bg.toml");
+        std::fs::write(
+            &scene,
+            format!(
+                "[camera]\nposition = [0.0, 0.5, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 30.0\n\n[light]\n\
+                 direction = [0.3, 1.0, 0.5]\nenvironment = \"sky\"\n\n[[object]]\nshape = \"sphere\"\n\
+                 material = \"m\"\n\n[material.m]\ngenerate = \"flat\"\nsize_um = 2.0\napproach = \"gem\"\n\n\
+                 [render]\nbackground = {colour}\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.join("bg.png");
+        let o = diffract(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--device",
+            &place::test_device(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(stderr(&o).contains("is in the frame's units"), warned, "{colour}: {}", stderr(&o));
+    }
+}
+
 #[test]
 fn unknown_device_is_one_line() {
     assert_one_line_error(

@@ -737,6 +737,9 @@ impl Scene {
         // Without a sun there is nothing to cast a shadow.
         let shadows = file.light.shadows.unwrap_or(grounded) && map_sun != Some(MapSun::Alone);
         let environment_behind = environment.is_some() && file.render.background.is_none();
+        if let (Some(env), Some(bg)) = (&environment, file.render.background) {
+            background_units_warning(env, light_dir, bg);
+        }
         Ok(Self {
             name: name.to_string(),
             camera,
@@ -750,6 +753,26 @@ impl Scene {
             materials,
             render,
         })
+    }
+}
+
+/// Warns where `[render] background` under an environment lies orders of magnitude from the environment's own
+/// light in the frame's units (the sun's radiance is 1 there): a background of 0.5 under the sky is a hundred
+/// thousand skies, which the objects then vanish against.
+fn background_units_warning(env: &Environment, light_dir: Vec3, bg: [f32; 3]) {
+    // E/π's mean over the sphere: about the environment's mean radiance (half of it where the ground is dark).
+    let sh = env.irradiance(light_dir);
+    let level =
+        crate::physics::spectrum::luminance([sh[0][0], sh[0][1], sh[0][2]]) * f64::from(crate::gpu::interface::SH_Y00);
+    let colour = crate::physics::spectrum::luminance(bg);
+    if level > 0.0 && colour > 0.0 && !(0.01..=100.0).contains(&(colour / level)) {
+        log::warn!(
+            "[render] background {bg:?} is in the frame's units (the sun's radiance is 1), {:.1e} times the \
+             environment's mean radiance ({level:.1e}): the objects will look {} against it, and a measured exposure \
+             follows it; leave it out to draw the environment behind them",
+            colour / level,
+            if colour > level { "black" } else { "glaring" }
+        );
     }
 }
 
