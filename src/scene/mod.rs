@@ -762,8 +762,7 @@ impl Scene {
 fn background_units_warning(env: &Environment, light_dir: Vec3, bg: [f32; 3]) {
     // E/π's mean over the sphere: about the environment's mean radiance (half of it where the ground is dark).
     let sh = env.irradiance(light_dir);
-    let level =
-        crate::physics::spectrum::luminance([sh[0][0], sh[0][1], sh[0][2]]) * f64::from(crate::gpu::interface::SH_Y00);
+    let level = crate::physics::spectrum::luminance([sh[0][0], sh[0][1], sh[0][2]]) * crate::gpu::interface::SH_Y00;
     let colour = crate::physics::spectrum::luminance(bg);
     if level > 0.0 && colour > 0.0 && !(0.01..=100.0).contains(&(colour / level)) {
         log::warn!(
