@@ -246,6 +246,32 @@ fn parse_checked<T: SettingValue>(
     Ok(v)
 }
 
+/// A scene file's value of an `auto` setting: the value, or None for `"auto"`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AutoOr<T>(pub Option<T>);
+
+impl<T> Default for AutoOr<T> {
+    fn default() -> Self {
+        Self(None)
+    }
+}
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for AutoOr<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Written<T> {
+            Value(T),
+            Word(String),
+        }
+        match Written::deserialize(d)? {
+            Written::Value(v) => Ok(Self(Some(v))),
+            Written::Word(w) if w.trim() == "auto" => Ok(Self(None)),
+            Written::Word(w) => Err(serde::de::Error::custom(format!("expected a number or \"auto\", got {w:?}"))),
+        }
+    }
+}
+
 /// What each kind of setting holds, how a patch replaces it, and how it is written.
 mod kind {
     /// Always has a value.
@@ -253,6 +279,11 @@ mod kind {
         use super::super::SettingValue;
         pub type Own<T> = T;
         pub type Patch<T> = Option<T>;
+        /// As a scene file writes it.
+        pub type FilePatch<T> = Option<T>;
+        pub fn from_file<T>(file: Option<T>) -> Option<T> {
+            file
+        }
         #[cfg(feature = "cli")]
         pub const SHOWS_DEFAULT: bool = true;
         pub fn apply<T: Copy>(patch: Option<T>, own: T) -> T {
@@ -290,6 +321,11 @@ mod kind {
         use super::super::SettingValue;
         pub type Own<T> = Option<T>;
         pub type Patch<T> = Option<T>;
+        /// As a scene file writes it: a value, or `"auto"` (the shading chooses, as where it is left out).
+        pub type FilePatch<T> = super::super::AutoOr<T>;
+        pub fn from_file<T>(file: super::super::AutoOr<T>) -> Option<T> {
+            file.0
+        }
         #[cfg(feature = "cli")]
         pub const SHOWS_DEFAULT: bool = true;
         pub fn apply<T: Copy>(patch: Option<T>, own: Option<T>) -> Option<T> {
@@ -331,6 +367,11 @@ mod kind {
     pub mod switch {
         pub type Own<T> = T;
         pub type Patch<T> = T;
+        /// As a scene file writes it.
+        pub type FilePatch<T> = T;
+        pub fn from_file(file: bool) -> bool {
+            file
+        }
         #[cfg(feature = "cli")]
         pub const SHOWS_DEFAULT: bool = false;
         pub fn apply(patch: bool, own: bool) -> bool {
@@ -408,10 +449,24 @@ macro_rules! settings {
         /// Settings that replace a material's own, each set or left alone: a scene's material, the command line's
         /// flags, one configuration of a profile, the viewer's keys.
         #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Deserialize)]
-        #[serde(default)]
+        #[serde(from = "SettingsFile")]
         pub struct SettingsPatch {
-            $( $(#[doc = $doc])+ $($(#[serde(alias = $alias)])*)? $(#[serde(skip)] #[doc = concat!("(A scene sets it in `", $set_in, "`.)")])?
+            $( $(#[doc = $doc])+ $(#[doc = concat!("(A scene sets it in `", $set_in, "`.)")])?
                pub $key: kind::$kind::Patch<$ty>, )+
+        }
+
+        /// [`SettingsPatch`] as a scene file writes it (an `auto` setting may say `"auto"`).
+        #[derive(Default, serde::Deserialize)]
+        #[serde(default)]
+        struct SettingsFile {
+            $( $($(#[serde(alias = $alias)])*)? $(#[serde(skip)] #[doc = $set_in])?
+               $key: kind::$kind::FilePatch<$ty>, )+
+        }
+
+        impl From<SettingsFile> for SettingsPatch {
+            fn from(file: SettingsFile) -> Self {
+                Self { $( $key: kind::$kind::from_file(file.$key), )+ }
+            }
         }
 
         impl Settings {

@@ -1213,6 +1213,14 @@ tile = [2, 3]
             );
             assert_eq!(s.unwrap().materials[0].settings.order, Some(7), "{key}");
         }
+        // `auto` where the help shows it (the shading chooses, as where the key is left out); another word is not.
+        let auto = "tile = [2, 3]\norder = \"auto\"\ntable_segments = \"auto\"\nwindow_radius = \"auto\"";
+        let s = Scene::parse(&GOOD.replace("tile = [2, 3]", auto), "s.toml", Path::new(".")).unwrap();
+        let m = &s.materials[0].settings;
+        assert_eq!((m.order, m.table_segments, m.window_radius), (None, None, None));
+        let many =
+            Scene::parse(&GOOD.replace("tile = [2, 3]", "tile = [2, 3]\norder = \"many\""), "s.toml", Path::new("."));
+        assert!(many.unwrap_err().to_string().contains("expected a number or \"auto\""));
     }
 
     #[test]
