@@ -153,7 +153,8 @@ impl GBuffer {
             .iter()
             .filter_map(|o| Some((Aabb::of(&o.mesh.vertices)?.moved(o.model), o.casts_shadow)))
             .collect();
-        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed)).flatten();
+        let view_proj = camera.view_projection(width as f32 / height.max(1) as f32);
+        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed, view_proj)).flatten();
         let size = if frame.is_some() { SHADOW_SIZE } else { 1 };
         let shadow = parts.shadow.insert(ShadowMap::new(ctx, scene.objects.len(), size)?);
         let view = ObjectView {

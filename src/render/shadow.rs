@@ -2,9 +2,11 @@
 //! which surfaces the sun reaches.
 //!
 //! The light is a direction (the sun), so the map is an orthographic view along −`light_dir`, fitted each frame
-//! ([`ShadowFrame::fit`]) to the objects that cast shadows — the ground does not: fitted to a 100 m plane a
-//! snake's shadow would be a few texels — and deep enough to hold every object that receives one. A point the
-//! map does not cover is lit (the sampler's border passes every comparison).
+//! ([`ShadowFrame::of_objects`]) to what the camera sees: across the rays, to the receivers within the view's box
+//! and the casters over them — the ground does not cast: fitted to a 100 m plane a snake's shadow would be a few
+//! texels; nor does an object far outside the view take the map's resolution — and deep enough to hold every
+//! object that receives one there. A point the map does not cover is lit (the sampler's border passes every
+//! comparison); a map too coarse for the casters in view says so once.
 //!
 //! Reading it (`sun_visibility` in glsl/include/shadow.glsl): the point, pushed off its surface along the
 //! normal by [`NORMAL_OFFSET_TEXELS`] texels (more as the light grazes it) so that a surface does not shadow
@@ -111,8 +113,16 @@ impl ShadowFrame {
         let up = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::Z };
         // Looking from the light down its rays, from the origin (the box is found in this view's coordinates).
         let view = crate::scene::camera::look_at(Vec3::ZERO, -dir, up);
-        let in_view =
-            |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()).map(|c| view.transform_point3(c)));
+        let in_view = |boxes: &[Aabb]| -> Vec<Aabb> {
+            boxes.iter().map(|b| Aabb::around(b.corners().map(|c| view.transform_point3(c)))).collect()
+        };
+        Self::fit_across(&view, &in_view(casters), &in_view(receivers), size)
+    }
+
+    /// [`Self::fit`] of boxes already in the light's `view` (looking down −z along the rays).
+    fn fit_across(view: &Mat4, casters: &[Aabb], receivers: &[Aabb], size: u32) -> Option<Self> {
+        let view = *view;
+        let in_view = |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()));
         if casters.is_empty() {
             return None;
         }
@@ -130,11 +140,46 @@ impl ShadowFrame {
         Some(Self { view_proj: proj * view, texel_world: 2.0 * half / size as f32, depth_range: far - near })
     }
 
-    /// The map for objects placed in `boxes` (world; whether each casts), or None where nothing casts.
-    pub fn of_objects(light_dir: Vec3, boxes: &[(Aabb, bool)]) -> Option<Self> {
-        let casters: Vec<Aabb> = boxes.iter().filter(|b| b.1).map(|b| b.0).collect();
+    /// The map for objects placed in `boxes` (world; whether each casts) seen through `view_proj` (the camera's
+    /// view-projection), or None where nothing casts onto what the camera sees. Only the part of the scene the
+    /// camera can see receives a shadow that shows, so the map covers, across the sun's rays, the receivers
+    /// within the view's box and the casters over them: an object far outside the view (a cube a million units
+    /// away) cannot take the map's resolution from the shadows in it.
+    pub fn of_objects(light_dir: Vec3, boxes: &[(Aabb, bool)], view_proj: Mat4) -> Option<Self> {
         let receivers: Vec<Aabb> = boxes.iter().map(|b| b.0).collect();
-        Self::fit(light_dir, &casters, &receivers, SHADOW_SIZE)
+        let seen = Aabb::around(receivers.iter().flat_map(|b| b.corners())).intersection(&frustum_box(view_proj)?)?;
+        let dir = light_dir.try_normalize()?;
+        let up = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::Z };
+        let light_view = crate::scene::camera::look_at(Vec3::ZERO, -dir, up);
+        let across = |b: &Aabb| Aabb::around(b.corners().map(|c| light_view.transform_point3(c)));
+        let region = across(&seen);
+        // The casters whose shadow can fall on the seen receivers (their boxes overlap across the rays), each cut
+        // to that region across the rays (a long caster only needs its part over what is seen).
+        let casters: Vec<Aabb> = boxes
+            .iter()
+            .filter(|b| b.1)
+            .filter_map(|b| {
+                let c = across(&b.0);
+                let cut = Aabb {
+                    min: c.min.max(Vec3::new(region.min.x, region.min.y, c.min.z)),
+                    max: c.max.min(Vec3::new(region.max.x, region.max.y, c.max.z)),
+                };
+                (cut.min.x <= cut.max.x && cut.min.y <= cut.max.y).then_some(cut)
+            })
+            .collect();
+        let frame = Self::fit_across(&light_view, &casters, &[region], SHADOW_SIZE)?;
+        // A caster a few texels wide casts a shadow the map cannot draw: said once a process.
+        let smallest = casters.iter().map(|c| (c.max.x - c.min.x).max(c.max.y - c.min.y)).fold(f32::INFINITY, f32::min);
+        static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+        if smallest < 8.0 * frame.texel_world && !SAID.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            log::warn!(
+                "the sun's shadows are coarse here: a texel of the shadow map is {:.3e} world units across, more than \
+                 an eighth of the smallest object in view that casts one ({smallest:.3e}); a camera whose far plane \
+                 stops nearer sharpens them",
+                frame.texel_world
+            );
+        }
+        Some(frame)
     }
 
     /// The surface uniforms' share: the view-projection; on, the normal offset in world units, the map's texel in
@@ -168,7 +213,23 @@ impl Aabb {
     fn union(&self, other: &Self) -> Self {
         Self { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
+
+    /// The common part of two boxes, None where they do not meet.
+    fn intersection(&self, other: &Self) -> Option<Self> {
+        let b = Self { min: self.min.max(other.min), max: self.max.min(other.max) };
+        (b.min.cmple(b.max).all()).then_some(b)
+    }
 }
+
+/// The world box around the view frustum of `view_proj` (Vulkan clip space: depth 0 to 1), None where it is not
+/// invertible.
+fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
+    let inverse = view_proj.inverse();
+    let points = corners(Vec3::new(-1.0, -1.0, 0.0), Vec3::ONE).map(|c| inverse.project_point3(c));
+    points.iter().all(|p| p.is_finite()).then(|| Aabb::around(points))
+}
+
+impl Aabb {}
 
 /// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
 /// always have something bound), the comparison sampler, the depth-only pipeline and one uniform buffer per

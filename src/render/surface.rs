@@ -429,7 +429,7 @@ impl SceneRenderer {
             let placed: Vec<(Aabb, bool)> = (self.objects.iter().zip(models).zip(&self.casters))
                 .filter_map(|((o, m), &casts)| Some((o.bounds?.moved(*m), casts)))
                 .collect();
-            ShadowFrame::of_objects(view.light_dir, &placed)
+            ShadowFrame::of_objects(view.light_dir, &placed, view.camera.view_projection(aspect))
         });
         self.shadows = frame.is_some();
         self.build_pipelines(ctx)?;

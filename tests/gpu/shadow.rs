@@ -118,7 +118,12 @@ fn expected(scene: &Scene, shadows: bool, (w, h): (u32, u32), (x, y): (u32, u32)
 }
 
 fn check(shadows: bool) -> (usize, usize) {
-    let scene = scene(shadows);
+    check_scene(&scene(shadows), shadows)
+}
+
+/// [`check`] of a scene that shows the ball and the ground as [`scene`]'s do.
+fn check_scene(scene: &Scene, shadows: bool) -> (usize, usize) {
+    let scene = scene.clone();
     let size = (160, 120);
     let linear = render(&scene, size);
     let lit_ground = ALBEDO[1] * SUN_SOLID_ANGLE / std::f64::consts::PI * scene.light_dir.as_dvec3().normalize().y;
@@ -150,6 +155,20 @@ fn a_ball_shadows_the_ground_where_its_rays_are_blocked_and_nowhere_else() {
     // Without shadows the same ground is lit everywhere: only the ball's far side is dark.
     let (compared, dark_unshadowed) = check(false);
     assert!(compared > 10_000 && dark_unshadowed * 2 < dark, "compared {compared}, unlit {dark_unshadowed}");
+}
+
+/// An object far outside the view (a cube 900 km away, beyond the camera's far plane) does not take the shadow
+/// map's resolution from the shadows the camera sees: the map covers what is seen (before, fitted to every
+/// caster, the ball's shadow vanished: 0 of 299 pixels).
+#[test]
+fn a_far_object_leaves_the_shadows_in_view_as_they_are() {
+    let head = "[camera]\nposition = [3.0, 6.0, 7.0]\ntarget = [-1.2, 0.4, 0.0]\nfov_y_deg = 40.0\n\n[light]\n\
+                direction = [1.0, 1.1, 0.35]\nenvironment = \"none\"\nshadows = true\n\n\
+                [[object]]\nshape = \"cube\"\nmaterial = \"ball\"\ntranslate = [900000.0, 1.0, 0.0]\n";
+    let far = ball_scene(head, BALL);
+    assert_eq!(far.objects.len(), 3);
+    let (compared, dark) = check_scene(&far, true);
+    assert!(compared > 10_000 && dark > 300, "compared {compared}, in shadow or unlit {dark}");
 }
 
 /// One renderer draws views with and without shadows (each with its own pipeline: `SPEC_SHADOWS` compiles the
