@@ -17,7 +17,7 @@ layout(location = 0) out vec4 out_color;
 
 
 void main() {
-    vec4 far = background.inverse_view_proj * vec4(ndc, 1.0, 1.0);
+    vec4 far = background.inverse_view_proj * vec4(ndc, 0.0, 1.0); // the far plane (reversed depth: 0)
     vec3 d = normalize(far.xyz / far.w - background.camera.xyz);
     // The map turned by its rotation about +y.
     vec3 rgb = texture(environment_map, panorama_uv(d, background.view.y)).rgb * background.view.x;

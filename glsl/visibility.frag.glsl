@@ -1,7 +1,7 @@
 #version 460
 // The visibility buffer's raster pass (`render::visibility`): each sample keeps which object's triangle it sees,
-// ((object + 1) << VISIBILITY_OBJECT_SHIFT) | the triangle's index, and nothing else. The depth test (LESS, written)
-// runs before this shader, so a hidden triangle never writes.
+// ((object + 1) << VISIBILITY_OBJECT_SHIFT) | the triangle's index, and nothing else. The depth test (GREATER,
+// written: depth is reversed) runs before this shader, so a hidden triangle never writes.
 #include "interface.glsl"
 #include "visibility_push.glsl"
 

@@ -327,7 +327,9 @@ pub(crate) fn begin_rendering(
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } })
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: crate::scene::camera::FAR_DEPTH, stencil: 0 },
+            })
     });
     let full = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
     let area = area.unwrap_or(full);

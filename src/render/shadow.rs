@@ -275,7 +275,7 @@ impl ShadowMap {
                 vertex_stride: std::mem::size_of::<Vertex>() as u32,
                 vertex_attributes: &crate::gpu::shaders::VERTEX_ATTRIBUTES,
                 color_format: vk::Format::UNDEFINED,
-                depth: Some((crate::render::DEPTH_FORMAT, DepthTest::Write)),
+                depth: Some((crate::render::DEPTH_FORMAT, DepthTest::WriteLess)),
                 cull_back_faces: false,
                 samples: vk::SampleCountFlags::TYPE_1,
                 blend: Blend::Replace,

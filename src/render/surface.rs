@@ -735,7 +735,9 @@ impl SceneRenderer {
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue { color: vk::ClearColorValue { uint32: [0; 4] } })];
-        let far = vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } };
+        let far = vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue { depth: crate::scene::camera::FAR_DEPTH, stencil: 0 },
+        };
         let mut raster_depth = vk::RenderingAttachmentInfo::default()
             .image_view(depth)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -774,14 +776,16 @@ impl SceneRenderer {
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: constant } })];
         // The coverage: the resolved depth, or the one-sample frame's own; where the device resolves neither way,
-        // depth 0 everywhere lets every pixel through.
+        // the near plane's depth everywhere lets every pixel through.
         let known = state.coverage.is_none() || state.resolve.is_some();
         let shading_depth = vk::RenderingAttachmentInfo::default()
             .image_view(state.coverage.as_ref().map_or(depth, |c| c.view))
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(if known { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR })
             .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 0.0, stencil: 0 } });
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: crate::scene::camera::NEAR_DEPTH, stencil: 0 },
+            });
         visibility::begin(ctx, cmd, &color, &shading_depth, target.extent);
         if let Some(s) = statistics {
             s.begin(cmd);

@@ -5,7 +5,8 @@
 //! llvmpipe tests each sample's depth after running the shader), so four samples cost about three times one.
 //! This path splits the frame in two passes instead:
 //!
-//! 1. **The raster pass**, at the frame's samples: every object's triangles with the depth test (LESS, written),
+//! 1. **The raster pass**, at the frame's samples: every object's triangles with the depth test (nearer: GREATER,
+//!    the depth being reversed; written),
 //!    writing per sample only which triangle it sees (`(object + 1) << VISIBILITY_OBJECT_SHIFT | triangle`, an
 //!    R32_UINT target; glsl/visibility.frag). The vertex shader is the forward pass's own (`surface.vert`'s
 //!    VISIBILITY variants), which also keeps each vertex's outputs in a buffer per object.
@@ -152,8 +153,9 @@ const MAX_OBJECTS: usize = (1 << (32 - VISIBILITY_OBJECT_SHIFT)) - 1;
 pub(crate) struct VisibilityState {
     pub ids: Image,
     pub sampler: Sampler,
-    /// Where a multisampled frame's depth is resolved to one sample per pixel, below 1 wherever a sample shows
-    /// an object (`resolve`: MIN, or AVERAGE, whose mean of depths ≤ 1 is below 1 just as well), so that the
+    /// Where a multisampled frame's depth is resolved to one sample per pixel, above 0 (the far plane, reversed
+    /// depth) wherever a sample shows an object (`resolve`: MAX, or AVERAGE, whose mean of depths ≥ 0 is above 0
+    /// just as well), so that the
     /// shading pass's full-screen triangle at the far plane skips the pixels no object covers (lavapipe then
     /// skips whole blocks of them unshaded). None at one sample, where the frame's own depth serves.
     pub coverage: Option<Image>,
@@ -296,14 +298,15 @@ pub(crate) fn edge_list_bytes(extent: vk::Extent2D) -> u64 {
     16 + 4 * u64::from(extent.width) * u64::from(extent.height)
 }
 
-/// The depth resolve that tells covered pixels from empty ones: MIN, else AVERAGE (lavapipe's), else none.
+/// The depth resolve that tells covered pixels from empty ones: MAX (depth is reversed), else AVERAGE
+/// (lavapipe's), else none.
 fn depth_resolve_mode(ctx: &Context) -> Option<vk::ResolveModeFlags> {
     let mut resolve = vk::PhysicalDeviceDepthStencilResolveProperties::default();
     let mut props = vk::PhysicalDeviceProperties2::default().push_next(&mut resolve);
     // SAFETY: a plain query on the context's physical device.
     unsafe { ctx.instance().get_physical_device_properties2(ctx.info.raw, &mut props) };
     let modes = resolve.supported_depth_resolve_modes;
-    [vk::ResolveModeFlags::MIN, vk::ResolveModeFlags::AVERAGE].into_iter().find(|&m| modes.contains(m))
+    [vk::ResolveModeFlags::MAX, vk::ResolveModeFlags::AVERAGE].into_iter().find(|&m| modes.contains(m))
 }
 
 crate::impl_destroy!(VisibilityState);

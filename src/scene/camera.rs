@@ -45,25 +45,32 @@ pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
 /// Perspective projection to Vulkan clip space (y down, depth in [0, 1]).
 pub fn perspective(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
     let f = 1.0 / (0.5 * fov_y).tan();
+    // Reversed depth: the near plane at 1, the far one at 0. With a float depth buffer the depth's relative
+    // precision then stays about f32's at every distance (its exponent follows near/z), where 0-at-near spent it
+    // all near the camera: a ground of 1e4 under near 0.01 and far 1e5 drew 97 % of the frame black.
     Mat4::from_cols(
         Vec4::new(f / aspect, 0.0, 0.0, 0.0),
         Vec4::new(0.0, -f, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, far / (near - far), -1.0),
-        Vec4::new(0.0, 0.0, near * far / (near - far), 0.0),
+        Vec4::new(0.0, 0.0, near / (far - near), -1.0),
+        Vec4::new(0.0, 0.0, near * far / (far - near), 0.0),
     )
 }
+
+/// The depth of the near plane and of the far one in a camera's clip space ([`perspective`]: reversed).
+pub const NEAR_DEPTH: f32 = 1.0;
+pub const FAR_DEPTH: f32 = 0.0;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn near_and_far_map_to_zero_and_one() {
+    fn near_and_far_map_to_one_and_zero() {
         let p = perspective(60f32.to_radians(), 1.0, 0.1, 10.0);
         let near = p * Vec4::new(0.0, 0.0, -0.1, 1.0);
         let far = p * Vec4::new(0.0, 0.0, -10.0, 1.0);
-        assert!((near.z / near.w).abs() < 1e-6);
-        assert!((far.z / far.w - 1.0).abs() < 1e-6);
+        assert!((near.z / near.w - NEAR_DEPTH).abs() < 1e-6);
+        assert!((far.z / far.w - FAR_DEPTH).abs() < 1e-6);
     }
 
     #[test]

@@ -58,7 +58,7 @@ samples = 1
     for y in 0..h {
         for x in 0..w {
             let ndc = |p: u32, n: u32| (f64::from(p) + 0.5) / f64::from(n) * 2.0 - 1.0;
-            let far = inv * glam::DVec4::new(ndc(x, w), ndc(y, h), 1.0, 1.0);
+            let far = inv * glam::DVec4::new(ndc(x, w), ndc(y, h), f64::from(diffract::scene::camera::FAR_DEPTH), 1.0);
             let d: DVec3 = (far.truncate() / far.w - scene.camera.position.as_dvec3()).normalize();
             let azimuth = d.x.atan2(d.z) - rotation_deg.to_radians();
             let u = (azimuth / std::f64::consts::TAU + 0.5).rem_euclid(1.0) * f64::from(W);
@@ -149,7 +149,7 @@ samples = 1
     };
     let cos_view = |x: f64, y: f64| {
         let ndc = |p: f64, n: u32| p / f64::from(n) * 2.0 - 1.0;
-        let far = inv * glam::DVec4::new(ndc(x, w), ndc(y, h), 1.0, 1.0);
+        let far = inv * glam::DVec4::new(ndc(x, w), ndc(y, h), f64::from(diffract::scene::camera::FAR_DEPTH), 1.0);
         let d: DVec3 = (far.truncate() / far.w - camera).normalize();
         let mut nearest: Option<(f64, DVec3)> = None;
         for tri in mesh.indices.chunks_exact(3) {

@@ -6,6 +6,7 @@
 use diffract::material::SettingsPatch;
 use diffract::physics::optics::SUN_SOLID_ANGLE;
 use diffract::render::SceneView;
+use diffract::scene::camera::{FAR_DEPTH, NEAR_DEPTH};
 use diffract::scene::Scene;
 use glam::{DVec3, Vec4};
 
@@ -86,7 +87,8 @@ fn expected(scene: &Scene, shadows: bool, (w, h): (u32, u32), (x, y): (u32, u32)
         let v = inv * glam::DVec4::new(ndc(x, w), ndc(y, h), z, 1.0);
         v.truncate() / v.w
     };
-    let (o, d) = (at(0.0), (at(1.0) - at(0.0)).normalize());
+    let (near, far) = (at(f64::from(NEAR_DEPTH)), at(f64::from(FAR_DEPTH)));
+    let (o, d) = (near, (far - near).normalize());
     let light = scene.light_dir.as_dvec3().normalize();
     let sun = SUN_SOLID_ANGLE / std::f64::consts::PI;
     let (miss, hit) = ray_sphere(o, d, BALL, RADIUS);
@@ -234,7 +236,8 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
                 let v = inv * glam::DVec4::new(ndc(x, size.0), ndc(y, size.1), z, 1.0);
                 v.truncate() / v.w
             };
-            let (o, d) = (at(0.0), (at(1.0) - at(0.0)).normalize());
+            let (near, far) = (at(f64::from(NEAR_DEPTH)), at(f64::from(FAR_DEPTH)));
+            let (o, d) = (near, (far - near).normalize());
             let g = o - d * (o.y / d.y);
             let to_ball = ball - g;
             let beta = (RADIUS / to_ball.length()).asin();

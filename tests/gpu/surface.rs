@@ -52,8 +52,8 @@ fn unproject(view: &SceneView, w: u32, h: u32, x: u32, y: u32) -> Option<Vec3> {
     let inv = view.camera.view_projection(w as f32 / h as f32).inverse();
     let ndc = |px: u32, n: u32| (px as f32 + 0.5) / n as f32 * 2.0 - 1.0;
     let (nx, ny) = (ndc(x, w), ndc(y, h));
-    let near = inv * Vec4::new(nx, ny, 0.0, 1.0);
-    let far = inv * Vec4::new(nx, ny, 1.0, 1.0);
+    let near = inv * Vec4::new(nx, ny, diffract::scene::camera::NEAR_DEPTH, 1.0);
+    let far = inv * Vec4::new(nx, ny, diffract::scene::camera::FAR_DEPTH, 1.0);
     let (a, b) = (near.truncate() / near.w, far.truncate() / far.w);
     let t = a.z / (a.z - b.z);
     let p = a + (b - a) * t;
@@ -273,4 +273,34 @@ fn the_snake_drawn_front_first_is_the_frame_a_depth_pre_pass_gives() {
     let differ = a.iter().zip(&b).filter(|(p, q)| p != q).count();
     assert!(snake > 2000, "the snake covers {snake} pixels");
     assert!(differ <= snake / 500, "{differ} of the snake's {snake} pixels differ");
+}
+
+/// Depth that holds what the camera accepts: a ground of 10⁴ units seen with near 0.01 and far 10⁵ (far/near
+/// 10⁷, the most a scene may ask) draws the frame that near 0.1 and far 10³ draw (before reversed depth, 97 % of
+/// it came out black: the depth buffer could not tell the ground from the far plane).
+#[test]
+fn a_large_ground_under_a_wide_depth_range_draws_as_under_a_narrow_one() {
+    let scene = |near: &str, far: &str| {
+        let text = format!(
+            "[camera]\nposition = [0.0, 2.0, 6.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 40.0\nnear = {near}\n\
+             far = {far}\n\n[light]\ndirection = [0.3, 1.0, 0.5]\nenvironment = \"none\"\n\n[material.ground]\n\
+             pigment = [0.3, 0.3, 0.3]\n\n[material.ball]\npigment = [0.6, 0.6, 0.6]\n\n[[object]]\n\
+             shape = \"ground\"\nmaterial = \"ground\"\nscale = 1e4\n\n[[object]]\nshape = \"sphere\"\n\
+             material = \"ball\"\ntranslate = [0.0, 1.0, 0.0]\n"
+        );
+        diffract::scene::Scene::parse(&text, "ground.toml", std::path::Path::new(".")).unwrap()
+    };
+    let size = (96, 96);
+    let wide = crate::capture::render_scene(&scene("0.01", "1e5"), size);
+    let narrow = crate::capture::render_scene(&scene("0.1", "1e3"), size);
+    let (mut lit, mut differ) = (0, 0);
+    for (a, b) in wide.chunks_exact(4).zip(narrow.chunks_exact(4)) {
+        if b[..3].iter().all(|&c| c > 0.0) {
+            lit += 1;
+            differ += usize::from((0..3).any(|c| (a[c] - b[c]).abs() > 0.01 * b[c]));
+        }
+    }
+    // The narrow range's far plane cuts the ground a pixel row or two below the horizon.
+    assert!(lit > size.0 as usize * size.1 as usize / 3, "lit {lit}");
+    assert!(differ * 50 < lit, "{differ} of {lit} lit pixels differ");
 }

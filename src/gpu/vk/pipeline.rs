@@ -95,13 +95,16 @@ pub struct VertexAttribute {
 /// How a graphics pipeline uses the depth attachment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DepthTest {
-    /// Nearer fragments pass (LESS) and write their depth.
+    /// Nearer fragments pass and write their depth: GREATER, a camera's depth being reversed (near 1, far 0:
+    /// `scene::camera::perspective`).
     Write,
+    /// Smaller depths pass (LESS) and are written: the shadow map's, 0 at the light.
+    WriteLess,
     /// Only fragments at exactly the stored depth pass, without writing: the shading pass after a depth
     /// pre-pass, which so shades each pixel once (the vertex shader must declare `invariant gl_Position`).
     Equal,
-    /// Only fragments behind the stored depth pass (GREATER), without writing: a full-screen triangle at the far
-    /// plane that runs only where something was drawn (the visibility buffer's shading).
+    /// Only fragments behind the stored depth pass (LESS, reversed), without writing: a full-screen triangle at the
+    /// far plane that runs only where something was drawn (the visibility buffer's shading).
     Behind,
     /// The attachment is there but not tested.
     Off,
@@ -437,15 +440,16 @@ fn raster_state(cull_back_faces: bool) -> vk::PipelineRasterizationStateCreateIn
         .line_width(1.0)
 }
 
-/// No depth test (None), a test that writes (LESS), or one that only passes the pre-pass's depth (EQUAL).
+/// No depth test (None), a test that writes (GREATER: reversed depth; LESS: the shadow map's), or one that only
+/// passes the pre-pass's depth (EQUAL).
 fn depth_state(test: Option<DepthTest>) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
     let compare = match test {
         Some(DepthTest::Equal) => vk::CompareOp::EQUAL,
-        Some(DepthTest::Behind) => vk::CompareOp::GREATER,
+        Some(DepthTest::Write) => vk::CompareOp::GREATER,
         _ => vk::CompareOp::LESS,
     };
     vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(test.is_some_and(|t| t != DepthTest::Off))
-        .depth_write_enable(test == Some(DepthTest::Write))
+        .depth_write_enable(matches!(test, Some(DepthTest::Write | DepthTest::WriteLess)))
         .depth_compare_op(compare)
 }
