@@ -33,7 +33,8 @@ pub const SPD_RANGE_NM: (f64, f64) = (360.0, 830.0);
 /// Largest SPD file read, bytes.
 pub const MAX_SPD_BYTES: u64 = 1 << 20;
 
-/// A light's relative spectral power, 380–780 nm at 1 nm, 100 at 560 nm, with its name.
+/// A light's relative spectral power, 380–780 nm at 1 nm, 100 at 560 nm (or at its peak where it has no power
+/// there), with its name.
 ///
 /// In physical units ([`Illuminant::physical`]) `spd` is the light's spectrum weighted by (550 nm/λ)², the
 /// wavelength dependence of the BRDF in sr⁻¹ (its (k σ_s)² factor), so that every spectral sum the diffraction
@@ -75,16 +76,22 @@ fn intern(key: String, name: &str, make: impl FnOnce() -> Result<Table>) -> Resu
     Ok(made)
 }
 
-/// `table` scaled to 100 at 560 nm; refused where it is not positive there.
+/// `table` scaled to 100 at 560 nm, or where it has no power there (a blue or red LED, a 532 nm laser) to 100 at its
+/// peak (the scale is a convention: colours are relative to a white mirror under the light); refused where the eye
+/// sees none of it (no power where ȳ is).
 fn normalised(mut table: Table) -> Result<Table> {
     let at_560 = table[(560.0 - TABLE_LAMBDA_MIN_NM) as usize];
-    if !(at_560.is_finite() && at_560 > 0.0) {
+    let peak = table.iter().fold(0.0f64, |m, &v| m.max(v));
+    let seen: f64 = table.iter().zip(crate::physics::cie_tables::cie1931_xyz()).map(|(s, c)| s * c[1]).sum();
+    if !(seen.is_finite() && seen > 0.0) {
         return Err(Error::setting(
             "illuminant",
-            "the spectrum has no power at 560 nm (it is normalised to 100 there)".into(),
+            "the spectrum has no power the eye sees (none where the luminous efficiency ȳ is above 0, 380–780 nm)"
+                .into(),
         ));
     }
-    table.iter_mut().for_each(|v| *v *= 100.0 / at_560);
+    let reference = if at_560.is_finite() && at_560 > 0.0 { at_560 } else { peak };
+    table.iter_mut().for_each(|v| *v *= 100.0 / reference);
     Ok(table)
 }
 
@@ -383,6 +390,9 @@ fn parse_spd(text: &str) -> std::result::Result<Table, String> {
             }
             return Err(format!("line {}: {line:?} is not two numbers", i + 1));
         };
+        if fields.next().is_some_and(|f| !f.is_empty()) {
+            return Err(format!("line {}: {line:?} has more than two columns (nm,relative power)", i + 1));
+        }
         if !(nm.is_finite() && (SPD_RANGE_NM.0..=SPD_RANGE_NM.1).contains(&nm)) {
             return Err(format!("line {}: {nm} nm is outside {}–{} nm", i + 1, SPD_RANGE_NM.0, SPD_RANGE_NM.1));
         }
@@ -531,6 +541,7 @@ mod tests {
         assert_eq!((narrow[119], narrow[120], narrow[220], narrow[221]), (0.0, 1.0, 1.0, 0.0));
         for (text, why) in [
             ("500,1\n400,1\n", "increase"),
+            ("500,1,7\n600,1,7\n", "more than two columns"),
             ("500,1\n600,-1\n", "non-negative"),
             ("300,1\n600,1\n", "outside 360–830"),
             ("500,1\n900,1\n", "outside 360–830"),
@@ -540,6 +551,9 @@ mod tests {
             let e = parse_spd(text).unwrap_err();
             assert!(e.contains(why), "{text:?}: {e}");
         }
-        assert!(normalised(parse_spd("400,1\n500,1\n").unwrap()).is_err(), "no power at 560 nm");
+        // A blue LED has no power at 560 nm: 100 at its peak instead. A spectrum the eye cannot see is refused.
+        let blue = normalised(parse_spd("400,1\n450,3\n500,1\n").unwrap()).unwrap();
+        assert!((blue[70] - 100.0).abs() < 1e-9 && blue[180] == 0.0, "{} {}", blue[70], blue[180]);
+        assert!(normalised([0.0; TABLE_ROWS]).is_err(), "no power at all");
     }
 }
