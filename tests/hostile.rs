@@ -323,6 +323,7 @@ fn hostile_environment_maps() {
         ),
         with_scene("environment: not an EXR", scene("e6.toml", env("env-text.exr")), "env-text.exr"),
         with_scene("environment: missing", scene("e7.toml", env("env-nope.exr")), "env-nope.exr"),
+        with_scene("environment: spaces after the name", scene("e12.toml", env("env-good.exr  ")), "used as written"),
         with_scene(
             "environment: its sun below the horizon",
             scene("e8.toml", env("env-sun-below.exr")),

@@ -468,16 +468,23 @@ fn environment(
     // thesis's uniform grey sky (`ambient`, relative units): then the sun alone, as `environment = "none"`.
     let implicit = light.environment.is_none();
     let kind = match &light.environment {
-        Some(e) => Some((e.get_ref().trim().to_string(), e.span())),
+        // As written: a file's name is used as given, byte for byte (the keywords are matched trimmed).
+        Some(e) => Some((e.get_ref().to_string(), e.span())),
         None => {
             light.ambient.is_none().then(|| ("sky".to_string(), light.direction.as_ref().map_or(0..0, |d| d.span())))
         }
     };
-    let named = |name: &str| kind.as_ref().is_some_and(|(k, _)| k.eq_ignore_ascii_case(name));
+    let named = |name: &str| kind.as_ref().is_some_and(|(k, _)| k.trim().eq_ignore_ascii_case(name));
     let is_file = |k: &str| {
         let lower = k.to_ascii_lowercase();
         lower.ends_with(".exr") || lower.ends_with(".hdr")
     };
+    if let Some((k, span)) = kind.as_ref().filter(|(k, _)| k.trim() != k && is_file(k.trim())) {
+        return Err(loc.at(
+            span.clone(),
+            format!("environment {k:?}: the file name begins or ends with spaces; a name is used as written"),
+        ));
+    }
     if let Some((k, span)) = kind.as_ref().filter(|(k, _)| !(is_file(k) || named("sky") || named("none"))) {
         return Err(loc.at(
             span.clone(),
