@@ -151,7 +151,7 @@ pub struct Quadrature {
     /// The tables' texels hold only the mass of their light (`TablePlan::mass_only`): the moments integrate it
     /// against factors that change little across a texel.
     pub mass_only: bool,
-    /// Blocks of 2×2 texels where the factors change slowly ([`moments_of_bands`]).
+    /// Blocks of 2×2 texels where the factors change slowly (away from the specular disc and the horizon).
     pub blocks: bool,
 }
 
