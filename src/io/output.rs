@@ -163,7 +163,21 @@ pub fn write_png_gray16(path: &Path, width: u32, height: u32, grey: Vec<u16>) ->
 /// Writes linear RGB (from RGBA float pixels, top row first) as an OpenEXR file with 32-bit float R, G, B.
 pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Result<()> {
     check_exr_path(path)?;
-    write_float_rgb(path, width, height, rgba, image::ImageFormat::OpenExr)
+    use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
+    let (w, h) = (width as usize, height as usize);
+    if rgba.len() != 4 * w * h {
+        return Err(Error::output(path, "image data does not match its size"));
+    }
+    // 32-bit floats, ZIP-compressed (lossless; a smooth sky shrinks severalfold): half floats would hold the
+    // sun's 1.6·10⁹ cd/m² as infinity.
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let i = 4 * (y * w + x);
+        (rgba[i], rgba[i + 1], rgba[i + 2])
+    });
+    let image = Image::from_encoded_channels((w, h), Encoding::SMALL_LOSSLESS, channels);
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image.write().to_buffered(&mut bytes).map_err(|e| Error::output(path, e))?;
+    write_file(path, &bytes.into_inner())
 }
 
 /// Writes linear RGB (alpha dropped) as a Radiance HDR file (RGBE: 8-bit mantissas with a shared exponent, about
@@ -183,6 +197,27 @@ fn write_float_rgb(path: &Path, width: u32, height: u32, rgba: &[f32], format: i
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An EXR holds every f32 exactly (the sun above 10⁶ too, beyond half floats), ZIP-compressed: a smooth
+    /// sky takes a fraction of its raw size (before, the encoder wrote it uncompressed).
+    #[test]
+    fn exr_is_lossless_and_compressed() {
+        let dir = std::env::temp_dir().join(format!("diffract-exr-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let sky = crate::physics::sky::Sky::at_of_model(Default::default(), 3.0, 40.0, 0.0, 0.2).unwrap();
+        let map = crate::light::environment::EnvironmentMap::of_sky_and_sun(&sky, 256, 0.2).unwrap();
+        let rgba = map.to_rgba();
+        let path = dir.join("sky.exr");
+        write_exr_rgb(&path, map.width, map.height, &rgba).unwrap();
+        let raw = (map.width * map.height * 12) as u64;
+        let size = std::fs::metadata(&path).unwrap().len();
+        assert!(size * 2 < raw, "{size} bytes against {raw} raw");
+        let back = crate::light::environment::EnvironmentMap::load(&path).unwrap();
+        assert_eq!((back.width, back.height), (map.width, map.height));
+        assert!(back.rgb.iter().zip(&map.rgb).all(|(a, b)| a == b), "not bit-exact");
+        assert!(map.rgb.iter().flatten().fold(0.0f32, |m, &v| m.max(v)) > 1e6, "the sun (beyond f16) is in the map");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     /// A file written through the temporary file has the mode `File::create` gives (0666 less the umask, not
     /// tempfile's private 0600), its whole content, and no temporary file left beside it.
