@@ -28,7 +28,7 @@ pub fn check_file(path: &Path) -> Result<u64> {
 pub fn read(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>> {
     let len = check_file(path)?;
     let too_big = |len: u64| {
-        Error::input(path, format!("is {} MiB; a {what} file may have at most {} MiB", len >> 20, limit >> 20))
+        Error::input(path, format!("is {} MiB; {what} files may have at most {} MiB", len >> 20, limit >> 20))
     };
     if len > limit {
         return Err(too_big(len));

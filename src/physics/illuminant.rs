@@ -268,7 +268,7 @@ impl Illuminant {
     /// increasing within 360–830 nm, powers finite and non-negative; interpolated linearly to 1 nm and zero
     /// outside the rows' range.
     pub fn from_csv(path: &Path) -> Result<Self> {
-        let bytes = crate::io::input::read(path, MAX_SPD_BYTES, "SPD file")?;
+        let bytes = crate::io::input::read(path, MAX_SPD_BYTES, "SPD")?;
         let text = String::from_utf8(bytes).map_err(|_| Error::input(path, "an SPD file is UTF-8 text"))?;
         let table = parse_spd(&text).map_err(|e| Error::input(path, e))?;
         // The same content is the same illuminant, whichever file it came from.
