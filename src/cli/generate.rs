@@ -58,7 +58,8 @@ pub struct SkyArgs {
     #[arg(long, default_value = "hosek-wilkie", value_parser = ["hosek-wilkie", "preetham"])]
     pub sky_model: String,
     /// Width of the map in texels (its height is half of it), 8 to 8192: the widest map a scene loads
-    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(8..=8192))]
+    #[arg(long, default_value_t = 1024,
+          value_parser = clap::value_parser!(u32).range(8..=i64::from(crate::light::environment::MAX_FILE_WIDTH)))]
     pub width: u32,
     /// The ground's albedo below the horizon (0: black)
     #[arg(long, value_parser = parse::finite, default_value_t = 0.2)]

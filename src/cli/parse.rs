@@ -33,12 +33,12 @@ pub fn finite(text: &str) -> Result<f64, String> {
     text.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{text:?} is not a finite number"))
 }
 
-/// An exposure in stops, within ±100 as a scene's `exposure_ev` (2^100 already takes any radiance f32 holds from
-/// black to white).
+/// An exposure in stops, within ±[`crate::display::MAX_EXPOSURE_EV`] as a scene's `exposure_ev`.
 pub fn exposure(text: &str) -> Result<f64, String> {
     let ev = finite(text)?;
-    if ev.abs() > 100.0 {
-        return Err(format!("{} stops: an exposure lies within ±100", text.trim()));
+    let max = crate::display::MAX_EXPOSURE_EV;
+    if ev.abs() > max {
+        return Err(format!("{} stops: an exposure lies within ±{max}", text.trim()));
     }
     Ok(ev)
 }

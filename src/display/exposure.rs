@@ -12,6 +12,9 @@ use crate::physics::spectrum::{display_encode, luminance};
 pub const AUTO_QUANTILE: f64 = 0.995;
 /// Where the quantile lands, linear (before the sRGB transfer function; 1 is display white).
 pub const AUTO_TARGET: f64 = 0.9;
+/// The most stops an exposure may be set to either way (a flag, a scene's `exposure_ev`): 2^100 takes any radiance
+/// f32 holds from black to white.
+pub const MAX_EXPOSURE_EV: f64 = 100.0;
 /// The auto exposure stays within ±this many stops (a frame lit at 2^-40 is a bug, not a dark scene).
 pub const AUTO_LIMIT_EV: f64 = 40.0;
 /// A pixel counts as black when no channel of its 8-bit sRGB value exceeds this (5 %: linear 0.004).

@@ -846,8 +846,9 @@ fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<RenderSettings> {
     if !(render.samples.is_power_of_two() && render.samples <= 64) {
         return Err(loc.whole("[render] samples is a power of two: 1 (no anti-aliasing), 2, 4, 8, …"));
     }
-    if render.exposure_ev.is_some_and(|ev| !ev.is_finite() || ev.abs() > 100.0) {
-        return Err(loc.whole("[render] exposure_ev must be a number of stops within ±100"));
+    let max = crate::display::MAX_EXPOSURE_EV;
+    if render.exposure_ev.is_some_and(|ev| !ev.is_finite() || ev.abs() > max) {
+        return Err(loc.whole(format!("[render] exposure_ev must be a number of stops within ±{max}")));
     }
     if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
         return Err(loc.whole("[render] background is a linear RGB colour: three non-negative numbers"));
