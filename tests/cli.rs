@@ -3,7 +3,7 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use common::{assert_one_line_error, diffract, place};
@@ -30,22 +30,20 @@ fn devices_lists_the_test_device() {
     }
 }
 
+/// `diffract render` of a `size`² frame into `out` on the test device, with `extra` arguments.
+fn render(out: &Path, size: &str, extra: &[&str]) -> Output {
+    let device = place::test_device();
+    let mut args = vec!["render", "--out", out.to_str().unwrap(), "--width", size, "--height", size];
+    args.extend(["--device", device.as_str()]);
+    args.extend(extra);
+    diffract(&args)
+}
+
 #[test]
 fn render_writes_a_nonblank_png_without_validation_messages() {
     let path = scratch("render.png");
     let _ = std::fs::remove_file(&path);
-    let o = diffract(&[
-        "render",
-        "--out",
-        path.to_str().unwrap(),
-        "--width",
-        "128",
-        "--height",
-        "128",
-        "--validation",
-        "--device",
-        &place::test_device(),
-    ]);
+    let o = render(&path, "128", &["--validation"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!stderr(&o).contains("validation"), "{}", stderr(&o));
     let img = image::open(&path).unwrap().to_rgba8();
@@ -58,26 +56,8 @@ fn render_writes_a_nonblank_png_without_validation_messages() {
 /// series' ends, an exposure at the scene files' limit.
 #[test]
 fn the_documented_values_are_accepted() {
-    let path = scratch("accepted.png");
-    let o = diffract(&[
-        "render",
-        "--out",
-        path.to_str().unwrap(),
-        "--width",
-        "16",
-        "--height",
-        "16",
-        "--table-segments",
-        "auto",
-        "--order",
-        "auto",
-        "--illuminant",
-        "D250",
-        "--exposure",
-        "100",
-        "--device",
-        &place::test_device(),
-    ]);
+    let accepted = ["--table-segments", "auto", "--order", "auto", "--illuminant", "D250", "--exposure", "100"];
+    let o = render(&scratch("accepted.png"), "16", &accepted);
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
@@ -99,19 +79,7 @@ fn a_background_far_from_the_skys_light_is_named() {
             ),
         )
         .unwrap();
-        let out = dir.join("bg.png");
-        let o = diffract(&[
-            "render",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--width",
-            "16",
-            "--height",
-            "16",
-            "--device",
-            &place::test_device(),
-        ]);
+        let o = render(&dir.join("bg.png"), "16", &[scene.to_str().unwrap()]);
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(stderr(&o).contains("is in the frame's units"), warned, "{colour}: {}", stderr(&o));
     }

@@ -118,7 +118,7 @@ pub fn brdf(gpu: &crate::cli::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::p
 }
 
 fn write_csv(hf: &HeightField, samples: &[crate::physics::exact::Sample]) -> anyhow::Result<()> {
-    csv_rows(hf, samples).map_err(|e| anyhow::anyhow!("could not write to standard output: {e}"))
+    csv_rows(hf, samples).map_err(|e| anyhow::anyhow!(crate::io::stream::failed("standard output", &e)))
 }
 
 /// The CSV of [`write_csv`] on stdout (the warning above it on stderr).

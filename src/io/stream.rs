@@ -10,42 +10,37 @@ use std::sync::Mutex;
 /// The first stream that could not be written, and why.
 static FAILED: Mutex<Option<String>> = Mutex::new(None);
 
-fn record(stream: &str, e: &std::io::Error) {
-    let mut failed = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    if failed.is_none() {
-        *failed = Some(format!("could not write to {stream}: {e}"));
+/// The line a failed write to `stream` ends the run with (also `brdf`'s, which writes its CSV itself).
+pub fn failed(stream: &str, e: &std::io::Error) -> String {
+    format!("could not write to {stream}: {e}")
+}
+
+/// Writes `args` then `end` to `w` and flushes it (so that its error is seen here), recording a failure.
+fn put(mut w: impl Write, stream: &str, args: Arguments<'_>, end: &str) {
+    if let Err(e) = w.write_fmt(args).and_then(|()| w.write_all(end.as_bytes())).and_then(|()| w.flush()) {
+        let mut first = FAILED.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        first.get_or_insert_with(|| failed(stream, &e));
     }
 }
 
-/// One line on stdout (flushed, so that its error is seen here).
+/// One line on stdout.
 pub fn out(args: Arguments<'_>) {
-    let mut stdout = std::io::stdout().lock();
-    if let Err(e) = stdout.write_fmt(args).and_then(|()| stdout.write_all(b"\n")).and_then(|()| stdout.flush()) {
-        record("standard output", &e);
-    }
+    put(std::io::stdout().lock(), "standard output", args, "\n");
 }
 
 /// Text on stdout as it is (no newline added).
 pub fn out_text(text: &str) {
-    let mut stdout = std::io::stdout().lock();
-    if let Err(e) = stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        record("standard output", &e);
-    }
+    put(std::io::stdout().lock(), "standard output", format_args!("{text}"), "");
 }
 
 /// One line on stderr.
 pub fn err(args: Arguments<'_>) {
-    let mut stderr = std::io::stderr().lock();
-    if let Err(e) = stderr.write_fmt(args).and_then(|()| stderr.write_all(b"\n")) {
-        record("standard error", &e);
-    }
+    put(std::io::stderr().lock(), "standard error", args, "\n");
 }
 
 /// Text on stderr as it is (no newline added).
 pub fn err_text(text: &str) {
-    if let Err(e) = std::io::stderr().lock().write_all(text.as_bytes()) {
-        record("standard error", &e);
-    }
+    put(std::io::stderr().lock(), "standard error", format_args!("{text}"), "");
 }
 
 /// Why a stream could not be written, if one could not.

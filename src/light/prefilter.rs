@@ -401,12 +401,12 @@ impl<'a> Packed<'a> {
         let (width, height) = (l.width, l.height);
         let mut fine = Texels { width, height, start: Vec::with_capacity(width * height), coefficients: Vec::new() };
         let mut line = vec![0.0f32; stride];
+        let own: Vec<_> = bands.iter().map(|(table, _)| &table.levels[moment_level(table).0]).collect();
         for i in 0..width * height {
             line.fill(0.0);
             let mut lit = false;
             for (k, (table, _)) in bands.iter().enumerate() {
-                let own = &table.levels[moment_level(table).0];
-                let values: Vec<f64> = table.texel_coefficients(own, i).collect();
+                let values: Vec<f64> = table.texel_coefficients(own[k], i).collect();
                 if !values.iter().any(|c| c.abs() > crate::physics::baked::INVISIBLE) {
                     continue;
                 }
@@ -421,8 +421,9 @@ impl<'a> Packed<'a> {
         }
         let (bw, bh) = (width.div_ceil(2), height.div_ceil(2));
         let mut blocks = Texels { width: bw, height: bh, start: Vec::with_capacity(bw * bh), coefficients: Vec::new() };
+        let mut sum = vec![0.0f64; stride];
         for i in 0..bw * bh {
-            let mut sum = vec![0.0f64; stride];
+            sum.fill(0.0);
             let mut lit = false;
             for (x, y) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                 let (a, b) = (2 * (i % bw) + x, 2 * (i / bw) + y);

@@ -246,6 +246,11 @@ fn parse_checked<T: SettingValue>(
     Ok(v)
 }
 
+/// Whether `text` is the word `auto` (an `auto` setting's None), as a flag, a sweep or a scene writes it.
+fn is_auto(text: &str) -> bool {
+    text.trim() == "auto"
+}
+
 /// A scene file's value of an `auto` setting: the value, or None for `"auto"`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AutoOr<T>(pub Option<T>);
@@ -266,7 +271,7 @@ impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for AutoOr<T> {
         }
         match Written::deserialize(d)? {
             Written::Value(v) => Ok(Self(Some(v))),
-            Written::Word(w) if w.trim() == "auto" => Ok(Self(None)),
+            Written::Word(w) if is_auto(&w) => Ok(Self(None)),
             Written::Word(w) => Err(serde::de::Error::custom(format!("expected a number or \"auto\", got {w:?}"))),
         }
     }
@@ -341,21 +346,20 @@ mod kind {
             text: &str,
             check: fn(&T) -> Result<(), String>,
         ) -> Result<(), String> {
-            match text.trim() {
-                "auto" => *patch = None,
-                _ => super::value::set(patch, text, check).map_err(|e| format!("{e} (or auto)"))?,
-            }
+            *patch = parse(text, check)?;
             Ok(())
+        }
+        /// `auto` (None), or a value `check` accepts.
+        fn parse<T: SettingValue>(text: &str, check: fn(&T) -> Result<(), String>) -> Result<Option<T>, String> {
+            if super::super::is_auto(text) {
+                return Ok(None);
+            }
+            super::super::parse_checked(text, check).map(Some).map_err(|e| format!("{e} (or auto)"))
         }
         /// A flag that takes a value or `auto` (the patch's None: the material's own).
         #[cfg(feature = "cli")]
         pub fn arg<T: SettingValue>(arg: clap::Arg, check: fn(&T) -> Result<(), String>) -> clap::Arg {
-            arg.num_args(1).value_parser(move |text: &str| -> Result<Option<T>, String> {
-                if text.trim() == "auto" {
-                    return Ok(None);
-                }
-                super::super::parse_checked(text, check).map(Some).map_err(|e| format!("{e} (or auto)"))
-            })
+            arg.num_args(1).value_parser(move |text: &str| parse(text, check))
         }
         #[cfg(feature = "cli")]
         pub fn get<T: SettingValue>(m: &clap::ArgMatches, id: &str) -> Option<T> {

@@ -365,7 +365,7 @@ fn daylight_table(cct_k: f64) -> Result<Table> {
     let d = colorimetry::illuminant::Illuminant::d_illuminant(cct_k).map_err(|_| {
         Error::setting(
             "illuminant",
-            format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to 25000 K"),
+            format!("daylight at {cct_k} K: the CIE daylight series runs from 4000 to {DAYLIGHT_MAX_K} K"),
         )
     })?;
     let spectrum: &colorimetry::spectrum::Spectrum = d.as_ref();

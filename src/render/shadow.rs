@@ -116,18 +116,17 @@ impl ShadowFrame {
         let in_view = |boxes: &[Aabb]| -> Vec<Aabb> {
             boxes.iter().map(|b| Aabb::around(b.corners().map(|c| view.transform_point3(c)))).collect()
         };
-        Self::fit_across(&view, &in_view(casters), &in_view(receivers), size)
+        Self::fit_across(view, &in_view(casters), &in_view(receivers), size)
     }
 
     /// [`Self::fit`] of boxes already in the light's `view` (looking down −z along the rays).
-    fn fit_across(view: &Mat4, casters: &[Aabb], receivers: &[Aabb], size: u32) -> Option<Self> {
-        let view = *view;
-        let in_view = |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()));
+    fn fit_across(view: Mat4, casters: &[Aabb], receivers: &[Aabb], size: u32) -> Option<Self> {
+        let around = |boxes: &[Aabb]| Aabb::around(boxes.iter().flat_map(|b| b.corners()));
         if casters.is_empty() {
             return None;
         }
-        let cast = in_view(casters);
-        let all = in_view(receivers).union(&cast);
+        let cast = around(casters);
+        let all = around(receivers).union(&cast);
         // Square texels: the wider side sets the size; two texels of margin each side for the 3×3 filter.
         let side = (cast.max.x - cast.min.x).max(cast.max.y - cast.min.y).max(1e-6);
         let texel = side / (size as f32 - 4.0).max(1.0);
@@ -167,7 +166,7 @@ impl ShadowFrame {
                 (cut.min.x <= cut.max.x && cut.min.y <= cut.max.y).then_some(cut)
             })
             .collect();
-        let frame = Self::fit_across(&light_view, &casters, &[region], SHADOW_SIZE)?;
+        let frame = Self::fit_across(light_view, &casters, &[region], SHADOW_SIZE)?;
         // A caster a few texels wide casts a shadow the map cannot draw: said once a process.
         let smallest = casters.iter().map(|c| (c.max.x - c.min.x).max(c.max.y - c.min.y)).fold(f32::INFINITY, f32::min);
         static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
@@ -228,8 +227,6 @@ fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
     let points = corners(Vec3::new(-1.0, -1.0, 0.0), Vec3::ONE).map(|c| inverse.project_point3(c));
     points.iter().all(|p| p.is_finite()).then(|| Aabb::around(points))
 }
-
-impl Aabb {}
 
 /// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
 /// always have something bound), the comparison sampler, the depth-only pipeline and one uniform buffer per

@@ -21,14 +21,20 @@ pub(super) struct Spectral {
 impl Spectral {
     pub(super) fn new(step_nm: f64, illuminant: &Illuminant) -> Self {
         let sampling = Sampling::visible_under(step_nm, *illuminant);
-        let norm = sampling.y_norm();
-        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
-        for l in sampling.wavelengths() {
+        let weights = sampling.wavelengths().map(|l| {
             let s = sampling.weights_at(l);
-            let w = [s[0], s[1], s[2]].map(|c| c * s[3] * step_nm / norm);
+            [s[0], s[1], s[2]].map(|c| c * s[3] * step_nm)
+        });
+        Self::of_weights(&sampling, weights, sampling.y_norm())
+    }
+
+    /// `sampling`'s wavelengths with `weights` over `norm`, those that weigh nothing left out.
+    fn of_weights(sampling: &Sampling, weights: impl Iterator<Item = [f64; 3]>, norm: f64) -> Self {
+        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
+        for (l, w) in sampling.wavelengths().zip(weights) {
             if w.iter().any(|&c| c != 0.0) {
                 lambda_um.push(l * 1e-3);
-                weight.push(w);
+                weight.push(w.map(|c| c / norm));
             }
         }
         Self { lambda_um, weight }
@@ -40,14 +46,7 @@ impl Spectral {
     pub(super) fn binned(step_nm: f64, illuminant: &Illuminant) -> Self {
         let sampling = Sampling::visible_under(step_nm, *illuminant);
         let norm = Sampling::visible_under(1.0, *illuminant).y_norm();
-        let (mut lambda_um, mut weight) = (Vec::new(), Vec::new());
-        for (l, w) in sampling.wavelengths().zip(sampling.binned_weights()) {
-            if w.iter().any(|&c| c != 0.0) {
-                lambda_um.push(l * 1e-3);
-                weight.push(w.map(|c| c / norm));
-            }
-        }
-        Self { lambda_um, weight }
+        Self::of_weights(&sampling, sampling.binned_weights().into_iter(), norm)
     }
 
     /// The wavelengths and weights a table of `plan` sums: binned for a [`super::TablePlan::mass_only`] table.

@@ -121,7 +121,7 @@ impl BakedTable {
         let level = &self.levels[level];
         let (segment, t) = self.grid.segment_of(w);
         let i = b * level.width + a;
-        // Σ_d a_d·T_d(t) with the recurrence on the stack (the moments call this for every texel and view).
+        // Σ_d a_d·T_d(t) with the recurrence on the stack.
         let (mut previous, mut current) = (1.0, 1.0);
         let mut xyz = [0.0; 3];
         for d in 0..self.terms {
