@@ -31,7 +31,7 @@ fn main() -> diffract::Result<()> {
     let linear = frame.linear().expect("scene frames are linear");
     // The scene's exposure, else one measured from the frame (its lit pixels' 99.5th percentile shown at 0.9).
     let exposure_ev = scene.render.exposure_ev.or_else(|| AutoExposure::of(linear).map(|a| a.ev)).unwrap_or(0.0);
-    let rgba8 = diffract::physics::spectrum::linear_to_rgba8(linear, exposure_ev);
+    let rgba8 = diffract::display::tone::to_rgba8(linear, exposure_ev, diffract::display::Tone::Clip);
     diffract::io::output::write_png_rgba8(&out, width, height, &rgba8)?;
     let passes = frame.times.map_or("no timestamps on this device".into(), |t| t.describe());
     println!("wrote {} ({width}×{height} on {}; GPU {passes})", out.display(), ctx.info.name);

@@ -21,5 +21,5 @@ void main() {
     vec3 d = normalize(far.xyz / far.w - background.camera.xyz);
     // The map turned by its rotation about +y.
     vec3 rgb = texture(environment_map, panorama_uv(d, background.view.y)).rgb * background.view.x;
-    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, background.display.x) : rgb, 1.0);
+    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, background.display.x, background.display.y) : rgb, 1.0);
 }

@@ -38,6 +38,6 @@ void main() {
     footprint = pixel_footprint(-normalize(patch_light).xy - normalize(patch_view).xy);
 #endif
     vec3 rgb = surface_colour(s, footprint);
-    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
+    out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();
 }

@@ -393,6 +393,7 @@ fn hostile_flags() {
         render("unknown approach", &["--approach", "magic"], "magic"),
         render("sky at nowhere", &["--sky-at", "sideways"], "vertex, pixel"),
         render("table mips cubic", &["--table-mips", "cubic"], "auto, linear, nearest"),
+        render("tone aces", &["--tone", "aces"], "filmic and clip"),
         case(
             "map: sky at",
             &["map", "--heightfield", "good.gsf", "--light-theta", "0", "--out", "OUT/keep.png", "--sky-at", "pixel"],

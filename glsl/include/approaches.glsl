@@ -108,5 +108,5 @@ vec3 diffraction_xyz(vec3 omega_i, vec3 omega_r) {
 // diffraction's gain, 1 in relative units, `spectrum::diffraction_gain`.)
 vec3 shade(vec3 omega_i, vec3 omega_r) {
     vec3 rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r)) * params.light_white.w;
-    return DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb;
+    return DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb;
 }

@@ -15,7 +15,7 @@ vec4 map_pixel(vec2 frag_coord) {
     // A map pixel spans 2/size in ω_r.xy, and so in (u, v).
     float lod = FOOTPRINT == 1u ? table_lod(2.0 / map.size.x) : 0.0;
     vec3 rgb = xyz_to_linear_srgb(baked_diffraction_xyz(params.light.xyz, omega_r, lod)) * params.light_white.w;
-    return vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x) : rgb, 1.0);
+    return vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
 #else
     return vec4(shade(params.light.xyz, omega_r), 1.0);
 #endif

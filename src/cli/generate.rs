@@ -198,7 +198,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
             &args.out,
             map.width,
             map.height,
-            &crate::physics::spectrum::linear_to_rgba8(&rgba, ev),
+            &crate::display::tone::to_rgba8(&rgba, ev, crate::display::Tone::Clip),
         )?;
     } else if hdr {
         crate::io::output::write_hdr_rgb(&args.out, map.width, map.height, &rgba)?;

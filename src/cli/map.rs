@@ -60,6 +60,11 @@ pub struct MapArgs {
     /// measured from the map (its lit pixels' 99.5th percentile of luminance shown at 0.9)
     #[arg(value_parser = parse::exposure, long, value_name = "EV", alias = "exposure-ev")]
     pub exposure: Option<f64>,
+    /// How the 8-bit output shows light above display white: clip (the sRGB transfer function, clipped) or
+    /// filmic (AgX: highlights roll off over four stops, bright spectral colours desaturate towards white); the EXR
+    /// stays linear
+    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
+    pub tone: crate::display::Tone,
     #[command(flatten)]
     pub material: MaterialArgs,
 }
@@ -136,10 +141,10 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
             ev
         }
     };
-    if let Some(line) = crate::display::verdict(&map.rgba, exposure) {
+    if let Some(line) = crate::display::verdict(&map.rgba, exposure, args.tone) {
         errln!("{line}");
     }
-    crate::io::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure))?;
+    crate::io::output::write_png_rgba8(&args.out, args.size, args.size, &map.to_rgba8(exposure, args.tone))?;
     if let Some(exr) = &args.exr {
         crate::io::output::write_exr_rgb(exr, args.size, args.size, &map.rgba)?;
     }

@@ -107,6 +107,7 @@ const RENDER_HELP: &str = "\
 Examples:
   diffract render --out snake.png                            the built-in Elaphe snake under a clear sky, 512x512
   diffract render assets/scenes/elaphe-snake-sun.toml --out sun.png   the same under the sun alone (relative units)
+  diffract render --out bright.png --exposure 14 --tone filmic   glints past white keep their colours (AgX)
   diffract render assets/scenes/xenopeltis-snake.toml --out x.png --exr x.exr --approach nmm
   diffract render assets/scenes/blazed-disk.toml --out turn.png --frames 36 --orbit
   diffract render my-scene.toml --out quick.png --preview      lit without diffraction, to frame the camera";

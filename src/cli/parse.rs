@@ -43,6 +43,11 @@ pub fn exposure(text: &str) -> Result<f64, String> {
     Ok(ev)
 }
 
+/// A tone curve by name (`display::Tone`): filmic or clip.
+pub fn tone(text: &str) -> Result<crate::display::Tone, String> {
+    text.trim().parse()
+}
+
 /// Samples per pixel: a power of two from 1 to 64 (whether the device has that many is checked later).
 pub fn samples(text: &str) -> Result<u32, String> {
     text.trim()

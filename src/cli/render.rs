@@ -38,6 +38,11 @@ pub struct RenderArgs {
     pub height: Option<u32>,
     #[command(flatten)]
     pub settings: SceneOverrideArgs,
+    /// How the 8-bit output shows light above display white: clip (the sRGB transfer function, clipped) or
+    /// filmic (AgX: highlights roll off over four stops, bright spectral colours desaturate towards white); the EXR
+    /// stays linear
+    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
+    pub tone: crate::display::Tone,
     /// Number of frames: a sequence with --orbit or --light-sweep
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub frames: u32,
@@ -272,7 +277,7 @@ fn render_frames(
             ev
         });
         // One verdict per sequence is enough: the rest would repeat it.
-        if let Some(line) = crate::display::verdict(linear, ev).filter(|_| !warned) {
+        if let Some(line) = crate::display::verdict(linear, ev, args.tone).filter(|_| !warned) {
             bar.line(&format!("{line} (frame {})", f + 1));
             warned = true;
         }
@@ -280,7 +285,7 @@ fn render_frames(
             &png,
             width,
             height,
-            &crate::physics::spectrum::linear_to_rgba8(linear, ev),
+            &crate::display::tone::to_rgba8(linear, ev, args.tone),
         )?;
         if let Some(exr) = &args.exr {
             crate::io::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;

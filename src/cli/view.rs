@@ -40,6 +40,10 @@ pub struct ViewArgs {
     /// The settings at start (the keys change them while the window is open)
     #[command(flatten)]
     pub settings: SceneOverrideArgs,
+    /// How the window shows light above display white: clip (the sRGB transfer function, clipped) or filmic (AgX:
+    /// highlights roll off over four stops, bright spectral colours desaturate towards white)
+    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
+    pub tone: crate::display::Tone,
     /// Ask the window to shrink to 3/4 after N frames (tests that a resize is survived)
     #[arg(long, hide = true, value_name = "N")]
     pub resize_after: Option<u32>,
@@ -72,6 +76,7 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         context: gpu.context_desc(),
         overrides: args.settings.patch,
         exposure_ev,
+        tone: args.tone,
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         resize_after: args.resize_after,

@@ -6,7 +6,8 @@
 //! brightest half percent (glints) may clip, the rest of the image keeps its ratios. A sequence measures its
 //! first frame and keeps that exposure for every frame, so that brightness changes between frames stay visible.
 
-use crate::physics::spectrum::{display_encode, luminance};
+use crate::display::tone::{encode, Tone};
+use crate::physics::spectrum::luminance;
 
 /// The quantile of the lit pixels' luminance that auto exposure places at [`AUTO_TARGET`].
 pub const AUTO_QUANTILE: f64 = 0.995;
@@ -72,14 +73,14 @@ pub fn measure(rgba: &[f32], what: &str) -> (f64, String) {
     }
 }
 
-/// Whether a frame shown at `exposure_ev` is almost all black (its pixels, background included) or mostly white
+/// Whether a frame shown at `exposure_ev` through `tone` is almost all black (its pixels, background included) or mostly white
 /// (its lit pixels: a black background does not make a blown-out object well exposed): the warning line, or None.
-pub fn verdict(rgba: &[f32], exposure_ev: f64) -> Option<String> {
+pub fn verdict(rgba: &[f32], exposure_ev: f64, tone: Tone) -> Option<String> {
     let scale = exposure_ev.exp2();
     let (mut black, mut white, mut lit, mut total) = (0usize, 0usize, 0usize, 0usize);
     for p in rgba.chunks_exact(4) {
         let rgb = glam::DVec3::new(p[0].into(), p[1].into(), p[2].into());
-        let shown = display_encode(rgb, scale);
+        let shown = encode(rgb, scale, tone);
         total += 1;
         if shown.iter().all(|&c| c <= BLACK_CODE) {
             black += 1;
@@ -128,7 +129,8 @@ mod tests {
         assert_eq!(auto.lit, 1001, "black pixels are not lit");
         assert!((auto.luminance - 0.01).abs() < 1e-9, "the glint is above the quantile: {}", auto.luminance);
         assert!((auto.ev - (0.9f64 / 0.01).log2()).abs() < 1e-6);
-        assert!(verdict(&frame(&values), auto.ev).is_none(), "an auto-exposed frame is neither black nor white");
+        let verdict = verdict(&frame(&values), auto.ev, Tone::Clip);
+        assert!(verdict.is_none(), "an auto-exposed frame is neither black nor white");
     }
 
     #[test]
@@ -139,12 +141,12 @@ mod tests {
         assert!(ev == 0.0 && line.starts_with("warning: nothing in the map is lit"), "{ev} {line}");
         assert!(measure(&frame(&[0.01; 4]), "the map").1.contains("measured"));
         let dim = frame(&[0.001; 100]);
-        assert!(verdict(&dim, 0.0).unwrap().contains("almost all black"));
-        assert!(verdict(&dim, 20.0).unwrap().contains("mostly white"));
-        assert!(verdict(&dim, AutoExposure::of(&dim).unwrap().ev).is_none());
+        assert!(verdict(&dim, 0.0, Tone::Clip).unwrap().contains("almost all black"));
+        assert!(verdict(&dim, 20.0, Tone::Clip).unwrap().contains("mostly white"));
+        assert!(verdict(&dim, AutoExposure::of(&dim).unwrap().ev, Tone::Clip).is_none());
         // A blown-out object on a black background is white where it is lit.
         let mut spot = frame(&[0.0; 90]);
         spot.extend(frame(&[0.5; 10]));
-        assert!(verdict(&spot, 8.0).unwrap().contains("mostly white"));
+        assert!(verdict(&spot, 8.0, Tone::Clip).unwrap().contains("mostly white"));
     }
 }

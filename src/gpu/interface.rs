@@ -414,7 +414,7 @@ gpu_struct! {
         pub pq: [f32; 4],
         /// gem: unit grating direction (x, y), spacing µm (0: none), order efficiency.
         pub gem: [f32; 4],
-        /// 2^exposure, 0, 0, 0.
+        /// 2^exposure, the tone curve (`display::Tone::gpu`: 0 clip, 1 filmic), 0, 0.
         pub display: [f32; 4],
         /// Baked table: u and v of its lower edges, its extent in u and v.
         pub table_uv: [f32; 4],
@@ -483,7 +483,7 @@ gpu_struct! {
         pub camera: [f32; 4],
         /// The factor from the map's texels to the frame's units, the map's turn about +y (radians), 0, 0.
         pub view: [f32; 4],
-        /// 2^EV of a display-encoded target's exposure, 0, 0, 0.
+        /// 2^EV of a display-encoded target's exposure, its tone curve (`display::Tone::gpu`), 0, 0.
         pub display: [f32; 4],
     }
 }

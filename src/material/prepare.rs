@@ -241,9 +241,10 @@ impl Material {
             .u32(SPEC_DISPLAY_OUTPUT, u32::from(display_output))
     }
 
-    /// Sets the exposure a shader that writes display values applies (a window's; 0 EV as prepared).
-    pub fn set_exposure(&mut self, exposure_ev: f64) {
-        self.params.display[0] = exposure_ev.exp2() as f32;
+    /// Sets the exposure and the tone curve a shader that writes display values applies (a window's; 0 EV and
+    /// clip as prepared).
+    pub fn set_display(&mut self, exposure_ev: f64, tone: crate::display::Tone) {
+        self.params.display = [exposure_ev.exp2() as f32, tone.gpu(), 0.0, 0.0];
     }
 
     /// One line on the baked table (its plan, and how long it took), for the commands' reports.

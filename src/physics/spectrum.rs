@@ -167,7 +167,8 @@ pub fn luminance(rgb: [f32; 3]) -> f64 {
     crate::physics::colour::luminance(DVec3::from(rgb.map(f64::from)))
 }
 
-/// The sRGB transfer function (IEC 61966-2-1) of one channel, clamped to [0, 1].
+/// The sRGB transfer function (IEC 61966-2-1) of one channel, clamped to [0, 1] (`display::tone`'s clip; the
+/// shaders' `srgb_oetf` in display.glsl).
 pub fn srgb_oetf(c: f64) -> f64 {
     let c = c.clamp(0.0, 1.0);
     if c <= 0.0031308 {
@@ -177,24 +178,6 @@ pub fn srgb_oetf(c: f64) -> f64 {
     }
 }
 
-/// Linear scene-referred RGB → display-referred 8-bit sRGB, after scaling by `exposure_scale` (2^EV): the CPU
-/// twin of `display_encode` in `glsl/include/spectrum.glsl`, which takes the same scale (and returns [0, 1]).
-/// A NaN channel becomes 0 in the clamp; the renderer never produces one (see the GPU tests).
-pub fn display_encode(linear: DVec3, exposure_scale: f64) -> [u8; 3] {
-    [linear.x, linear.y, linear.z].map(|c| (srgb_oetf(c * exposure_scale) * 255.0).round() as u8)
-}
-
-/// Linear scene-referred RGBA floats → display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
-pub fn linear_to_rgba8(rgba: &[f32], exposure_ev: f64) -> Vec<u8> {
-    let scale = exposure_ev.exp2();
-    rgba.chunks(4)
-        .flat_map(|p| {
-            let linear = DVec3::new(p[0].into(), p[1].into(), p[2].into());
-            let [r, g, b] = display_encode(linear, scale);
-            [r, g, b, 255]
-        })
-        .collect()
-}
 
 #[cfg(test)]
 mod tests {
@@ -272,8 +255,6 @@ mod tests {
         assert_eq!(srgb_oetf(0.0), 0.0);
         assert!((srgb_oetf(1.0) - 1.0).abs() < 1e-12);
         assert!((srgb_oetf(0.18) - 0.46135).abs() < 1e-4);
-        assert_eq!(display_encode(DVec3::splat(0.5), 2.0), [255, 255, 255]);
-        assert_eq!(display_encode(DVec3::splat(0.5), 1.0), [188; 3], "0.5 encodes to 0.735 · 255");
     }
 
     #[test]

@@ -154,9 +154,10 @@ impl BackgroundPass {
         self.uniforms.write(bytemuck::bytes_of(&self.values))
     }
 
-    /// Sets a display-encoded target's exposure (2^EV); no submitted work may still read the uniforms.
-    pub fn set_exposure_scale(&mut self, scale: f32) -> Result<()> {
-        self.values.display[0] = scale;
+    /// Sets a display-encoded target's exposure (2^EV) and tone curve (`display::Tone::gpu`); no submitted work
+    /// may still read the uniforms.
+    pub fn set_display(&mut self, scale: f32, tone: f32) -> Result<()> {
+        self.values.display = [scale, tone, 0.0, 0.0];
         self.uniforms.write(bytemuck::bytes_of(&self.values))
     }
 

@@ -227,9 +227,9 @@ impl MapImage {
         crate::io::stats::non_finite_pixels(&self.rgba)
     }
 
-    /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops.
-    pub fn to_rgba8(&self, exposure_ev: f64) -> Vec<u8> {
-        spectrum::linear_to_rgba8(&self.rgba, exposure_ev)
+    /// Display-referred 8-bit sRGB RGBA after `exposure_ev` stops and the tone curve.
+    pub fn to_rgba8(&self, exposure_ev: f64, tone: crate::display::Tone) -> Vec<u8> {
+        crate::display::tone::to_rgba8(&self.rgba, exposure_ev, tone)
     }
 }
 

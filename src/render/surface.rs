@@ -234,6 +234,8 @@ pub struct SceneRenderer {
     display_output: bool,
     /// 2^EV of a display-encoded target (the materials' `params.display[0]`), for the background too.
     display_scale: f32,
+    /// The tone curve of a display-encoded target (`display::Tone::gpu`, the materials' `params.display[1]`).
+    display_tone: f32,
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
@@ -284,6 +286,7 @@ impl SceneRenderer {
             color_format,
             display_output: matches!(variant, SurfaceVariant::Shade { display_output: true }),
             display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
+            display_tone: materials.first().map_or(0.0, |m| m.material.params.display[1]),
             counting: false,
             samples,
             cull_back_faces: false,
@@ -479,7 +482,7 @@ impl SceneRenderer {
                 let under = self.visibility.is_some();
                 let pass = BackgroundPass::new(ctx, self.color_format, self.display_output, self.samples, under)?;
                 let mut pass = Guard::new(ctx, pass);
-                pass.set_exposure_scale(self.display_scale)?;
+                pass.set_display(self.display_scale, self.display_tone)?;
                 self.background = Some(pass.keep());
             }
             let background = self.background.as_mut().expect("made above");
@@ -582,15 +585,16 @@ impl SceneRenderer {
         Ok(())
     }
 
-    /// Sets the exposure of the shaders' display output; no submitted work may still read the uniforms.
-    pub fn set_exposure(&mut self, exposure_ev: f64) -> Result<()> {
+    /// Sets the exposure and the tone curve of the shaders' display output; no submitted work may still read the
+    /// uniforms.
+    pub fn set_display(&mut self, exposure_ev: f64, tone: crate::display::Tone) -> Result<()> {
+        (self.display_scale, self.display_tone) = (exposure_ev.exp2() as f32, tone.gpu());
         for m in &mut self.materials {
-            m.params.display[0] = exposure_ev.exp2() as f32;
+            m.params.display = [self.display_scale, self.display_tone, 0.0, 0.0];
             m.patch.update(&m.params)?;
         }
-        self.display_scale = exposure_ev.exp2() as f32;
         if let Some(background) = &mut self.background {
-            background.set_exposure_scale(self.display_scale)?;
+            background.set_display(self.display_scale, self.display_tone)?;
         }
         Ok(())
     }

@@ -44,6 +44,8 @@ const EXPOSURE_STEP_EV: f64 = 0.5;
 pub struct Live {
     pub overrides: SettingsPatch,
     pub exposure_ev: f64,
+    /// The tone curve the window shows light through (`--tone`).
+    pub tone: crate::display::Tone,
     /// Show the first object's BRDF as a map instead of the geometry.
     pub map_mode: bool,
     /// Camera orbit about the target: yaw and pitch (radians) and distance.
@@ -82,6 +84,7 @@ impl Live {
         Self {
             overrides,
             exposure_ev,
+            tone: crate::display::Tone::default(),
             map_mode: false,
             yaw: offset.x.atan2(offset.z),
             pitch: (offset.y / distance).clamp(-1.0, 1.0).asin(),
@@ -222,6 +225,7 @@ mod tests {
         Live {
             overrides: SettingsPatch::default(),
             exposure_ev: 0.0,
+            tone: crate::display::Tone::default(),
             map_mode: false,
             yaw: 0.0,
             pitch: 0.0,

@@ -26,7 +26,7 @@ use crate::gpu::vk::FrameTimes;
 use crate::gpu::vk::{Context, ContextDesc, Guard, Owned};
 use crate::material::{Approach, SettingsPatch};
 use crate::material::{Material, Reach};
-use crate::physics::spectrum::display_encode;
+use crate::display::tone::encode;
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
 use crate::render::surface::{Instruments, SceneRenderer};
@@ -44,6 +44,8 @@ pub struct ViewOptions {
     pub overrides: SettingsPatch,
     /// None: measured from the first frame of the prepared materials (not the stand-in), as `render` does.
     pub exposure_ev: Option<f64>,
+    /// The tone curve the window shows light through.
+    pub tone: crate::display::Tone,
     /// Render this many frames, write the last to `screenshot` and exit.
     pub frames: Option<u32>,
     pub screenshot: Option<PathBuf>,
@@ -318,7 +320,7 @@ impl Gpu {
         mut materials: Vec<Material>,
     ) -> Result<Self> {
         for m in &mut materials {
-            m.set_exposure(live.exposure_ev);
+            m.set_display(live.exposure_ev, live.tone);
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
         let (format, samples) = (target.format(), target.samples());
@@ -404,7 +406,8 @@ impl State {
         let size = window.inner_size();
         let target = WindowTarget::new(&ctx, (display, handle), (size.width, size.height), options.vsync, samples)?;
         let target = Guard::new(&ctx, target);
-        let live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev.unwrap_or(0.0));
+        let mut live = Live::from_scene(&options.scene, options.overrides, options.exposure_ev.unwrap_or(0.0));
+        live.tone = options.tone;
         let (gpu, pending) = first_gpu(&ctx, &options.scene, &live, &target)?;
         let target = target.keep();
         let mut state = Self {
@@ -446,7 +449,7 @@ impl State {
         let (ev, line) = crate::display::measure(frame.linear().unwrap_or_default(), "the first frame");
         outln!("view: {line}");
         self.live.exposure_ev = ev;
-        self.gpu.renderer.set_exposure(ev)?;
+        self.gpu.renderer.set_display(ev, self.live.tone)?;
         Ok(())
     }
 
@@ -488,7 +491,7 @@ impl State {
             self.live.overrides.accept_f32_error = true;
             self.rebuild(options)?;
         } else {
-            self.gpu.renderer.set_exposure(self.live.exposure_ev)?;
+            self.gpu.renderer.set_display(self.live.exposure_ev, self.live.tone)?;
         }
         Ok(())
     }
@@ -644,13 +647,14 @@ impl State {
             let map_light = Vec3::new(light.x, -light.z, light.y);
             let mut params = light_params(&gpu.materials[scene.objects[0].material], map_light.as_dvec3());
             params.display[0] = exposure as f32;
+            params.display[1] = self.live.tone.gpu();
             gpu.map_patch.update(&params)?;
             gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None, None);
             laps.lap(frame.cmd, crate::render::pass::SHADING);
         } else {
             // Cleared to the code values the shaders give the background colour (the images are UNORM).
             let [r, g, b] = scene.render.background.map(f64::from);
-            let [r, g, b] = display_encode(DVec3::new(r, g, b), exposure).map(|c| f32::from(c) / 255.0);
+            let [r, g, b] = encode(DVec3::new(r, g, b), exposure, self.live.tone).map(|c| f32::from(c) / 255.0);
             let instruments = Instruments { laps, ..Instruments::default() };
             gpu.renderer.record_with(ctx, frame.cmd, &frame.scene(), [r, g, b, 1.0], instruments);
         }

@@ -23,9 +23,10 @@ fn every_asset_scene_renders_in_colour() {
             let frames = capture_views(ctx, &scene, &materials, (w, h), samples, &[view]);
             frames[0].linear().unwrap().to_vec()
         });
-        let rgba8 = diffract::physics::spectrum::linear_to_rgba8(
+        let rgba8 = diffract::display::tone::to_rgba8(
             &linear,
             scene.render.exposure_ev.expect("every shipped scene sets its exposure"),
+            diffract::display::Tone::Clip,
         );
         let coloured =
             rgba8.chunks(4).filter(|p| p[..3].iter().max().unwrap() - p[..3].iter().min().unwrap() > 40).count();

@@ -5,7 +5,8 @@ use diffract::material::{Material, Reach};
 use diffract::physics::colour::xyz_to_linear_srgb;
 use diffract::physics::exact::{Method, Reference};
 use diffract::physics::formats::png::PngScale;
-use diffract::physics::spectrum::display_encode;
+use diffract::display::tone::encode;
+use diffract::display::Tone;
 use diffract::render::surface::render_surface;
 use diffract::render::SceneView;
 use diffract::scene::camera::Camera;
@@ -70,14 +71,16 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
         .unwrap();
     let settings = Settings { lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
     let mut material = Material::prepare(&hf, settings, &Reach::ANY).unwrap();
-    material.set_exposure(2.0);
+    material.set_display(2.0, diffract::display::Tone::Clip);
     let reference = Reference::new(&hf, material.window, Method::Taylor, material.plan).unwrap();
     let (w, h) = (64u32, 48u32);
     let (mesh, sc) = scene(30.0, -1.0);
-    let (linear, display) = gpu_test(|ctx| {
+    let (linear, display, display_filmic) = gpu_test(|ctx| {
         let l = render_surface(ctx, &material, &mesh, &sc, w, h, false).unwrap();
         let d = render_surface(ctx, &material, &mesh, &sc, w, h, true).unwrap();
-        (l.linear().unwrap().to_vec(), d.rgba8().unwrap().to_vec())
+        material.set_display(2.0, Tone::Filmic);
+        let f = render_surface(ctx, &material, &mesh, &sc, w, h, true).unwrap();
+        (l.linear().unwrap().to_vec(), d.rgba8().unwrap().to_vec(), f.rgba8().unwrap().to_vec())
     });
     // The patch frame: x = tangent, y = handedness · (n × t), z = n.
     let (s, c) = 30f64.to_radians().sin_cos();
@@ -100,14 +103,18 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
                 lit += 1;
             }
             assert!((gpu - cpu).abs().max_element() / scale < 5e-3, "pixel ({x}, {y}): GPU {gpu} vs CPU {cpu}");
-            // The shader's own exposure and sRGB encoding agree with the CPU's to one code value.
-            let expected = display_encode(gpu, 2f64.exp2());
-            for k in 0..3 {
-                assert!(
-                    display[i + k].abs_diff(expected[k]) <= 1,
-                    "pixel ({x}, {y}) display {:?} vs {expected:?}",
-                    &display[i..i + 3]
-                );
+            // The shader's own exposure and tone curve (the sRGB transfer function clipped, and AgX) agree with
+            // the CPU's to one code value.
+            for (tone, shown) in [(Tone::Clip, &display), (Tone::Filmic, &display_filmic)] {
+                let expected = encode(gpu, 2f64.exp2(), tone);
+                for k in 0..3 {
+                    assert!(
+                        shown[i + k].abs_diff(expected[k]) <= 1,
+                        "pixel ({x}, {y}) {} display {:?} vs {expected:?}",
+                        tone.name(),
+                        &shown[i..i + 3]
+                    );
+                }
             }
         }
     }
