@@ -190,7 +190,7 @@ fn sky(args: &SkyArgs) -> anyhow::Result<()> {
     let rgba = map.to_rgba();
     if png {
         let ev = args.exposure.unwrap_or_else(|| {
-            let (ev, line) = crate::display::measure(&rgba, "the map");
+            let (ev, line) = crate::display::measure(&rgba, None, "the map", crate::display::Tone::Clip);
             outln!("{line}");
             ev
         });

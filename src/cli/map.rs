@@ -60,9 +60,9 @@ pub struct MapArgs {
     /// measured from the map (its lit pixels' 99.5th percentile of luminance shown at 0.9)
     #[arg(value_parser = parse::exposure, long, value_name = "EV", alias = "exposure-ev")]
     pub exposure: Option<f64>,
-    /// How the 8-bit output shows light above display white: clip (the sRGB transfer function, clipped) or
-    /// filmic (AgX: highlights roll off over four stops, bright spectral colours desaturate towards white); the EXR
-    /// stays linear
+    /// How the 8-bit output shows light: clip (the sRGB transfer function, clipped at white: a map is a plot of
+    /// the BRDF, proportional up to white) or filmic (AgX: highlights roll off over four stops above white, bright
+    /// spectral colours desaturate towards white); the EXR stays linear
     #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
     pub tone: crate::display::Tone,
     #[command(flatten)]
@@ -136,7 +136,7 @@ fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64>
     let exposure = match args.exposure {
         Some(ev) => ev,
         None => {
-            let (ev, line) = crate::display::measure(&map.rgba, "the map");
+            let (ev, line) = crate::display::measure(&map.rgba, None, "the map", args.tone);
             errln!("{line}");
             ev
         }

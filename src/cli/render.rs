@@ -38,10 +38,11 @@ pub struct RenderArgs {
     pub height: Option<u32>,
     #[command(flatten)]
     pub settings: SceneOverrideArgs,
-    /// How the 8-bit output shows light above display white: clip (the sRGB transfer function, clipped) or
-    /// filmic (AgX: highlights roll off over four stops, bright spectral colours desaturate towards white); the EXR
-    /// stays linear
-    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
+    /// How the 8-bit output shows light: filmic (AgX, as a camera's picture: highlights roll off over four stops
+    /// above white, bright spectral colours desaturate towards white; a measured exposure puts the objects' median
+    /// at middle grey) or clip (the sRGB transfer function, clipped at white; a measured exposure puts the 99.5th
+    /// percentile at 0.9); the EXR stays linear
+    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "filmic")]
     pub tone: crate::display::Tone,
     /// Number of frames: a sequence with --orbit or --light-sweep
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
@@ -267,15 +268,18 @@ fn render_frames(
     let mut warned = false;
     for f in 0..args.frames {
         let (camera, light) = frame_setup(scene, args, f);
-        let frame =
-            capture.render(ctx, &SceneView::lit(scene, camera, light)).with_context(|| format!("frame {}", f + 1))?;
+        let view = SceneView::lit(scene, camera, light);
+        let frame = capture.render(ctx, &view).with_context(|| format!("frame {}", f + 1))?;
         let linear = frame.linear().expect("scene frames are captured linear");
         let png = numbered(&args.out, f, args.frames);
-        let ev = *exposure.get_or_insert_with(|| {
-            let (ev, line) = crate::display::measure(linear, "the first frame");
-            bar.line(&line);
-            ev
-        });
+        let ev = match exposure {
+            Some(ev) => ev,
+            None => {
+                let (ev, line) = capture.meter(ctx, &view, linear, args.tone)?;
+                bar.line(&line);
+                *exposure.insert(ev)
+            }
+        };
         // One verdict per sequence is enough: the rest would repeat it.
         if let Some(line) = crate::display::verdict(linear, ev, args.tone).filter(|_| !warned) {
             bar.line(&format!("{line} (frame {})", f + 1));

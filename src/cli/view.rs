@@ -40,9 +40,9 @@ pub struct ViewArgs {
     /// The settings at start (the keys change them while the window is open)
     #[command(flatten)]
     pub settings: SceneOverrideArgs,
-    /// How the window shows light above display white: clip (the sRGB transfer function, clipped) or filmic (AgX:
-    /// highlights roll off over four stops, bright spectral colours desaturate towards white)
-    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "clip")]
+    /// How the window shows light: filmic (AgX, as `render` shows it: highlights roll off over four stops above
+    /// white, bright spectral colours desaturate towards white) or clip (the sRGB transfer function, clipped)
+    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "filmic")]
     pub tone: crate::display::Tone,
     /// Ask the window to shrink to 3/4 after N frames (tests that a resize is survived)
     #[arg(long, hide = true, value_name = "N")]

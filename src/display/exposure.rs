@@ -1,10 +1,18 @@
 //! Exposure measured from a frame, for a scene or command that sets none, and the one-line verdict on a frame
 //! that came out almost all black or all white.
 //!
-//! Auto exposure: the 99.5th percentile of the luminance of the frame's lit pixels (Y > 0 of linear sRGB, so a
-//! black background does not count) is mapped to [`AUTO_TARGET`] before the sRGB transfer function: the
-//! brightest half percent (glints) may clip, the rest of the image keeps its ratios. A sequence measures its
-//! first frame and keeps that exposure for every frame, so that brightness changes between frames stay visible.
+//! Auto exposure meters the pixels that count (the subject's where the caller knows which pixels show objects —
+//! `SceneCapture::meter` does for the filmic curve — else the lit ones: Y > 0 of linear sRGB, so a black
+//! background does not count), as the tone curve needs:
+//! - shown through clip (`Tone::Clip`), the 99.5th percentile of their luminance is mapped to [`AUTO_TARGET`]
+//!   before the sRGB transfer function: the brightest half percent (glints) may clip, the rest keeps its ratios;
+//! - shown through the filmic curve, their median is mapped to middle grey ([`MIDDLE_GREY`], as a camera's meter
+//!   does), unless that would put their 99.5th percentile more than [`GLINT_HEADROOM_EV`] stops over display
+//!   white: the glints — a grating's colours — stay on the curve's shoulder, where they keep most of their
+//!   saturation, instead of its top, where AgX turns them white.
+//!
+//! A sequence measures its first frame and keeps that exposure for every frame, so that brightness changes between
+//! frames stay visible.
 
 use crate::display::tone::{encode, Tone};
 use crate::physics::spectrum::luminance;
@@ -13,6 +21,12 @@ use crate::physics::spectrum::luminance;
 pub const AUTO_QUANTILE: f64 = 0.995;
 /// Where the quantile lands, linear (before the sRGB transfer function; 1 is display white).
 pub const AUTO_TARGET: f64 = 0.9;
+/// Where the filmic curve's metering puts the subject's median luminance (AgX shows it at half the code range).
+pub const MIDDLE_GREY: f64 = 0.18;
+/// The filmic metering's headroom: the 99.5th percentile of the metered pixels at most this many stops over
+/// display white (AgX shows 4 at 0.93 of the code range; on the default snake, 2 stops kept 5.3 % of its pixels
+/// in diffraction's colours where the median at middle grey alone, 1.8 stops brighter, kept 3.8 %).
+pub const GLINT_HEADROOM_EV: f64 = 2.0;
 /// The most stops an exposure may be set to either way (a flag, a scene's `exposure_ev`): 2^100 takes any radiance
 /// f32 holds from black to white.
 pub const MAX_EXPOSURE_EV: f64 = 100.0;
@@ -22,7 +36,8 @@ pub const AUTO_LIMIT_EV: f64 = 40.0;
 pub const BLACK_CODE: u8 = 12;
 /// A frame is "almost all black" when at least this fraction of its pixels are.
 pub const BLACK_FRACTION: f64 = 0.99;
-/// A frame is "mostly white" when at least this fraction of its lit pixels clip (a channel at 254 or 255).
+/// A frame is "mostly white" when at least this fraction of its lit pixels clip (a channel within a code value of
+/// the tone curve's top: 255 for clip, 250 for AgX, whose fit tops out at 0.982).
 pub const WHITE_FRACTION: f64 = 0.5;
 
 /// An exposure measured from a frame.
@@ -30,44 +45,87 @@ pub const WHITE_FRACTION: f64 = 0.5;
 pub struct AutoExposure {
     /// The exposure in stops.
     pub ev: f64,
-    /// The luminance at the quantile, linear (Y of a white mirror under the light is 1).
+    /// The luminance metered, linear (Y of a white mirror under the light is 1): the 99.5th percentile (clip), or
+    /// the median (filmic).
     pub luminance: f64,
-    /// How many pixels were lit (Y > 0).
+    /// How many pixels were metered (lit: Y > 0).
     pub lit: usize,
+    /// The tone curve it was metered for.
+    pub tone: Tone,
+    /// Filmic: the median's exposure was lowered to keep the 99.5th percentile within the curve.
+    pub held: bool,
+    /// The pixels metered were the subject's (the objects'), not every lit pixel.
+    pub subject: bool,
 }
 
 impl AutoExposure {
-    /// Measures linear RGBA (rows of pixels, 4 floats each); None where no pixel is lit or finite.
+    /// Measures linear RGBA (rows of pixels, 4 floats each) for the clip curve; None where no pixel is lit or
+    /// finite.
     pub fn of(rgba: &[f32]) -> Option<Self> {
         Self::of_luminance(rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]])))
     }
 
-    /// Measures pixels' luminances (Y; the profiler's exact reference gives XYZ); None where none is lit.
+    /// Measures pixels' luminances (Y; the profiler's exact reference gives XYZ) for the clip curve; None where
+    /// none is lit.
     pub fn of_luminance(values: impl Iterator<Item = f64>) -> Option<Self> {
+        Self::metered(values, Tone::Clip)
+    }
+
+    /// Measures pixels' luminances as `tone` needs (see the module's note); None where none is lit.
+    pub fn metered(values: impl Iterator<Item = f64>, tone: Tone) -> Option<Self> {
         let mut lit: Vec<f64> = values.filter(|y| y.is_finite() && *y > 0.0).collect();
         let count = lit.len();
-        let luminance = crate::io::stats::percentile(&mut lit, AUTO_QUANTILE);
-        if count == 0 || luminance.is_nan() || luminance <= 0.0 {
+        let top = crate::io::stats::percentile(&mut lit, AUTO_QUANTILE);
+        if count == 0 || top.is_nan() || top <= 0.0 {
             return None;
         }
-        let ev = (AUTO_TARGET / luminance).log2().clamp(-AUTO_LIMIT_EV, AUTO_LIMIT_EV);
-        Some(Self { ev, luminance, lit: count })
+        let (ev, luminance, held) = match tone {
+            Tone::Clip => ((AUTO_TARGET / top).log2(), top, false),
+            Tone::Filmic => {
+                let median = crate::io::stats::percentile(&mut lit, 0.5);
+                let grey = (MIDDLE_GREY / median).log2();
+                let ceiling = GLINT_HEADROOM_EV - top.log2();
+                (grey.min(ceiling), median, ceiling < grey)
+            }
+        };
+        let ev = ev.clamp(-AUTO_LIMIT_EV, AUTO_LIMIT_EV);
+        Some(Self { ev, luminance, lit: count, tone, held, subject: false })
     }
 
     /// One line for the user: the exposure and where it came from.
     pub fn describe(&self) -> String {
-        format!(
-            "exposure {:+.2} EV, measured (the 99.5th percentile of the lit pixels' luminance, {:.4e}, shown at {}; \
-             --exposure EV or [render] exposure_ev sets one)",
-            self.ev, self.luminance, AUTO_TARGET
-        )
+        let pixels = if self.subject { "the objects' pixels'" } else { "the lit pixels'" };
+        let how = match (self.tone, self.held) {
+            (Tone::Clip, _) => {
+                format!("the 99.5th percentile of {pixels} luminance, {:.4e}, shown at {AUTO_TARGET}", self.luminance)
+            }
+            (Tone::Filmic, false) => {
+                format!("the median of {pixels} luminance, {:.4e}, shown at middle grey {MIDDLE_GREY}", self.luminance)
+            }
+            (Tone::Filmic, true) => format!(
+                "the median of {pixels} luminance, {:.4e}, below middle grey so that their 99.5th percentile stays \
+                 within {GLINT_HEADROOM_EV} stops over white",
+                self.luminance
+            ),
+        };
+        format!("exposure {:+.2} EV, measured ({how}; --exposure EV or [render] exposure_ev sets one)", self.ev)
     }
 }
 
-/// The exposure of `rgba` (linear RGBA) measured, or 0 EV where nothing in it is lit, with the line that tells
-/// the user which (`what` names the frame: "the first frame", "the map").
-pub fn measure(rgba: &[f32], what: &str) -> (f64, String) {
-    match AutoExposure::of(rgba) {
+/// The exposure of `rgba` (linear RGBA) measured for `tone`, or 0 EV where nothing in it is lit, with the line
+/// that tells the user which (`what` names the frame: "the first frame", "the map"). `coverage`: the share of each
+/// pixel that objects cover (the alpha of the same view drawn without a background: `render::capture`), where the
+/// caller has it; pixels at least half covered are the subject metered.
+pub fn measure(rgba: &[f32], coverage: Option<&[f32]>, what: &str, tone: Tone) -> (f64, String) {
+    let luminances = rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]]));
+    let auto = match coverage {
+        Some(alpha) => {
+            let subject = luminances.zip(alpha.chunks_exact(4)).filter(|(_, a)| a[3] >= 0.5).map(|(y, _)| y);
+            AutoExposure::metered(subject, tone).map(|a| AutoExposure { subject: true, ..a })
+        }
+        None => AutoExposure::metered(luminances, tone),
+    };
+    match auto {
         Some(auto) => (auto.ev, auto.describe()),
         None => (0.0, format!("warning: nothing in {what} is lit, so no exposure can be measured: 0 EV")),
     }
@@ -78,6 +136,8 @@ pub fn measure(rgba: &[f32], what: &str) -> (f64, String) {
 pub fn verdict(rgba: &[f32], exposure_ev: f64, tone: Tone) -> Option<String> {
     let scale = exposure_ev.exp2();
     let (mut black, mut white, mut lit, mut total) = (0usize, 0usize, 0usize, 0usize);
+    // The code a channel reaches under the brightest light, less one: at or above it, the channel is clipped.
+    let top = encode(glam::DVec3::splat(1e30), 1.0, tone).into_iter().min().unwrap_or(255).saturating_sub(1);
     for p in rgba.chunks_exact(4) {
         let rgb = glam::DVec3::new(p[0].into(), p[1].into(), p[2].into());
         let shown = encode(rgb, scale, tone);
@@ -88,7 +148,7 @@ pub fn verdict(rgba: &[f32], exposure_ev: f64, tone: Tone) -> Option<String> {
         if luminance([p[0], p[1], p[2]]) > 0.0 {
             lit += 1;
             // Clipped: a channel at the top (spectral colours are out of gamut, so one channel clips first).
-            if shown.iter().any(|&c| c >= 254) {
+            if shown.iter().any(|&c| c >= top) {
                 white += 1;
             }
         }
@@ -115,6 +175,32 @@ pub fn verdict(rgba: &[f32], exposure_ev: f64, tone: Tone) -> Option<String> {
 mod tests {
     use super::*;
 
+    /// Filmic metering: the subject's median at middle grey, unless its glints would pass the curve's top; only
+    /// the covered pixels count where the coverage is given (a bright sky behind does not darken the subject).
+    #[test]
+    fn the_filmic_meter_puts_the_subject_at_middle_grey_and_keeps_its_glints() {
+        // A subject of 0.02 with 0.4 % glints 20× brighter, behind it a sky of 1.0 over three times its area.
+        let mut values = vec![0.02; 996];
+        values.extend([0.4; 4]);
+        let subject = values.len();
+        values.extend(std::iter::repeat_n(1.0, 3000));
+        let rgba = frame(&values);
+        let coverage: Vec<f32> =
+            (0..values.len()).flat_map(|i| [0.0, 0.0, 0.0, f32::from(u8::from(i < subject))]).collect();
+        let (ev, line) = measure(&rgba, Some(&coverage), "the frame", Tone::Filmic);
+        assert!((ev - (MIDDLE_GREY / 0.02).log2()).abs() < 1e-6, "{ev}: {line}");
+        assert!(line.contains("median of the objects' pixels'") && line.contains("middle grey"), "{line}");
+        // Without the coverage the sky is the median, and the subject comes out five stops darker.
+        let (all, _) = measure(&rgba, None, "the frame", Tone::Filmic);
+        assert!((all - (MIDDLE_GREY / 1.0).log2()).abs() < 1e-9, "{all}");
+        // Glints 10⁴× the median: the exposure is held so that they stay on the curve's shoulder.
+        let mut harsh = vec![0.02; 990];
+        harsh.extend([200.0; 10]);
+        let auto = AutoExposure::metered(harsh.iter().copied(), Tone::Filmic).unwrap();
+        assert!(auto.held && (auto.ev - (GLINT_HEADROOM_EV - 200f64.log2())).abs() < 1e-9, "{auto:?}");
+        assert!(auto.describe().contains("stays within 2 stops over white"), "{}", auto.describe());
+    }
+
     fn frame(values: &[f32]) -> Vec<f32> {
         values.iter().flat_map(|&v| [v, v, v, 1.0]).collect()
     }
@@ -137,12 +223,15 @@ mod tests {
     fn nothing_lit_has_no_exposure_and_extremes_are_named() {
         assert_eq!(AutoExposure::of(&frame(&[0.0; 100])), None);
         assert_eq!(AutoExposure::of(&frame(&[f32::NAN; 4])), None);
-        let (ev, line) = measure(&frame(&[0.0; 100]), "the map");
+        let (ev, line) = measure(&frame(&[0.0; 100]), None, "the map", Tone::Clip);
         assert!(ev == 0.0 && line.starts_with("warning: nothing in the map is lit"), "{ev} {line}");
-        assert!(measure(&frame(&[0.01; 4]), "the map").1.contains("measured"));
+        assert!(measure(&frame(&[0.01; 4]), None, "the map", Tone::Clip).1.contains("measured"));
         let dim = frame(&[0.001; 100]);
         assert!(verdict(&dim, 0.0, Tone::Clip).unwrap().contains("almost all black"));
         assert!(verdict(&dim, 20.0, Tone::Clip).unwrap().contains("mostly white"));
+        // AgX never reaches 255: its top (250) counts as clipped.
+        assert!(verdict(&dim, 20.0, Tone::Filmic).unwrap().contains("mostly white"));
+        assert!(verdict(&dim, 10.0, Tone::Filmic).is_none(), "0.001 at +10 EV is 1.02: on AgX's shoulder");
         assert!(verdict(&dim, AutoExposure::of(&dim).unwrap().ev, Tone::Clip).is_none());
         // A blown-out object on a black background is white where it is lit.
         let mut spot = frame(&[0.0; 90]);

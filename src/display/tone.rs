@@ -13,7 +13,8 @@
 
 use glam::{DMat3, DVec3};
 
-/// How linear light becomes display values.
+/// How linear light becomes display values. The library's default is the transfer function alone (`Clip`); the
+/// commands `render` and `view` show `Filmic` unless told otherwise, `map` (a plot of the BRDF) `Clip`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Tone {
     /// The sRGB transfer function, clipped at display white.

@@ -178,7 +178,6 @@ pub fn srgb_oetf(c: f64) -> f64 {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -132,6 +132,14 @@ impl SceneView {
     }
 }
 
+impl SceneView {
+    /// The same view with nothing behind the objects (transparent black, no environment drawn): its frame's alpha
+    /// is each pixel's coverage by the objects, the subject auto exposure meters (`SceneCapture::meter`).
+    pub fn without_background(&self) -> Self {
+        Self { behind: None, background: [0.0; 4], ..self.clone() }
+    }
+}
+
 /// A frame read back to the CPU, rows top first: what every offscreen pass but the BRDF map (a
 /// [`diffraction::MapImage`], square and in direction space) gives.
 #[derive(Clone, Debug)]

@@ -20,13 +20,13 @@ use winit::window::{Window, WindowId};
 pub use controls::BINDINGS;
 use controls::{Input, Live, Request};
 
+use crate::display::tone::encode;
 use crate::error::{Error, Result};
 use crate::gpu::vk::swapchain;
 use crate::gpu::vk::FrameTimes;
 use crate::gpu::vk::{Context, ContextDesc, Guard, Owned};
 use crate::material::{Approach, SettingsPatch};
 use crate::material::{Material, Reach};
-use crate::display::tone::encode;
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
 use crate::render::diffraction::{light_params, MapPass, PatchResources};
 use crate::render::surface::{Instruments, SceneRenderer};
@@ -446,7 +446,7 @@ impl State {
         let mut capture = Owned::new(&self.ctx, capture);
         let view = SceneView::lit(scene, self.live.camera(&scene.camera), self.live.light());
         let frame = capture.render(&self.ctx, &view)?;
-        let (ev, line) = crate::display::measure(frame.linear().unwrap_or_default(), "the first frame");
+        let (ev, line) = capture.meter(&self.ctx, &view, frame.linear().unwrap_or_default(), self.live.tone)?;
         outln!("view: {line}");
         self.live.exposure_ev = ev;
         self.gpu.renderer.set_display(ev, self.live.tone)?;

@@ -301,6 +301,11 @@ fn golden_maps_per_approach() {
     for approach in Approach::ALL {
         let settings = Settings { approach, lambda_step_nm: 10.0, coherence_um: 8.0, ..Settings::default() };
         let (_, image) = map(&hf, settings, 48, light);
-        golden::check(&format!("map_elaphe_{}_48", approach.name()), 48, 48, &image.to_rgba8(3.0, diffract::display::Tone::Clip));
+        golden::check(
+            &format!("map_elaphe_{}_48", approach.name()),
+            48,
+            48,
+            &image.to_rgba8(3.0, diffract::display::Tone::Clip),
+        );
     }
 }

@@ -98,7 +98,7 @@ fn sun_disc(sun: DVec3, white: DVec3) -> EnvironmentMap {
 
 /// Mean and largest ΔE00 of `a` against `b` over the map's disk, at the exposure measured from `b`.
 fn map_delta_e(a: &MapImage, b: &MapImage) -> (f64, f64, usize) {
-    let (ev, _) = diffract::display::measure(&b.rgba, "the map");
+    let (ev, _) = diffract::display::measure(&b.rgba, None, "the map", diffract::display::Tone::Clip);
     let mut errors = Vec::new();
     for y in 0..a.size {
         for x in 0..a.size {
@@ -146,7 +146,7 @@ fn the_baked_map_under_a_sky_matches_the_exact_brdf_integrated_over_it() {
     let map = EnvironmentMap::of_sky_and_sun(&sky, 512, 0.2).unwrap();
     let env = EnvLight::new(&map, 1.0 / sky.sun_xyz().y, 0.0).unwrap();
     let gpu = env_map(&material, &env, size, 16384);
-    let (ev, _) = diffract::display::measure(&gpu.rgba, "the map");
+    let (ev, _) = diffract::display::measure(&gpu.rgba, None, "the map", diffract::display::Tone::Clip);
     let mut rng = fastrand::Rng::with_seed(42);
     let mut pixels = Vec::new();
     while pixels.len() < 24 {
@@ -383,7 +383,7 @@ fn the_snake_under_the_sky_diffracts_it_as_the_exact_integral_would() {
     .unwrap();
     let proposal = TableProposal::new(table.table.as_ref().unwrap()).unwrap();
     let exact = ExactEnv::new(&material.heightfield, &settings).unwrap();
-    let (ev, _) = diffract::display::measure(at_vertices, "the frame");
+    let (ev, _) = diffract::display::measure(at_vertices, None, "the frame", diffract::display::Tone::Clip);
     let rgb =
         |frame: &[f32], i: usize| DVec3::new(frame[4 * i].into(), frame[4 * i + 1].into(), frame[4 * i + 2].into());
     // The two ways of evaluating the same prefiltered model, over every pixel that shows the snake.

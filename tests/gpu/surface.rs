@@ -1,12 +1,12 @@
 //! The surface pass (vertex stage, tangent frames, per-fragment directions) against the CPU reference.
 
+use diffract::display::tone::encode;
+use diffract::display::Tone;
 use diffract::material::Settings;
 use diffract::material::{Material, Reach};
 use diffract::physics::colour::xyz_to_linear_srgb;
 use diffract::physics::exact::{Method, Reference};
 use diffract::physics::formats::png::PngScale;
-use diffract::display::tone::encode;
-use diffract::display::Tone;
 use diffract::render::surface::render_surface;
 use diffract::render::SceneView;
 use diffract::scene::camera::Camera;

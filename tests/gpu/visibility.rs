@@ -40,7 +40,8 @@ fn the_visibility_buffer_draws_what_the_forward_pass_draws() {
             let (w, h) = (96, 96);
             let [forward, visibility] = both_paths(&scene, (w, h), samples);
             let ev = scene.render.exposure_ev.unwrap();
-            let [a, b] = [&forward, &visibility].map(|f| diffract::display::tone::to_rgba8(f, ev, diffract::display::Tone::Clip));
+            let [a, b] = [&forward, &visibility]
+                .map(|f| diffract::display::tone::to_rgba8(f, ev, diffract::display::Tone::Clip));
             let diffs: Vec<i32> = a
                 .chunks(4)
                 .zip(b.chunks(4))
