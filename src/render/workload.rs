@@ -333,6 +333,10 @@ impl<'a> SceneWorkload<'a> {
         if path == ShadingPath::Visibility {
             renderer.use_visibility_buffer(ctx, extent)?;
         }
+        if variant == (SurfaceVariant::Shade { display_output: true }) {
+            // As the viewer draws them by default (the exposure stays 0 EV: the frames are timed, not compared).
+            renderer.set_display(0.0, crate::display::Tone::Filmic)?;
+        }
         let aspect = extent.width as f32 / extent.height as f32;
         renderer.update(ctx, view, aspect)?;
         Ok(renderer.keep())
