@@ -26,6 +26,10 @@ pub struct HeightFieldArgs {
     /// Repeat the patch periodically NX times along x and NY along y
     #[arg(long, value_name = "NX[,NY]", value_parser = parse::tile)]
     pub tile: Option<(usize, usize)>,
+    /// Extend the patch to UM × UM µm without a period: a random-phase field with its measured power spectrum and
+    /// its height distribution (docs/approaches.md, "Extending a cut-out"), where --tile would repeat it
+    #[arg(long, value_name = "UM", value_parser = parse::finite, conflicts_with = "tile")]
+    pub extend_um: Option<f64>,
 }
 
 impl HeightFieldArgs {
@@ -36,9 +40,10 @@ impl HeightFieldArgs {
             _ => bail!("--pixel-size-um and --height-um go together"),
         };
         let hf = crate::physics::formats::load(&self.heightfield, png)?;
-        match self.tile {
-            Some((tx, ty)) => Ok(hf.tiled(tx, ty)?),
-            None => Ok(hf),
+        match (self.tile, self.extend_um) {
+            (Some((tx, ty)), _) => Ok(hf.tiled(tx, ty)?),
+            (None, Some(um)) => Ok(hf.extended(um)?),
+            (None, None) => Ok(hf),
         }
     }
 }
@@ -99,9 +104,26 @@ pub struct SceneOverrideArgs {
     /// map has one)
     #[arg(long, value_name = "N", value_parser = parse::samples)]
     pub samples: Option<u32>,
+    /// Extend every material's patch (one cell of a tiled one) to UM × UM µm without a period: a random-phase
+    /// field with its measured power spectrum and its height distribution (docs/approaches.md, "Extending a
+    /// cut-out"); default: each material's own `tile` or `extend_um`
+    #[arg(long, value_name = "UM", value_parser = parse::finite)]
+    pub extend_um: Option<f64>,
 }
 
 impl SceneOverrideArgs {
+    /// The scene at `path` (None: the built-in one), its patches extended where `--extend-um` says.
+    pub fn load_scene(&self, path: Option<&std::path::Path>) -> anyhow::Result<crate::scene::Scene> {
+        let mut scene = match path {
+            Some(path) => crate::scene::Scene::load(path)?,
+            None => crate::scene::Scene::default_scene()?,
+        };
+        if let Some(um) = self.extend_um {
+            scene.extend_patches(um)?;
+        }
+        Ok(scene)
+    }
+
     /// The sample count for `scene` on `ctx`'s device: the flag, else the scene's; refused (one line) where the
     /// device cannot.
     pub fn sample_count(

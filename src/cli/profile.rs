@@ -19,7 +19,6 @@ use crate::reference::profiler::run::{Options, Progress, ReferenceOptions, Repor
 use crate::reference::profiler::{Config, Row, Sweep};
 use crate::render::surface::FrameTarget;
 use crate::render::workload::{fetch_probe, ProbeResult};
-use crate::scene::Scene;
 
 #[derive(Args, Debug)]
 pub struct ProfileArgs {
@@ -170,11 +169,15 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
 
 fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
     if let Some(path) = &args.heightfield {
+        if args.tile.is_some() && args.settings.extend_um.is_some() {
+            bail!("give --tile (repeat the patch) or --extend-um (grow it without a period), not both");
+        }
         let heightfield = HeightFieldArgs {
             heightfield: path.clone(),
             pixel_size_um: args.pixel_size_um,
             height_um: args.height_um,
             tile: args.tile,
+            extend_um: args.settings.extend_um,
         };
         let (theta, phi) = (args.light_theta, args.light_phi);
         optics::check_theta("light", theta)?;
@@ -194,10 +197,7 @@ fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
     if args.light_theta != 0.0 || args.light_phi != 0.0 {
         bail!("--light-theta and --light-phi are a BRDF map's (--heightfield); a scene has its own light");
     }
-    let scene = match &args.scene {
-        Some(path) => Scene::load(path)?,
-        None => Scene::default_scene()?,
-    };
+    let scene = args.settings.load_scene(args.scene.as_deref())?;
     let name = args.scene.as_ref().map_or(crate::scene::DEFAULT_SCENE_NAME.to_string(), |p| p.display().to_string());
     let aspect = match args.height {
         Some(h) => f64::from(h) / f64::from(args.width),

@@ -171,10 +171,7 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
     }
     check_sequence_names(args)?;
-    let scene = match &args.scene {
-        Some(path) => Scene::load(path)?,
-        None => Scene::default_scene()?,
-    };
+    let scene = args.settings.load_scene(args.scene.as_deref())?;
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
     let exposure = args.settings.exposure.or(scene.render.exposure_ev);

@@ -7,7 +7,6 @@ use clap::{Args, ValueEnum};
 
 use crate::cli::args::SceneOverrideArgs;
 use crate::cli::GpuArgs;
-use crate::scene::Scene;
 use crate::view;
 use crate::view::ViewOptions;
 
@@ -62,10 +61,7 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
     if no_display {
         bail!("no display (neither DISPLAY nor WAYLAND_DISPLAY is set): `diffract view` opens a window; use `diffract render` for headless images");
     }
-    let scene = match &args.scene {
-        Some(path) => Scene::load(path)?,
-        None => Scene::default_scene()?,
-    };
+    let scene = args.settings.load_scene(args.scene.as_deref())?;
     // None: measured from the first frame of the prepared materials.
     let exposure_ev = args.settings.exposure.or(scene.render.exposure_ev);
     let options = ViewOptions {

@@ -15,6 +15,7 @@ pub mod cie_tables;
 pub mod coherence;
 pub mod colour;
 pub mod exact;
+pub mod extend;
 pub mod formats;
 pub mod generate;
 pub mod heightfield;

@@ -170,6 +170,8 @@ struct MaterialDef {
     period_um: Option<f64>,
     seed: Option<u64>,
     tile: Option<TileDef>,
+    /// Extend the patch to this size (µm) without a period (`physics::extend`), instead of tiling it.
+    extend_um: Option<f64>,
     /// The speed/accuracy settings (`src/material/settings.rs`), under their keys.
     #[serde(flatten)]
     settings: SettingsPatch,
@@ -859,6 +861,20 @@ fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<RenderSettings> {
     Ok(render)
 }
 
+impl Scene {
+    /// Every material's patch (one cell of it, where the scene tiles it) extended to `size_um` × `size_um`
+    /// without a period (`--extend-um`: [`HeightField::extended`]); matte materials have none.
+    pub fn extend_patches(&mut self, size_um: f64) -> Result<()> {
+        for m in self.materials.iter_mut().filter(|m| !m.matte) {
+            m.heightfield = m
+                .heightfield
+                .extended(size_um)
+                .map_err(|e| Error::Invalid(format!("[material.{}] --extend-um: {e}", m.name)))?;
+        }
+        Ok(())
+    }
+}
+
 impl Get3 for Spanned<[f32; 3]> {
     fn get3(&self) -> [f32; 3] {
         *self.get_ref()
@@ -877,7 +893,7 @@ fn material(
     let at = |msg: String| loc.at(span.clone(), format!("[material.{name}] {msg}"));
     let matte = d.heightfield.is_none() && d.generate.is_none();
     let patch_keys = [d.pixel_size_um, d.height_um, d.size_um, d.period_um].iter().any(Option::is_some);
-    if matte && (patch_keys || d.seed.is_some() || d.tile.is_some()) {
+    if matte && (patch_keys || d.seed.is_some() || d.tile.is_some() || d.extend_um.is_some()) {
         return Err(at(
             "has no heightfield or generate (a matte material: pigment only), so its patch keys mean nothing".into(),
         ));
@@ -916,10 +932,14 @@ fn material(
             (None, None) => generate(&PatchSpec::new(PatchKind::Flat, MATTE_PATCH_UM, MATTE_PIXEL_UM))
                 .map_err(|e| at(e.to_string()))?,
         };
-    let hf = match d.tile {
-        None => hf,
-        Some(TileDef::Both(n)) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
-        Some(TileDef::Each([x, y])) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
+    let hf = match (d.tile, d.extend_um) {
+        (Some(_), Some(_)) => {
+            return Err(at("give tile (repeat the patch) or extend_um (grow it without a period), not both".into()))
+        }
+        (None, Some(um)) => hf.extended(um).map_err(|e| at(e.to_string()))?,
+        (None, None) => hf,
+        (Some(TileDef::Both(n)), None) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
+        (Some(TileDef::Each([x, y])), None) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
     };
     if !f64::from(d.orientation_deg).is_finite() {
         return Err(at(format!("orientation_deg = {}: expected a finite number", d.orientation_deg)));
@@ -1199,6 +1219,23 @@ tile = [2, 3]
         let night = error_of(&outdoors.replace("[0.3, 1.0, 0.5]", "[0.3, -1.0, 0.5]"));
         assert!(night.starts_with("s.toml:8: ") && night.contains("below the horizon"), "{night}");
         assert!(night.contains("environment = \"none\" lights it by the sun alone"), "{night}");
+    }
+
+    /// `extend_um` grows the patch without a period instead of tiling it (the pixel kept); with `tile` it is
+    /// refused in one line, as on a matte material; `--extend-um` extends every patch of a loaded scene (one cell
+    /// of a tiled one).
+    #[test]
+    fn a_patch_is_extended_or_tiled_not_both() {
+        let extended = GOOD.replace("tile = [2, 3]", "extend_um = 13.0");
+        let s = Scene::parse(&extended, "s.toml", Path::new(".")).unwrap();
+        assert_eq!((s.materials[0].heightfield.nx, s.materials[0].heightfield.ny), (200, 200));
+        assert_eq!(s.materials[0].heightfield.period_cell(), (200, 200), "no period");
+        let both = error_of(&GOOD.replace("tile = [2, 3]", "tile = [2, 3]\nextend_um = 13.0"));
+        assert!(both.contains("give tile") && both.contains("not both"), "{both}");
+        assert!(error_of(&GOOD.replace("tile = [2, 3]", "extend_um = 2.0")).contains("smaller than the patch"));
+        let mut tiled = Scene::parse(GOOD, "s.toml", Path::new(".")).unwrap();
+        tiled.extend_patches(13.0).unwrap();
+        assert_eq!((tiled.materials[0].heightfield.nx, tiled.materials[0].heightfield.ny), (200, 200));
     }
 
     #[test]
