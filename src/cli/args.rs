@@ -42,7 +42,7 @@ impl HeightFieldArgs {
         let hf = crate::physics::formats::load(&self.heightfield, png)?;
         match (self.tile, self.extend_um) {
             (Some((tx, ty)), _) => Ok(hf.tiled(tx, ty)?),
-            (None, Some(um)) => Ok(hf.extended(um)?),
+            (None, Some(um)) => Ok(crate::physics::extend::extend(&hf, um)?),
             (None, None) => Ok(hf),
         }
     }

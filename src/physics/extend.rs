@@ -30,6 +30,12 @@ pub const MAX_EXTEND_UM: f64 = 1000.0;
 /// The seed of the random phases: an extension is the same field on every run.
 pub const EXTEND_SEED: u64 = 1;
 
+/// `patch` (or one cell of it, where it is a tiling: [`HeightField::tiling_cell`]) extended to `size_um` × `size_um`
+/// without a period, the same field on every run ([`EXTEND_SEED`]).
+pub fn extend(patch: &HeightField, size_um: f64) -> Result<HeightField> {
+    extended(&patch.tiling_cell(), size_um, EXTEND_SEED)
+}
+
 /// `cell` (a cut-out, or one period of a tiling: [`HeightField::tiling_cell`]) extended to `size_um` × `size_um`
 /// without periodicity (see the module's note), at the cell's own pixel size.
 pub fn extended(cell: &HeightField, size_um: f64, seed: u64) -> Result<HeightField> {

@@ -136,12 +136,6 @@ impl HeightField {
         Self { nx: px, ny: py, dx_um: self.dx_um, dy_um: self.dy_um, heights_um }
     }
 
-    /// The patch (or one cell of it, where it is a tiling: [`Self::tiling_cell`]) extended to `size_um` × `size_um`
-    /// without a period ([`crate::physics::extend`]).
-    pub fn extended(&self, size_um: f64) -> Result<Self> {
-        crate::physics::extend::extended(&self.tiling_cell(), size_um, crate::physics::extend::EXTEND_SEED)
-    }
-
     /// Repeats the patch `tx` times along x and `ty` times along y (periodic tiling).
     pub fn tiled(&self, tx: usize, ty: usize) -> Result<Self> {
         if tx == 0 || ty == 0 {

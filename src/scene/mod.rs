@@ -863,12 +863,10 @@ fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<RenderSettings> {
 
 impl Scene {
     /// Every material's patch (one cell of it, where the scene tiles it) extended to `size_um` × `size_um`
-    /// without a period (`--extend-um`: [`HeightField::extended`]); matte materials have none.
+    /// without a period (`--extend-um`: [`crate::physics::extend::extend`]); matte materials have none.
     pub fn extend_patches(&mut self, size_um: f64) -> Result<()> {
         for m in self.materials.iter_mut().filter(|m| !m.matte) {
-            m.heightfield = m
-                .heightfield
-                .extended(size_um)
+            m.heightfield = crate::physics::extend::extend(&m.heightfield, size_um)
                 .map_err(|e| Error::Invalid(format!("[material.{}] --extend-um: {e}", m.name)))?;
         }
         Ok(())
@@ -936,7 +934,7 @@ fn material(
         (Some(_), Some(_)) => {
             return Err(at("give tile (repeat the patch) or extend_um (grow it without a period), not both".into()))
         }
-        (None, Some(um)) => hf.extended(um).map_err(|e| at(e.to_string()))?,
+        (None, Some(um)) => crate::physics::extend::extend(&hf, um).map_err(|e| at(e.to_string()))?,
         (None, None) => hf,
         (Some(TileDef::Both(n)), None) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
         (Some(TileDef::Each([x, y])), None) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
