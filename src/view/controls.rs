@@ -17,7 +17,8 @@ keys:  1 … 5     approach flss / nmm / pq / gem / baked
        T / shift+T   Taylor order + / −        L / shift+L   wavelength step + / − (nm)
        R / shift+R   window radius + / −       + / −         exposure ± 0.5 EV
        arrows        light azimuth / elevation M             BRDF map ↔ geometry
-       P             screenshot (diffract-NNNN.png)          H  this help        Esc  quit";
+       C             tone curve filmic ↔ clip  P             screenshot (diffract-NNNN.png)
+       H             this help                 Esc           quit";
 
 /// Radians of orbit (and of light movement) per pixel dragged.
 const RADIANS_PER_PIXEL: f32 = 0.01;
@@ -151,6 +152,10 @@ impl Live {
                 "+" | "=" => self.exposure_ev += EXPOSURE_STEP_EV,
                 "-" | "_" => self.exposure_ev -= EXPOSURE_STEP_EV,
                 "m" => self.map_mode = !self.map_mode,
+                "c" => {
+                    use crate::display::Tone;
+                    self.tone = if self.tone == Tone::Filmic { Tone::Clip } else { Tone::Filmic };
+                }
                 "h" => return Request::Help,
                 "p" => return Request::Screenshot,
                 _ => {}
@@ -272,6 +277,12 @@ mod tests {
         live.key(&char_key("+"), false, &current);
         live.key(&char_key("m"), false, &current);
         assert_eq!((live.exposure_ev, live.map_mode, live.overrides), (EXPOSURE_STEP_EV, true, before));
+        use crate::display::Tone;
+        live.tone = Tone::Filmic;
+        live.key(&char_key("c"), false, &current);
+        assert_eq!(live.tone, Tone::Clip);
+        live.key(&char_key("C"), true, &current);
+        assert_eq!((live.tone, live.overrides), (Tone::Filmic, before), "the curve alone changes");
     }
 
     #[test]

@@ -667,8 +667,8 @@ impl State {
         Ok(())
     }
 
-    /// The title: the approach and what its accuracy is made of, the exposure, the mode, the GPU time and the
-    /// frame rate.
+    /// The title: the approach and what its accuracy is made of, the exposure and tone curve, the mode, the GPU
+    /// time and the frame rate.
     fn update_title(&self) {
         let m = &self.gpu.materials[0];
         // What the approach's accuracy is made of: the baked table's texels and terms in w, or the Taylor order,
@@ -688,9 +688,10 @@ impl State {
             format!(" (standing in while {asked} is prepared, {:.0} s)", p.since.elapsed().as_secs_f64())
         });
         self.window.set_title(&format!(
-            "diffract — {}{waiting} {settings} EV={:+.1} — {} — {gpu_ms} — {:.1} fps — H: help",
+            "diffract — {}{waiting} {settings} EV={:+.1} {} — {} — {gpu_ms} — {:.1} fps — H: help",
             m.settings.approach.name(),
             self.live.exposure_ev,
+            self.live.tone.name(),
             if self.live.map_mode { "BRDF map" } else { "geometry" },
             self.timing.fps
         ));
