@@ -394,6 +394,7 @@ fn hostile_flags() {
         render("sky at nowhere", &["--sky-at", "sideways"], "vertex, pixel"),
         render("table mips cubic", &["--table-mips", "cubic"], "auto, linear, nearest"),
         render("tone aces", &["--tone", "aces"], "filmic and clip"),
+        render("tone of a preview", &["--tone", "clip", "--preview"], "cannot be used with"),
         render("extend to 2 µm", &["--extend-um", "2"], "smaller than the patch"),
         render("extend to 10⁶ µm", &["--extend-um", "1e6"], "within 1000 µm"),
         case(

@@ -42,7 +42,13 @@ pub struct RenderArgs {
     /// above white, bright spectral colours desaturate towards white; a measured exposure puts the objects' median
     /// at middle grey) or clip (the sRGB transfer function, clipped at white; a measured exposure puts the 99.5th
     /// percentile at 0.9); the EXR stays linear
-    #[arg(long, value_name = "CURVE", value_parser = crate::cli::parse::tone, default_value = "filmic")]
+    #[arg(
+        long,
+        value_name = "CURVE",
+        value_parser = crate::cli::parse::tone,
+        default_value = "filmic",
+        conflicts_with = "preview"
+    )]
     pub tone: crate::display::Tone,
     /// Number of frames: a sequence with --orbit or --light-sweep
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100_000))]
