@@ -41,7 +41,10 @@ impl HeightFieldArgs {
         };
         let hf = crate::physics::formats::load(&self.heightfield, png)?;
         match (self.tile, self.extend_um) {
-            (Some((tx, ty)), _) => Ok(hf.tiled(tx, ty)?),
+            (Some(_), Some(_)) => {
+                bail!("give --tile (repeat the patch) or --extend-um (grow it without a period), not both")
+            }
+            (Some((tx, ty)), None) => Ok(hf.tiled(tx, ty)?),
             (None, Some(um)) => Ok(crate::physics::extend::extend(&hf, um)?),
             (None, None) => Ok(hf),
         }

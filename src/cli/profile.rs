@@ -169,9 +169,6 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
 
 fn load_subject(args: &ProfileArgs) -> anyhow::Result<Subject> {
     if let Some(path) = &args.heightfield {
-        if args.tile.is_some() && args.settings.extend_um.is_some() {
-            bail!("give --tile (repeat the patch) or --extend-um (grow it without a period), not both");
-        }
         let heightfield = HeightFieldArgs {
             heightfield: path.clone(),
             pixel_size_um: args.pixel_size_um,

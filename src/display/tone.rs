@@ -90,6 +90,12 @@ pub fn agx(linear: DVec3) -> DVec3 {
     (DMat3::from_cols_array_2d(&AGX_OUTSET) * DVec3::from(encoded)).clamp(DVec3::ZERO, DVec3::ONE)
 }
 
+/// The shaders' display uniform (`params.display`, `background.display`): 2^EV, the tone curve
+/// ([`Tone::gpu`]), 0, 0.
+pub fn display_uniform(exposure_ev: f64, tone: Tone) -> [f32; 4] {
+    [exposure_ev.exp2() as f32, tone.gpu(), 0.0, 0.0]
+}
+
 /// 8-bit sRGB of linear RGB after `exposure_scale` (2^EV) and the tone curve.
 pub fn encode(linear: DVec3, exposure_scale: f64, tone: Tone) -> [u8; 3] {
     tone.encode(linear * exposure_scale).to_array().map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)

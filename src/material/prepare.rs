@@ -244,7 +244,7 @@ impl Material {
     /// Sets the exposure and the tone curve a shader that writes display values applies (a window's; 0 EV and
     /// clip as prepared).
     pub fn set_display(&mut self, exposure_ev: f64, tone: crate::display::Tone) {
-        self.params.display = [exposure_ev.exp2() as f32, tone.gpu(), 0.0, 0.0];
+        self.params.display = crate::display::tone::display_uniform(exposure_ev, tone);
     }
 
     /// One line on the baked table (its plan, and how long it took), for the commands' reports.

@@ -154,10 +154,10 @@ impl BackgroundPass {
         self.uniforms.write(bytemuck::bytes_of(&self.values))
     }
 
-    /// Sets a display-encoded target's exposure (2^EV) and tone curve (`display::Tone::gpu`); no submitted work
-    /// may still read the uniforms.
-    pub fn set_display(&mut self, scale: f32, tone: f32) -> Result<()> {
-        self.values.display = [scale, tone, 0.0, 0.0];
+    /// Sets a display-encoded target's exposure and tone curve (`display::tone::display_uniform`); no submitted
+    /// work may still read the uniforms.
+    pub fn set_display(&mut self, display: [f32; 4]) -> Result<()> {
+        self.values.display = display;
         self.uniforms.write(bytemuck::bytes_of(&self.values))
     }
 

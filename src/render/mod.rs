@@ -130,9 +130,7 @@ impl SceneView {
             background: [r, g, b, 1.0],
         }
     }
-}
 
-impl SceneView {
     /// The same view with nothing behind the objects (transparent black, no environment drawn): its frame's alpha
     /// is each pixel's coverage by the objects, the subject auto exposure meters (`SceneCapture::meter`).
     pub fn without_background(&self) -> Self {

@@ -232,10 +232,9 @@ pub struct SceneRenderer {
     /// What the background pass is built for: the targets' format and whether they are display-encoded.
     color_format: vk::Format,
     display_output: bool,
-    /// 2^EV of a display-encoded target (the materials' `params.display[0]`), for the background too.
-    display_scale: f32,
-    /// The tone curve of a display-encoded target (`display::Tone::gpu`, the materials' `params.display[1]`).
-    display_tone: f32,
+    /// A display-encoded target's exposure and tone curve (`display::tone::display_uniform`: the materials'
+    /// `params.display`), for the background too.
+    display: [f32; 4],
     counting: bool,
     /// Samples per pixel of the targets it draws into.
     samples: vk::SampleCountFlags,
@@ -285,8 +284,7 @@ impl SceneRenderer {
             lighting_values: [0.0; 3],
             color_format,
             display_output: matches!(variant, SurfaceVariant::Shade { display_output: true }),
-            display_scale: materials.first().map_or(1.0, |m| m.material.params.display[0]),
-            display_tone: materials.first().map_or(0.0, |m| m.material.params.display[1]),
+            display: materials.first().map_or([1.0, 0.0, 0.0, 0.0], |m| m.material.params.display),
             counting: false,
             samples,
             cull_back_faces: false,
@@ -482,7 +480,7 @@ impl SceneRenderer {
                 let under = self.visibility.is_some();
                 let pass = BackgroundPass::new(ctx, self.color_format, self.display_output, self.samples, under)?;
                 let mut pass = Guard::new(ctx, pass);
-                pass.set_display(self.display_scale, self.display_tone)?;
+                pass.set_display(self.display)?;
                 self.background = Some(pass.keep());
             }
             let background = self.background.as_mut().expect("made above");
@@ -588,13 +586,13 @@ impl SceneRenderer {
     /// Sets the exposure and the tone curve of the shaders' display output; no submitted work may still read the
     /// uniforms.
     pub fn set_display(&mut self, exposure_ev: f64, tone: crate::display::Tone) -> Result<()> {
-        (self.display_scale, self.display_tone) = (exposure_ev.exp2() as f32, tone.gpu());
+        self.display = crate::display::tone::display_uniform(exposure_ev, tone);
         for m in &mut self.materials {
-            m.params.display = [self.display_scale, self.display_tone, 0.0, 0.0];
+            m.params.display = self.display;
             m.patch.update(&m.params)?;
         }
         if let Some(background) = &mut self.background {
-            background.set_display(self.display_scale, self.display_tone)?;
+            background.set_display(self.display)?;
         }
         Ok(())
     }

@@ -646,8 +646,7 @@ impl State {
             // patch (x, y, z) = world (x, −z, y).
             let map_light = Vec3::new(light.x, -light.z, light.y);
             let mut params = light_params(&gpu.materials[scene.objects[0].material], map_light.as_dvec3());
-            params.display[0] = exposure as f32;
-            params.display[1] = self.live.tone.gpu();
+            params.display = crate::display::tone::display_uniform(self.live.exposure_ev, self.live.tone);
             gpu.map_patch.update(&params)?;
             gpu.map.record(ctx, frame.cmd, &gpu.map_patch, &frame.flat(), None, None);
             laps.lap(frame.cmd, crate::render::pass::SHADING);
