@@ -15,6 +15,7 @@
 //! [[object]]
 //! mesh = "meshes/snake.obj"     # or: shape = "plane" | "disk" | "sphere" | "cylinder" | "cube" | "snake"
 //! # pattern = "corn"           # with shape = "snake": "corn" (default) or "plain"
+//! # scale_dome = 0.12          # with shape = "snake": the scales' dome over their half-width (0.35 by default)
 //! material = "elaphe"
 //!
 //! [material.elaphe]
@@ -142,6 +143,8 @@ struct ObjectDef {
     shape: Option<Shape>,
     /// The snake's skin pattern (shape = "snake" only).
     pattern: Option<crate::scene::mesh::snake::Pattern>,
+    /// How high the snake's scales are domed, relative to their half-width (shape = "snake" only).
+    scale_dome: Option<Spanned<f32>>,
     material: Spanned<String>,
     #[serde(default)]
     translate: [f32; 3],
@@ -974,11 +977,19 @@ fn object(
             obj::load(&file).map_err(|e| loc.at(path.span(), e))?
         }
         (None, Some(Shape::Snake)) => {
-            let pattern = d.pattern.unwrap_or_default();
-            crate::scene::mesh::snake::snake(&crate::scene::mesh::snake::SnakeSpec { pattern, ..Default::default() })
+            use crate::scene::mesh::snake::{snake, SnakeSpec, MAX_SCALE_DOME};
+            let defaults = SnakeSpec::default();
+            let scale_dome = match &d.scale_dome {
+                Some(dome) if !(0.0..=MAX_SCALE_DOME).contains(dome.get_ref()) => {
+                    return Err(loc.at(dome.span(), format!("scale_dome must be between 0 (flat) and {MAX_SCALE_DOME}")))
+                }
+                Some(dome) => *dome.get_ref(),
+                None => defaults.scale_dome,
+            };
+            snake(&SnakeSpec { pattern: d.pattern.unwrap_or_default(), scale_dome, ..defaults })
         }
-        (None, Some(_)) if d.pattern.is_some() => {
-            return Err(loc.at(span, "pattern = \"...\" is for shape = \"snake\""))
+        (None, Some(_)) if d.pattern.is_some() || d.scale_dome.is_some() => {
+            return Err(loc.at(span, "pattern and scale_dome are for shape = \"snake\""))
         }
         (None, Some(shape)) => shape.build(),
         (Some(_), Some(_)) => return Err(loc.at(span, "an [[object]] has either mesh or shape, not both")),
@@ -1264,6 +1275,28 @@ tile = [2, 3]
         let many =
             Scene::parse(&GOOD.replace("tile = [2, 3]", "tile = [2, 3]\norder = \"many\""), "s.toml", Path::new("."));
         assert!(many.unwrap_err().to_string().contains("expected a number or \"auto\""));
+    }
+
+    #[test]
+    fn the_snakes_scales_are_as_domed_as_the_scene_says() {
+        let snake = |extra: &str| {
+            let text = GOOD.replace("shape = \"sphere\"", &format!("shape = \"snake\"\n{extra}"));
+            Scene::parse(&text, "s.toml", Path::new("."))
+        };
+        // The normals' spread over the mesh: a flatter dome leans them less away from the body's.
+        let spread = |scene: Scene| {
+            let mesh = &scene.objects[0].mesh;
+            let ys: Vec<f32> = mesh.vertices.iter().map(|v| v.normal[1]).collect();
+            ys.iter().map(|y| y * y).sum::<f32>() / ys.len() as f32
+        };
+        let (default, flat) = (spread(snake("").unwrap()), spread(snake("scale_dome = 0.0").unwrap()));
+        assert!((default - flat).abs() > 1e-3, "{default} {flat}");
+        assert_eq!(spread(snake("scale_dome = 0.35").unwrap()), default);
+        for bad in ["scale_dome = -0.1", "scale_dome = 1.5", "scale_dome = nan"] {
+            assert!(snake(bad).unwrap_err().to_string().contains("scale_dome must be between 0"), "{bad}");
+        }
+        let sphere = GOOD.replace("shape = \"sphere\"", "shape = \"sphere\"\nscale_dome = 0.1");
+        assert!(error_of(&sphere).contains("are for shape = \"snake\""));
     }
 
     #[test]

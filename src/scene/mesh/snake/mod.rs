@@ -59,7 +59,8 @@ pub struct SnakeSpec {
     /// Each scale rises towards its free, tail-side edge by this much (scales overlap like roof tiles), so its
     /// normal leans towards the head, degrees.
     pub scale_tilt_deg: f32,
-    /// How high each scale's dome rises, relative to its half-width (0: flat scales).
+    /// How high each scale's dome rises, relative to its half-width (0: flat scales; at most
+    /// [`MAX_SCALE_DOME`]).
     pub scale_dome: f32,
     /// Points around each scale's outline: a scale is a fan of this many triangles from its crest to its edge,
     /// whose interpolated normals carry the dome (a parabolic dome's slope grows linearly from the crest, so
@@ -70,6 +71,9 @@ pub struct SnakeSpec {
     pub pattern: Pattern,
     pub seed: u64,
 }
+
+/// The highest dome a scene may ask for: as high as the scale is half wide.
+pub const MAX_SCALE_DOME: f32 = 1.0;
 
 impl Default for SnakeSpec {
     fn default() -> Self {
