@@ -51,9 +51,12 @@ fn the_default_picture_shows_the_iridescence() {
         let materials = scene_materials(ctx, &scene, (w, h), &SettingsPatch::default());
         let samples = ctx.sample_count(scene.render.samples, diffract::render::LINEAR_FORMAT).unwrap();
         let view = diffract::render::SceneView::of(&scene);
-        let views = [view.clone(), view.without_background()];
-        let frames = capture_views(ctx, &scene, &materials, (w, h), samples, &views);
-        frames.iter().map(|f| f.linear().unwrap().to_vec()).collect::<Vec<_>>()
+        let frame = capture_views(ctx, &scene, &materials, (w, h), samples, std::slice::from_ref(&view)).remove(0);
+        // The snake's coverage: the snake (the first object) alone, without the soil, drawn without a background.
+        let mut snake = scene.clone();
+        snake.objects.truncate(1);
+        let coverage = capture_views(ctx, &snake, &materials, (w, h), samples, &[view.without_background()]).remove(0);
+        [frame, coverage].map(|f| f.linear().unwrap().to_vec())
     });
     let ev = scene.render.exposure_ev.unwrap();
     let shown = diffract::display::tone::to_rgba8(&frames[0], ev, diffract::display::Tone::Filmic);
