@@ -534,3 +534,25 @@ fn a_shadowed_scene_on_the_ground_matches_its_reference() {
     assert_eq!(table.rows.len(), 1);
     assert!(number(&table.rows[0], "mean_de2000") < 0.05, "{:?}", table.rows[0]);
 }
+
+/// The reference's convergence claim, on small cases: with 8×8 positions per pixel at 40 random pixels of the blazed
+/// disk at 32×24, the mean ΔE00 against a quarter of the positions (4×4) is within the standard error of the mean
+/// against all of them, and the report says the figures would not move; the Elaphe sphere, whose normal turns
+/// more within a pixel, is not converged at the same positions, and the report says so.
+#[test]
+fn the_reference_says_whether_more_positions_would_move_the_figures() {
+    let flags = ["--reference-pixels", "40", "--reference-samples", "8"];
+    let run = |scene: &str, name: &str| {
+        let table = profile_scene_with(scene, (32, 24), 1, "baked", name, &flags);
+        let row = &table.rows[0];
+        let moved = (number(row, "mean_de2000") - number(row, "mean_de2000_half_positions")).abs();
+        let line = table.comments.iter().find(|c| c.contains("reference convergence")).cloned().unwrap_or_default();
+        (moved, number(row, "mean_de2000_se"), line)
+    };
+    let (moved, se, line) = run("blazed-disk.toml", "converged.csv");
+    assert!(moved < se, "the mean moved by {moved}, its standard error {se}");
+    assert!(line.contains("more positions would not move the figures"), "{line}");
+    let (moved, se, line) = run("elaphe-sphere.toml", "unconverged.csv");
+    assert!(moved > se, "the mean moved by {moved}, its standard error {se}");
+    assert!(line.contains("has not converged"), "{line}");
+}

@@ -224,6 +224,32 @@ const CPU_MSAA_COUNTS: &str = "multisampling: on a CPU device a multisampled fra
 const DISPLAY_TARGET: &str = "target display: the 8-bit sRGB frames a window presents (encoded by the shaders), \
                               timed; ΔE00 is measured on linear frames only";
 
+/// Whether the reference's positions limit the ΔE00 figures: each row's mean against the reference from a quarter
+/// of its positions beside its mean against all of them, the largest move against the standard error.
+fn convergence(rows: &[Row], options: &Options) -> Option<String> {
+    let s = options.reference.as_ref()?.samples;
+    let moves: Vec<(String, f64, f64, Option<f64>)> = rows
+        .iter()
+        .filter_map(|r| r.error.and_then(|e| e.mean_de_half_positions.map(|h| (r.label(), e.mean_de, h, e.mean_de_se))))
+        .collect();
+    let (label, mean, half, se) = moves.iter().max_by(|a, b| (a.1 - a.2).abs().total_cmp(&(b.1 - b.2).abs()))?;
+    let moved = (mean - half).abs();
+    let verdict = match se {
+        Some(se) if moved <= *se => {
+            format!("within its standard error ({se:.3}): more positions would not move the figures")
+        }
+        Some(se) => format!(
+            "more than its standard error ({se:.3}): the reference has not converged; raise --reference-samples"
+        ),
+        None => "(every covered pixel compared: no standard error)".to_string(),
+    };
+    Some(format!(
+        "reference convergence: against {h}×{h} of the {s}×{s} positions per pixel the means move by at most {moved:.3} \
+         ({label}: {mean:.3} → {half:.3}), {verdict}",
+        h = s / 2
+    ))
+}
+
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.
 fn print_report(
     ctx: &Context,
@@ -243,7 +269,8 @@ fn print_report(
         match report.exposure {
             Some((ev, measured)) => format!(
                 "delta_e: CIEDE2000 at exposure {ev:+.2} EV{} against the display's D65 white (a mirror under the \
-                 illuminant has Y = 1), pixels showing the surface",
+                 illuminant has Y = 1), pixels showing a diffracting surface (a matte material's, the same in every \
+                 approach, are left out)",
                 if measured { " (measured from the reference: the scene sets none)" } else { "" }
             ),
             None => "delta_e: none (no reference)".to_string(),
@@ -257,6 +284,9 @@ fn print_report(
     }
     for (size, description) in &report.references {
         comments.push(format!("reference {}x{}: {description}", size.0, size.1));
+    }
+    if let Some(line) = convergence(rows, options) {
+        comments.push(line);
     }
     if let Some(p) = &options.probe {
         comments.push(roofline_line(p));

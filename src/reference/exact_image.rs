@@ -83,6 +83,9 @@ pub struct ReferenceImage {
     /// (pixels kept, pixels covered) where only random pixels were evaluated
     /// ([`ReferenceJob::keep_random_pixels`]); None where every covered pixel was.
     pub sampled: Option<(usize, usize)>,
+    /// The same pixels from a quarter of the positions (every other one along each axis: (s/2)² of the s²), where
+    /// [`Self::downsample`] averaged s² ≥ 4 of them (s even): how far the reference still moves with its positions.
+    pub half_positions: Option<Vec<DVec3>>,
 }
 
 /// What a reference is computed for (also its cache key).
@@ -219,7 +222,8 @@ impl ReferenceJob<'_> {
         );
         let mask = self.pixels.iter().map(Option::is_some).collect();
         let (width, height) = (self.width, self.height);
-        let image = ReferenceImage { width, height, xyz, mask, description, quadrature, sampled: None };
+        let image =
+            ReferenceImage { width, height, xyz, mask, description, quadrature, sampled: None, half_positions: None };
         if let Some(dir) = cache {
             // A cache that cannot be written costs time, not correctness: say so and go on.
             if let Err(e) = write_cached(dir, self, &image) {
@@ -294,24 +298,31 @@ impl ReferenceImage {
         }
         let (w, h) = (self.width / s, self.height / s);
         let mut xyz = Vec::with_capacity((w * h) as usize);
+        let mut half = Vec::with_capacity((w * h) as usize);
         let mut mask = Vec::with_capacity((w * h) as usize);
         for y in 0..h {
             for x in 0..w {
                 let at = |i: u32, j: u32| ((y * s + j) * self.width + x * s + i) as usize;
-                let mut sum = DVec3::ZERO;
+                let (mut sum, mut sum_half) = (DVec3::ZERO, DVec3::ZERO);
                 let mut all = true;
                 for j in 0..s {
                     for i in 0..s {
                         sum += self.xyz[at(i, j)];
+                        if i % 2 == 0 && j % 2 == 0 {
+                            sum_half += self.xyz[at(i, j)];
+                        }
                         all &= self.mask[at(i, j)];
                     }
                 }
                 xyz.push(sum / f64::from(s * s));
+                half.push(sum_half / f64::from(s.div_ceil(2).pow(2)));
                 mask.push(all);
             }
         }
         let description = format!("{}; {s}×{s} positions per pixel, averaged", self.description);
-        Self { width: w, height: h, xyz, mask, description, quadrature: self.quadrature, sampled: self.sampled }
+        let half_positions = (s % 2 == 0).then_some(half);
+        let (quadrature, sampled) = (self.quadrature, self.sampled);
+        Self { width: w, height: h, xyz, mask, description, quadrature, sampled, half_positions }
     }
 }
 
@@ -381,6 +392,10 @@ pub struct ImageError {
     /// Where the reference holds random pixels only: the standard error of `mean_de` as an estimate of the mean
     /// over every covered pixel (s/√n).
     pub mean_de_se: Option<f64>,
+    /// The mean CIEDE2000 against the reference from a quarter of its positions
+    /// ([`ReferenceImage::half_positions`]): where it is within `mean_de_se` of `mean_de`, more positions would
+    /// not move the figure either.
+    pub mean_de_half_positions: Option<f64>,
 }
 
 /// Compares a linear sRGB RGBA image (rows top first, the GPU's output) with the reference at `exposure_ev`.
@@ -389,11 +404,15 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
         return Err(Error::Invalid("the image and its reference differ in size".into()));
     }
     let mut des = Vec::new();
+    let mut half_sum = 0.0;
     let (mut err2, mut ref2) = (0.0, 0.0);
     for (i, (&r, _)) in reference.xyz.iter().zip(&reference.mask).enumerate().filter(|(_, (_, &m))| m) {
         let p = &rgba[4 * i..][..3];
         let xyz = linear_srgb_to_xyz(DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])));
         des.push(delta_e(xyz, r, exposure_ev));
+        if let Some(half) = &reference.half_positions {
+            half_sum += delta_e(xyz, half[i], exposure_ev);
+        }
         err2 += (xyz - r).length_squared();
         ref2 += r.length_squared();
     }
@@ -407,6 +426,7 @@ pub fn image_error(reference: &ReferenceImage, rgba: &[f32], exposure_ev: f64) -
         mean_de,
         pixels: des.len(),
         mean_de_se: reference.sampled.map(|_| (variance / n).sqrt()),
+        mean_de_half_positions: reference.half_positions.as_ref().map(|_| half_sum / n),
         p99_de: crate::io::stats::percentile(&mut des, 0.99),
         rel_rmse: if ref2 > 0.0 { (err2 / ref2).sqrt() } else { err2.sqrt() },
     })
@@ -491,7 +511,16 @@ fn parse_cached(bytes: &[u8], job: &ReferenceJob<'_>) -> Option<ReferenceImage> 
         mask.push(m);
     }
     let (width, height) = (job.width, job.height);
-    r.finished().then_some(ReferenceImage { width, height, xyz, mask, description, quadrature, sampled: None })
+    r.finished().then_some(ReferenceImage {
+        width,
+        height,
+        xyz,
+        mask,
+        description,
+        quadrature,
+        sampled: None,
+        half_positions: None,
+    })
 }
 
 #[cfg(test)]
@@ -546,10 +575,35 @@ mod tests {
             description: "test".into(),
             quadrature: (5, 1e-9, 1e-6),
             sampled: None,
+            half_positions: None,
         };
         write_cached(&dir, &job, &image).unwrap();
         assert_eq!(read_cached(&dir, &job), Some(image));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_downsampled_reference_keeps_the_average_of_every_other_position_too() {
+        // One pixel of 4×4 positions whose value is its index: the whole average and the 2×2 positions' one
+        // (indices 0, 2, 8, 10).
+        let xyz: Vec<DVec3> = (0..16).map(|i| DVec3::splat(f64::from(i))).collect();
+        let fine = ReferenceImage {
+            width: 4,
+            height: 4,
+            xyz,
+            mask: vec![true; 16],
+            description: String::new(),
+            quadrature: (0, 0.0, 0.0),
+            sampled: None,
+            half_positions: None,
+        };
+        let pixel = fine.clone().downsample(4);
+        assert_eq!((pixel.xyz[0].x, pixel.half_positions.as_ref().unwrap()[0].x), (7.5, 5.0));
+        assert_eq!(fine.clone().downsample(3).half_positions, None, "odd position counts have no half");
+        // Compared against both: the mean against the half is reported beside the mean.
+        let rgb = xyz_to_linear_srgb(DVec3::splat(7.5)).to_array().map(|c| c as f32);
+        let e = image_error(&pixel, &[rgb[0], rgb[1], rgb[2], 1.0], -3.0).unwrap();
+        assert!(e.mean_de < 1e-3 && e.mean_de_half_positions.unwrap() > 1.0, "{e:?}");
     }
 
     #[test]
@@ -569,6 +623,7 @@ mod tests {
             description: String::new(),
             quadrature: (0, 0.0, 0.0),
             sampled: None,
+            half_positions: None,
         };
         let to_rgb = |v: DVec3| xyz_to_linear_srgb(v).to_array().map(|c| c as f32);
         let [a, b, c] = to_rgb(white);

@@ -279,7 +279,7 @@ type Field = fn(&Row) -> String;
 
 /// The CSV's columns after the settings' ([`Settings::KEYS`]: what each row ran with): what it measured, each
 /// with how a row writes it (empty where the device cannot measure).
-const MEASURED: [(&str, Field); 37] = [
+const MEASURED: [(&str, Field); 38] = [
     ("order_used", |r| opt(r.order)),
     ("lambda_count", |r| r.lambda_count.to_string()),
     ("taps", |r| r.taps.to_string()),
@@ -309,6 +309,7 @@ const MEASURED: [(&str, Field); 37] = [
     ("mean_de2000", |r| opt(r.error.map(|e| format!("{:.5}", e.mean_de)))),
     ("p99_de2000", |r| opt(r.error.map(|e| format!("{:.5}", e.p99_de)))),
     ("mean_de2000_se", |r| opt(r.error.and_then(|e| e.mean_de_se).map(|v| format!("{v:.5}")))),
+    ("mean_de2000_half_positions", |r| opt(r.error.and_then(|e| e.mean_de_half_positions).map(|v| format!("{v:.5}")))),
     ("de_pixels", |r| opt(r.error.map(|e| e.pixels))),
     ("rel_xyz_rmse", |r| opt(r.error.map(|e| format!("{:.5e}", e.rel_rmse)))),
     ("table_terms", |r| opt(r.table.map(|t| t.terms))),

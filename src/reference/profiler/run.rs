@@ -195,8 +195,18 @@ impl Subject {
                 pixels: scene_pixels(ctx, scene, fine, lights)?,
             },
         };
+        let turn = match self {
+            Subject::Scene { scene, .. } if samples > 1 => normal_turn(ctx, scene, fine, samples)?,
+            _ => None,
+        };
         let sampled = options.pixels.map(|n| job.keep_random_pixels(n, samples));
         let mut image = job.compute(options.cache.as_deref())?.downsample(samples);
+        if let Some((median, p90)) = turn {
+            image.description += &format!(
+                "; within a pixel the diffracting surface's normal turns by up to {median:.1}° (median over its \
+                 pixels; 90th percentile {p90:.1}°): what a footprint filter must follow"
+            );
+        }
         if let Some((kept, covered)) = sampled {
             image.sampled = sampled;
             image.description += &format!(
@@ -245,6 +255,35 @@ fn map_filtered(options: &Options) -> bool {
     options.reference.as_ref().is_some_and(|r| r.samples > 1)
 }
 
+/// How far the normal of the diffracting surfaces turns within a pixel of `scene` at `fine` / `samples`: per pixel
+/// whose `samples`² positions all show one, the largest angle between a position's normal and the first's, in
+/// degrees; (median, 90th percentile), or None where no pixel does.
+fn normal_turn(ctx: &Context, scene: &Scene, fine: (u32, u32), samples: u32) -> Result<Option<(f64, f64)>> {
+    let gbuffer = GBuffer::draw(ctx, scene, (&scene.camera, scene.light_dir), fine, true)?;
+    let normal = |x: u32, y: u32| {
+        gbuffer.pixels[(y * fine.0 + x) as usize].filter(|seen| !scene.materials[seen.material].matte).map(|s| s.normal)
+    };
+    let mut turns: Vec<f64> = Vec::new();
+    for py in 0..fine.1 / samples {
+        for px in 0..fine.0 / samples {
+            let positions: Option<Vec<DVec3>> = (0..samples * samples)
+                .map(|k| normal(px * samples + k % samples, py * samples + k / samples))
+                .collect();
+            if let Some(normals) = positions {
+                let first = normals[0];
+                turns.push(
+                    normals.iter().map(|n| first.dot(*n).clamp(-1.0, 1.0).acos().to_degrees()).fold(0.0, f64::max),
+                );
+            }
+        }
+    }
+    if turns.is_empty() {
+        return Ok(None);
+    }
+    let median = crate::io::stats::percentile(&mut turns, 0.5);
+    Ok(Some((median, crate::io::stats::percentile(&mut turns, 0.9))))
+}
+
 /// What each pixel of `scene` at `size` asks of the exact reference: the directions come from the GPU's
 /// rasteriser (the same triangles, the same fragments as the frames); everything after them (the BRDF, the
 /// pigment term) is evaluated on the CPU.
@@ -291,21 +330,24 @@ fn scene_pixels(
         .iter()
         .map(|seen| {
             let Seen { omega_i, omega_r, material, albedo, normal_up, normal, sun_visible, frame, .. } = (*seen)?;
-            let coated = !scene.materials[material].matte;
-            let lit = optics::Lit { sun_visible, coated };
-            let sky_diffraction =
-                moments[material].as_ref().filter(|_| coated && omega_r.z > 0.0).map_or(DVec3::ZERO, |m| {
-                    let d = frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
-                    let mirror = match &panorama {
-                        Some((map, scale, rotation)) => map.bilinear(d, *rotation) * *scale,
-                        None => quadratic.radiance(d).max(DVec3::ZERO),
-                    };
-                    m.radiance(omega_r, &quadratic, frame, mirror)
-                });
+            // A matte material's pixels (a ground's pigment) are the same in every approach: they are left out of
+            // the comparison, whose figures are then the diffracting surfaces' alone.
+            if scene.materials[material].matte {
+                return None;
+            }
+            let lit = optics::Lit { sun_visible, coated: true };
+            let sky_diffraction = moments[material].as_ref().filter(|_| omega_r.z > 0.0).map_or(DVec3::ZERO, |m| {
+                let d = frame * DVec3::new(-omega_r.x, -omega_r.y, omega_r.z);
+                let mirror = match &panorama {
+                    Some((map, scale, rotation)) => map.bilinear(d, *rotation) * *scale,
+                    None => quadratic.radiance(d).max(DVec3::ZERO),
+                };
+                m.radiance(omega_r, &quadratic, frame, mirror)
+            });
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
-                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), coated)
+                + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), true)
                 + sky_diffraction;
-            let diffracted = if coated { sun_visible } else { 0.0 };
+            let diffracted = sun_visible;
             let extra_xyz = crate::physics::colour::linear_srgb_to_xyz(extra_rgb);
             Some(PixelQuery { omega_i, omega_r, material, diffracted, extra_xyz })
         })
