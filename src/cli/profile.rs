@@ -250,6 +250,23 @@ fn convergence(rows: &[Row], options: &Options) -> Option<String> {
     ))
 }
 
+/// The sizes at which docs/performance.md tables the default scene's ΔE00 ("The trade on the default scene").
+const TABLED_SIZES: [u32; 3] = [256, 512, 800];
+
+/// What a scene's ΔE00 figures mean, and where the docs' table of the default scene puts this frame's size.
+fn meaning(rows: &[Row]) -> String {
+    let size = rows.iter().map(|r| r.width.max(r.height)).max().unwrap_or(0);
+    let nearest = TABLED_SIZES.iter().min_by_key(|&&s| s.abs_diff(size)).copied().unwrap_or(size);
+    format!(
+        "what the figures mean: a mean ΔE00 near 1 is about what a viewer tells apart side by side, above 3 plain to \
+         see; the p99 is the few pixels at silhouettes and glints. They grow with the pixel (the more the normal turns \
+         within it, above, the more a pixel's colours a frame must average) and fall with more samples; \
+         docs/performance.md (\"The trade on the default scene\") tables the default scene at {sizes}² × 1 and 4 \
+         samples, the nearest to this frame's {size} px being {nearest}²",
+        sizes = TABLED_SIZES.map(|s| s.to_string()).join("², ")
+    )
+}
+
 /// The header lines and the markdown table on stdout; the CSV and the plot where asked.
 fn print_report(
     ctx: &Context,
@@ -287,6 +304,9 @@ fn print_report(
     }
     if let Some(line) = convergence(rows, options) {
         comments.push(line);
+    }
+    if let (Subject::Scene { .. }, Some(_)) = (subject, &options.reference) {
+        comments.push(meaning(rows));
     }
     if let Some(p) = &options.probe {
         comments.push(roofline_line(p));
