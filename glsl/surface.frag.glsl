@@ -32,12 +32,12 @@ layout(location = 0) out vec4 out_color;
 void main() {
     SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
                                     sky_diffracted_at_vertex);
-    float footprint = 0.0;
+    vec4 steps = vec4(0.0);
 #ifdef BAKED
     // Derivatives, so in uniform control flow (before the shading's branches).
-    footprint = pixel_footprint(-normalize(patch_light).xy - normalize(patch_view).xy);
+    steps = pixel_steps(-normalize(patch_light).xy - normalize(patch_view).xy);
 #endif
-    vec3 rgb = surface_colour(s, footprint);
+    vec3 rgb = surface_colour(s, steps);
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();
 }

@@ -347,12 +347,14 @@ fn a_scene_is_timed_on_the_forward_path_and_through_a_visibility_buffer() {
         assert!(number(row, "shading_ms_median") > 0.0, "{row:?}");
         assert!(row["label"].ends_with(if visibility { "visibility" } else { "forward" }), "{row:?}");
     }
-    // The two paths take a pixel's footprint in (u, v) from the screen's derivatives and from the triangle's plane,
-    // and the table's mip level from it: where a device reads the nearest level (lavapipe), a small difference in
-    // the footprint can pick the other level (measured: 0.871 against 0.812 at 4 samples).
+    // The two paths take a pixel's steps in (u, v) from the screen's derivatives and from the triangle's plane,
+    // and the table's reads from them. Where a 2×2 quad straddles the disk's edge the forward path's derivatives
+    // span two surfaces, and the reads along the longer step (up to four, `baked_xyz_over`) follow them: at this
+    // size, where edges are many of the pixels, 1.007 against 0.795 at one sample (1.004 against 1.000 at four);
+    // at 128×96 0.107 against 0.104. (From one level of the longer step: 1.001 and 1.001, 0.920 and 0.862.)
     for pair in table.rows.chunks(2) {
         let (forward, visibility) = (number(&pair[0], "mean_de2000"), number(&pair[1], "mean_de2000"));
-        assert!((forward - visibility).abs() < 0.1 * forward.max(1.0), "{forward} against {visibility}");
+        assert!((forward - visibility).abs() < 0.3 * forward.max(1.0), "{forward} against {visibility}");
     }
     let map = diffract(&["profile", "--heightfield", s(&grating()), "--width", "8", "--sweep", "path=visibility"]);
     assert!(!map.status.success());
@@ -555,4 +557,25 @@ fn the_reference_says_whether_more_positions_would_move_the_figures() {
     let (moved, se, line) = run("elaphe-sphere.toml", "unconverged.csv");
     assert!(moved > se, "the mean moved by {moved}, its standard error {se}");
     assert!(line.contains("has not converged"), "{line}");
+}
+
+/// Baked reads its table along each pixel's two steps in (u, v) — up to four reads along the longer, each filtered
+/// over the shorter (`baked_xyz_over`, anisotropic filtering) — so that on the default snake, whose scales turn the
+/// normal within a pixel, it is at least as close to the exact reference as FLSS's point samples. From one mip
+/// level of the longer step alone it was not: at 256² with 4 samples 2.07 ± 0.30 against FLSS's 1.75 ± 0.28
+/// (docs/performance.md, "The trade on the default scene"), and here, at 96² with 4 samples, 5.18 against 4.11
+/// (now 3.94).
+#[test]
+fn baked_filters_each_pixel_at_least_as_closely_as_flss_samples_it() {
+    let (scene, csv) = (common::place::scene("elaphe-snake.toml"), scratch("anisotropic.csv"));
+    let args = ["profile", s(&scene), "--width", "96", "--height", "96", "--frames", "1", "--warmup", "0"];
+    let flags = ["--samples", "4", "--reference-pixels", "100", "--reference-samples", "4", "--no-reference-cache"];
+    let o =
+        diffract(&[&args[..], &flags, &["--validation", "--sweep", "approach=baked,flss", "--csv", s(&csv)]].concat());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = read_csv(&csv);
+    assert_eq!((&table.rows[0]["approach"][..], &table.rows[1]["approach"][..]), ("baked", "flss"));
+    let mean = |k: usize| (number(&table.rows[k], "mean_de2000"), number(&table.rows[k], "mean_de2000_se"));
+    let ((baked, baked_se), (flss, flss_se)) = (mean(0), mean(1));
+    assert!(baked <= flss, "baked {baked:.2} ± {baked_se:.2} against FLSS {flss:.2} ± {flss_se:.2}");
 }

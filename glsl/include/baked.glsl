@@ -56,9 +56,38 @@ vec3 baked_xyz(vec3 uvw, float lod) {
     return max(xyz, vec3(0.0));
 }
 
+// The table's XYZ averaged over a pixel whose steps in (u, v) are `steps` (`footprint_steps`): up to
+// MAX_FOOTPRINT_TAPS reads spread along the longer step, each filtering (by its mip level) over the shorter step or
+// over its share of the longer, whichever is wider — anisotropic filtering as the Vulkan specification approximates
+// it. One level from the longer step alone, as before, blurred the shorter way too, and on the default snake put
+// baked further from the exact reference than FLSS's point samples (docs/performance.md, "The trade on the
+// default scene").
+vec3 baked_xyz_over(vec3 uvw, vec4 steps) {
+    float across = length(steps.xy), down = length(steps.zw);
+    vec2 axis = across >= down ? steps.xy : steps.zw;
+    float major = max(across, down), minor = min(across, down);
+    float texel = params.table_w.z;
+    uint taps = 1u;
+    if (major > texel) taps = uint(clamp(ceil(major / max(minor, texel)), 1.0, float(MAX_FOOTPRINT_TAPS)));
+    float lod = table_lod(max(minor, major / float(taps)));
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < taps; ++i) {
+        float offset = (float(i) + 0.5) / float(taps) - 0.5;
+        sum += baked_xyz(vec3(uvw.xy + offset * axis, uvw.z), lod);
+    }
+    return sum / float(taps);
+}
+
 // The relative reflectance's colour for one pair of patch-frame directions: XYZ · C · shadowing (the baked twin
 // of `diffraction_xyz` in approaches.glsl).
 vec3 baked_diffraction_xyz(vec3 omega_i, vec3 omega_r, float lod) {
     if (omega_i.z <= 0.0 || omega_r.z <= 0.0) return vec3(0.0);
     return baked_xyz(-omega_i - omega_r, lod) * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);
+}
+
+// The same over a pixel whose steps in (u, v) are `steps` (`baked_xyz_over`; the gain and the shadowing at the
+// pixel's centre).
+vec3 baked_diffraction_xyz_over(vec3 omega_i, vec3 omega_r, vec4 steps) {
+    if (omega_i.z <= 0.0 || omega_r.z <= 0.0) return vec3(0.0);
+    return baked_xyz_over(-omega_i - omega_r, steps) * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);
 }

@@ -60,9 +60,9 @@ vec3 pigment_sky_rgb(vec3 omega_r, vec3 albedo, vec3 sky, bool coated) {
     return albedo * (coated ? transmittance(omega_r.z) * sky_transmittance() : 1.0) * sky;
 }
 
-// The linear RGB a surface point sends towards the camera; `footprint`: the pixel's footprint in (u, v), which
-// the baked table filters over (footprint.glsl; unused by the Taylor approaches).
-vec3 surface_colour(SurfaceInputs s, float footprint) {
+// The linear RGB a surface point sends towards the camera; `steps`: the pixel's steps in (u, v), across and down,
+// which the baked table filters over (footprint.glsl's `footprint_steps`; unused by the Taylor approaches).
+vec3 surface_colour(SurfaceInputs s, vec4 steps) {
     vec3 omega_i = normalize(s.patch_light);
     vec3 omega_r = normalize(s.patch_view);
     // A matte material (a ground) has no grating and no skin: only its pigment.
@@ -72,7 +72,8 @@ vec3 surface_colour(SurfaceInputs s, float footprint) {
     vec3 rgb = vec3(0.0);
     if (coated && sun_visible > 0.0) {
 #ifdef BAKED
-        rgb = xyz_to_linear_srgb(baked_diffraction_xyz(omega_i, omega_r, FOOTPRINT == 1u ? table_lod(footprint) : 0.0));
+        rgb = xyz_to_linear_srgb(FOOTPRINT == 1u ? baked_diffraction_xyz_over(omega_i, omega_r, steps)
+                                                 : baked_diffraction_xyz(omega_i, omega_r, 0.0));
 #else
         rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif

@@ -105,7 +105,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     }
     SurfaceInputs inputs = SurfaceInputs(at[1].xyz, at[2].xyz, at[3].xyz, vec3(at[1].w, at[2].w, at[3].w),
                                          at[4].xyz, vec4(at[5].xyz, at[4].w), at[6].xyz);
-    float footprint = 0.0;
+    vec4 steps = vec4(0.0);
 #ifdef BAKED
     // The footprint: how far (u, v) moves to the next pixel across and down, on the triangle's plane (the forward
     // pass's derivatives, taken fine). Against the exact reference this measures the forward pass's error or less
@@ -115,7 +115,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     vec2 uv = table_uv(light, view, b);
     vec2 across = table_uv(light, view, barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0))) - uv;
     vec2 down = table_uv(light, view, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))) - uv;
-    footprint = min(max(length(across), length(down)), MAX_FOOTPRINT);
+    steps = footprint_steps(across, down);
 #endif
-    return float(bitCount(same)) / float(n) * surface_colour(inputs, footprint);
+    return float(bitCount(same)) / float(n) * surface_colour(inputs, steps);
 }
