@@ -86,7 +86,7 @@ vec3 baked_diffraction_xyz(vec3 omega_i, vec3 omega_r, float lod) {
 }
 
 // The same over a pixel whose steps in (u, v) are `steps` (`baked_xyz_over`; the gain and the shadowing at the
-// pixel's centre).
+// pixel's centre). Steps of zero read once, at level 0: `baked_diffraction_xyz` at lod 0.
 vec3 baked_diffraction_xyz_over(vec3 omega_i, vec3 omega_r, vec4 steps) {
     if (omega_i.z <= 0.0 || omega_r.z <= 0.0) return vec3(0.0);
     return baked_xyz_over(-omega_i - omega_r, steps) * gain_factor(omega_i, omega_r) * shadow_mask(omega_i, omega_r);

@@ -72,8 +72,8 @@ vec3 surface_colour(SurfaceInputs s, vec4 steps) {
     vec3 rgb = vec3(0.0);
     if (coated && sun_visible > 0.0) {
 #ifdef BAKED
-        rgb = xyz_to_linear_srgb(FOOTPRINT == 1u ? baked_diffraction_xyz_over(omega_i, omega_r, steps)
-                                                 : baked_diffraction_xyz(omega_i, omega_r, 0.0));
+        // Without footprint filtering, no steps: one read at level 0.
+        rgb = xyz_to_linear_srgb(baked_diffraction_xyz_over(omega_i, omega_r, FOOTPRINT == 1u ? steps : vec4(0.0)));
 #else
         rgb = xyz_to_linear_srgb(diffraction_xyz(omega_i, omega_r));
 #endif
