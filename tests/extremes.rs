@@ -28,7 +28,7 @@ use diffract::physics::formats::png::PngScale;
 use diffract::physics::heightfield::HeightField;
 use diffract::reference::brdf::Evaluator;
 use diffract::reference::exact_image::{image_error, ReferenceJob, ReferenceMaterial};
-use diffract::render::diffraction;
+use diffract::render::map;
 
 /// The tolerance on |P − P_N| every evaluation is asked for (the CLI's default).
 const TOLERANCE: f64 = 1e-4;
@@ -217,7 +217,7 @@ fn map_point(ctx: &Context, patch: &Patch, coherence_um: f64, theta_i: f64, size
             let outcome = Material::prepare(&patch.hf, settings, &Reach::Map { light, size, filtered: false })
                 .and_then(|m| {
                     warned = m.caveat().is_some();
-                    diffraction::render_map(ctx, &m, size, light, false)
+                    map::render_map(ctx, &m, size, light, false)
                 })
                 .map_err(|e| e.to_string())
                 .and_then(|map| {

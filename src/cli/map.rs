@@ -13,7 +13,7 @@ use crate::material::Approach;
 use crate::material::{Material, Reach};
 use crate::physics::optics;
 use crate::physics::spectrum::Sampling;
-use crate::render::diffraction;
+use crate::render::map;
 
 #[derive(Args, Debug)]
 pub struct MapArgs {
@@ -92,14 +92,13 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     )?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let ctx = crate::gpu::vk::Context::new(&gpu.context_desc())?;
-    let map =
-        diffraction::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
+    let map = map::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
     write_map(args, &map)?;
     if let Some(line) = material.table_line() {
         errln!("{line}");
     }
     let plan = material.plan.map(|p| format!("N = {} ({} terms), ", p.order, p.order + 1)).unwrap_or_default();
-    let shader = diffraction::MapShader::for_device(&ctx).name();
+    let shader = map::MapShader::for_device(&ctx).name();
     let gpu_time = map.gpu_ms.map(|ms| format!(", GPU {ms:.1} ms ({shader} shader)")).unwrap_or_default();
     let taps = 2 * material.window.radius_x + 1;
     let sampling = match material.settings.approach {
@@ -128,7 +127,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
 
 /// Writes the map's PNG (at --exposure, else one measured from it) and EXR; refuses a map with non-finite pixels.
 /// Returns the exposure used.
-fn write_map(args: &MapArgs, map: &diffraction::MapImage) -> anyhow::Result<f64> {
+fn write_map(args: &MapArgs, map: &map::MapImage) -> anyhow::Result<f64> {
     let bad = map.non_finite();
     if bad > 0 {
         anyhow::bail!("{bad} pixels of the map are not finite numbers (a bug in diffract; nothing was written)");

@@ -17,7 +17,7 @@ use crate::reference::profiler as prof;
 use crate::reference::profiler::run;
 use crate::reference::profiler::run::{Options, Progress, ReferenceOptions, Report, Subject};
 use crate::reference::profiler::{Config, Row, Sweep};
-use crate::render::surface::FrameTarget;
+use crate::render::offscreen::FrameTarget;
 use crate::render::workload::{fetch_probe, ProbeResult};
 
 #[derive(Args, Debug)]

@@ -206,21 +206,26 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
         }
     }
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
-    let mut capture = Owned::new(&ctx, SceneCapture::new(&ctx, &scene, &materials, width, height, samples)?);
-    let mut path = match args.path {
+    let path = match args.path {
         PathChoice::Fixed(path) => path,
-        PathChoice::Auto => ShadingPath::for_frame(&ctx, samples),
-    };
-    if path == ShadingPath::Visibility {
-        if let Err(e) = capture.use_visibility_buffer(&ctx) {
-            if args.path != PathChoice::Auto {
-                return Err(e.into());
+        PathChoice::Auto => match ShadingPath::for_frame(&ctx, samples) {
+            ShadingPath::Forward => ShadingPath::Forward,
+            ShadingPath::Visibility => {
+                let triangles = scene.objects.iter().map(|o| (o.mesh.indices.len() / 3) as u32);
+                match crate::render::visibility::check(&ctx, samples, triangles) {
+                    Ok(()) => ShadingPath::Visibility,
+                    Err(e) => {
+                        // The scene is beyond the visibility buffer's limits (objects, triangles): the forward
+                        // path draws it.
+                        errln!("drawing forward: {e}");
+                        ShadingPath::Forward
+                    }
+                }
             }
-            // The scene is beyond the visibility buffer's limits (objects, triangles): the forward path draws it.
-            errln!("drawing forward: {e}");
-            path = ShadingPath::Forward;
-        }
-    }
+        },
+    };
+    let capture = SceneCapture::with_path(&ctx, &scene, &materials, (width, height), samples, path)?;
+    let mut capture = Owned::new(&ctx, capture);
     let uploads = capture.uploads();
     let result = render_frames(&ctx, &scene, args, &mut capture, (width, height), exposure);
     drop(capture);

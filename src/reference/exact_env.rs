@@ -119,7 +119,7 @@ pub struct Comparison {
 
 /// ΔE00 of `map` against `reference` (as [`reference_map_pixels`] returns it for `pixels`) at `exposure_ev`.
 pub fn compare(
-    map: &crate::render::diffraction::MapImage,
+    map: &crate::render::map::MapImage,
     pixels: &[(u32, u32)],
     reference: &[Option<Estimate>],
     exposure_ev: f64,

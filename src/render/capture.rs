@@ -8,7 +8,9 @@ use crate::gpu::vk::{Context, Guard};
 use crate::material::SettingsPatch;
 use crate::material::{Material, Reach};
 use crate::render::gbuffer::{merge_reaches, GBuffer};
-use crate::render::surface::{MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
+use crate::render::offscreen::OffscreenFrames;
+use crate::render::surface::{MaterialInput, RendererSetup, SceneRenderer, SurfaceMaterial, SurfaceVariant};
+use crate::render::visibility::ShadingPath;
 use crate::render::{Frame, SceneView};
 use crate::scene::camera::Camera;
 use crate::scene::mesh::Mesh;
@@ -103,7 +105,7 @@ pub struct SceneCapture {
 
 impl SceneCapture {
     /// Uploads `materials` (from [`prepare_materials`]) and `scene`'s meshes, with a `width`×`height` target of
-    /// `samples` per pixel (see [`Context::sample_count`]).
+    /// `samples` per pixel (see [`Context::sample_count`]), drawn on the forward path.
     pub fn new(
         ctx: &Context,
         scene: &Scene,
@@ -112,18 +114,34 @@ impl SceneCapture {
         height: u32,
         samples: ash::vk::SampleCountFlags,
     ) -> Result<Self> {
-        let (inputs, objects) = (material_inputs(scene, materials), scene_objects(scene));
-        let renderer = SceneRenderer::new(ctx, &inputs, &objects, OffscreenFrames::format(false), false, samples)?;
-        let renderer = Guard::new(ctx, renderer);
-        let frames = OffscreenFrames::new(ctx, width, height, false, samples)?;
-        Ok(Self { renderer: renderer.keep(), frames, width, height })
+        Self::with_path(ctx, scene, materials, (width, height), samples, ShadingPath::Forward)
     }
 
-    /// Draws the frames through a visibility buffer (`render::visibility`) instead of the forward pass.
-    pub fn use_visibility_buffer(&mut self, ctx: &Context) -> Result<()> {
-        let extent = ash::vk::Extent2D { width: self.width, height: self.height };
-        self.renderer.use_visibility_buffer(ctx, extent)?;
-        self.frames.for_visibility_buffer(ctx)
+    /// [`Self::new`] on `path`: the visibility buffer ([`crate::render::visibility`]) refuses a scene beyond its
+    /// limits (check first with [`crate::render::visibility::check`], as `diffract render` does).
+    pub fn with_path(
+        ctx: &Context,
+        scene: &Scene,
+        materials: &[Material],
+        (width, height): (u32, u32),
+        samples: ash::vk::SampleCountFlags,
+        path: ShadingPath,
+    ) -> Result<Self> {
+        let (inputs, objects) = (material_inputs(scene, materials), scene_objects(scene));
+        let format = OffscreenFrames::format(false);
+        let setup = RendererSetup { format, samples, variant: SurfaceVariant::Shade { display_output: false }, path };
+        let first = (&SceneView::of(scene), ash::vk::Extent2D { width, height });
+        let renderer = Guard::new(ctx, SceneRenderer::new(ctx, (&inputs, &objects), setup, first)?);
+        let mut frames = Guard::new(ctx, OffscreenFrames::new(ctx, width, height, false, samples)?);
+        if path == ShadingPath::Visibility {
+            frames.for_visibility_buffer(ctx)?;
+        }
+        Ok(Self { renderer: renderer.keep(), frames: frames.keep(), width, height })
+    }
+
+    /// Which path its frames take.
+    pub fn path(&self) -> ShadingPath {
+        self.renderer.path()
     }
 
     /// Renders one frame under `view`: linear scene-referred RGBA float, checked to be finite.

@@ -13,7 +13,8 @@ use crate::gpu::vk::{ComputePipelineDesc, Context, DescriptorWrite, Guard, Image
 use crate::io::progress::Progress;
 use crate::light::sampling::{env_gain, floor_samples, EnvLight, TableProposal};
 use crate::material::Material;
-use crate::render::diffraction::{map_target, map_workgroup, MapImage, PatchResources};
+use crate::render::diffraction::PatchResources;
+use crate::render::map::{map_target, map_workgroup, MapImage};
 
 /// Rows per submission: at most this many pixels × samples per dispatch (no driver watchdog, progress on long
 /// maps).

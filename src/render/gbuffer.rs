@@ -17,8 +17,8 @@ use crate::gpu::vk::{
 };
 use crate::material::Reach;
 use crate::physics::baked::Domain;
+use crate::render::scene_gpu::{ObjectView, SurfaceMaterial};
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
-use crate::render::surface::{ObjectView, SurfaceMaterial};
 use crate::render::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
 use crate::scene::camera::Camera;
 use crate::scene::Scene;

@@ -7,8 +7,12 @@ pub mod background;
 pub mod capture;
 pub mod diffraction;
 pub mod env_map;
+pub mod forward;
 pub mod gbuffer;
+pub mod map;
+pub mod offscreen;
 pub mod preview;
+pub mod scene_gpu;
 pub mod shadow;
 pub mod surface;
 pub mod visibility;
@@ -19,7 +23,7 @@ pub mod workload;
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::gpu::vk::{Buffer, Context, Destroy, Guard, Image, ImageDesc, ImageState};
+use crate::gpu::vk::{Buffer, Context, Destroy, Guard, Image, ImageDesc, ImageState, Laps, Statistics};
 use crate::scene::mesh::Mesh;
 
 /// The format of offscreen colour targets: 8-bit sRGB, so the store applies the sRGB transfer function and the
@@ -65,6 +69,17 @@ pub fn pass_medians(frames: &[crate::gpu::vk::FrameTimes]) -> Option<String> {
         })
         .collect();
     (!passes.is_empty()).then(|| passes.join(", "))
+}
+
+/// What a frame's recording is measured with (all off by default).
+#[derive(Clone, Copy, Default)]
+pub struct Instruments<'a> {
+    /// A counting renderer's per-pixel fetch counters.
+    pub counts: Option<&'a Buffer>,
+    /// The shading draws' pipeline-statistics query.
+    pub statistics: Option<&'a Statistics<'a>>,
+    /// Where each pass's end is timed.
+    pub laps: Laps<'a>,
 }
 
 /// What a pass draws into.

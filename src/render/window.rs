@@ -101,6 +101,11 @@ impl WindowTarget {
         self.swapchain.samples
     }
 
+    /// The presented images' size in pixels.
+    pub fn extent(&self) -> vk::Extent2D {
+        self.swapchain.extent
+    }
+
     /// The swapchain is remade before the next frame (the window was resized).
     pub fn mark_stale(&mut self) {
         self.stale = true;

@@ -13,10 +13,12 @@ use crate::gpu::vk::{
     Blend, Buffer, BufferDesc, Context, DescriptorWrite, FrameTimes, GraphicsPipelineDesc, Guard, Image, ImageDesc,
     ImageState, Laps, MemoryState, PassProfile, Pipeline, Statistics,
 };
-use crate::render::diffraction::{map_target, MapPass, MapPipeline, MapShader, MapSpec, PatchResources, Upload};
-use crate::render::surface::{FrameTarget, Instruments, MaterialInput, SceneRenderer, SurfaceVariant};
+use crate::render::diffraction::{PatchResources, Upload};
+use crate::render::map::{map_target, MapPass, MapPipeline, MapShader, MapSpec};
+use crate::render::offscreen::FrameTarget;
+use crate::render::surface::{MaterialInput, RendererSetup, SceneRenderer, SurfaceVariant};
 use crate::render::visibility::ShadingPath;
-use crate::render::{pass, OffscreenTarget, SceneView, LINEAR_FORMAT};
+use crate::render::{pass, Instruments, OffscreenTarget, SceneView, LINEAR_FORMAT};
 use crate::scene::mesh::Mesh;
 
 /// One frame's cost: GPU time pass by pass (timestamps), wall time of record + submit + wait on the CPU, and
@@ -328,17 +330,12 @@ impl<'a> SceneWorkload<'a> {
         target: &OffscreenTarget,
     ) -> Result<SceneRenderer> {
         let (extent, samples, format) = (target.color.extent(), target.view().samples, target.color.desc.format);
-        let renderer = SceneRenderer::with_variant(ctx, inputs, objects, format, variant, samples)?;
-        let mut renderer = Guard::new(ctx, renderer);
-        if path == ShadingPath::Visibility {
-            renderer.use_visibility_buffer(ctx, extent)?;
-        }
-        if variant == (SurfaceVariant::Shade { display_output: true }) {
+        let setup = RendererSetup { format, samples, variant, path };
+        let mut renderer = Guard::new(ctx, SceneRenderer::new(ctx, (inputs, objects), setup, (view, extent))?);
+        if variant.display_output() {
             // As the viewer draws them by default (the exposure stays 0 EV: the frames are timed, not compared).
             renderer.set_display(0.0, crate::display::Tone::Filmic)?;
         }
-        let aspect = extent.width as f32 / extent.height as f32;
-        renderer.update(ctx, view, aspect)?;
         Ok(renderer.keep())
     }
 }

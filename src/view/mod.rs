@@ -28,9 +28,11 @@ use crate::gpu::vk::{Context, ContextDesc, Guard, Owned};
 use crate::material::{Approach, SettingsPatch};
 use crate::material::{Material, Reach};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects};
-use crate::render::diffraction::{light_params, MapPass, PatchResources};
-use crate::render::surface::{Instruments, SceneRenderer};
+use crate::render::diffraction::{light_params, PatchResources};
+use crate::render::map::MapPass;
+use crate::render::surface::{RendererSetup, SceneRenderer};
 use crate::render::window::{WindowFrame, WindowTarget};
+use crate::render::Instruments;
 use crate::render::SceneView;
 use crate::scene::Scene;
 
@@ -324,7 +326,10 @@ impl Gpu {
         }
         let (inputs, objects) = (material_inputs(scene, &materials), scene_objects(scene));
         let (format, samples) = (target.format(), target.samples());
-        let renderer = Guard::new(ctx, SceneRenderer::new(ctx, &inputs, &objects, format, true, samples)?);
+        let setup = RendererSetup::forward(format, true, samples);
+        let first = SceneView::lit(scene, live.camera(&scene.camera), live.light());
+        let renderer = SceneRenderer::new(ctx, (&inputs, &objects), setup, (&first, target.extent()))?;
+        let renderer = Guard::new(ctx, renderer);
         let first = &materials[scene.objects[0].material];
         let map = Guard::new(ctx, MapPass::new(ctx, first, format, true, false)?);
         let map_patch = PatchResources::new(ctx, first)?;

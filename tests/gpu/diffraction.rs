@@ -10,7 +10,8 @@ use diffract::physics::formats::png::PngScale;
 use diffract::physics::heightfield::HeightField;
 use diffract::physics::optics::{direction, gain_factor, shadow_mask};
 use diffract::physics::spectrum::Sampling;
-use diffract::render::diffraction::{evaluate_brdf, render_map, render_map_with, MapImage, MapShader, MapSpec};
+use diffract::render::diffraction::evaluate_brdf;
+use diffract::render::map::{render_map, render_map_with, MapImage, MapShader, MapSpec};
 use glam::DVec3;
 
 use crate::golden;

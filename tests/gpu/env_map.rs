@@ -13,8 +13,8 @@ use diffract::physics::sky::Sky;
 use diffract::physics::spectrum::white_rgb;
 use diffract::reference::exact_env::reference_map_pixels;
 use diffract::reference::exact_image::delta_e;
-use diffract::render::diffraction::{render_map, MapImage};
 use diffract::render::env_map::{render_env_map, EnvMapSpec};
+use diffract::render::map::{render_map, MapImage};
 use glam::DVec3;
 
 use crate::diffraction::blazed;

@@ -7,7 +7,7 @@ use diffract::material::{Material, Reach};
 use diffract::physics::colour::xyz_to_linear_srgb;
 use diffract::physics::exact::{Method, Reference};
 use diffract::physics::formats::png::PngScale;
-use diffract::render::surface::render_surface;
+use diffract::render::offscreen::render_surface;
 use diffract::render::SceneView;
 use diffract::scene::camera::Camera;
 use diffract::scene::mesh::Mesh;
@@ -123,7 +123,8 @@ fn surface_pixels_match_the_cpu_reference_in_a_rotated_tangent_frame() {
 
 #[test]
 fn material_orientation_turns_the_patch_like_the_tangent() {
-    use diffract::render::surface::{orientation, MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
+    use diffract::render::offscreen::OffscreenFrames;
+    use diffract::render::surface::{orientation, MaterialInput, RendererSetup, SceneRenderer, SurfaceMaterial};
     let scale = PngScale { pixel_size_um: 0.065, height_um: 0.375 };
     let hf = diffract::physics::formats::load(&crate::harness::place::afm("elaphe-100px.png"), Some(scale))
         .unwrap()
@@ -138,10 +139,10 @@ fn material_orientation_turns_the_patch_like_the_tangent() {
             let surface =
                 SurfaceMaterial { orientation: orientation(orientation_deg), pigment: [0.0; 3], matte: false };
             let inputs = [MaterialInput { material: &material, surface }];
-            let mut renderer =
-                SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], OffscreenFrames::format(false), false, ONE).unwrap();
+            let setup = RendererSetup::forward(OffscreenFrames::format(false), false, ONE);
+            let extent = ash::vk::Extent2D { width: w, height: h };
+            let renderer = SceneRenderer::new(ctx, (&inputs, &[(&mesh, 0)]), setup, (&sc, extent)).unwrap();
             let frames = OffscreenFrames::new(ctx, w, h, false, ONE).unwrap();
-            renderer.update(ctx, &sc, w as f32 / h as f32).unwrap();
             let frame = frames.render(ctx, &renderer, sc.background).unwrap();
             // SAFETY: render waited.
             unsafe {
@@ -173,7 +174,8 @@ fn silhouette_frame(samples: u32, material: &Material) -> (Vec<f32>, u32, u32) {
 
 /// [`silhouette_frame`]'s frame itself, the quad said to be drawn front first (as it is) or not.
 fn silhouette(samples: u32, material: &Material, front_first: bool) -> (diffract::render::Frame, u32, u32) {
-    use diffract::render::surface::{orientation, MaterialInput, OffscreenFrames, SceneRenderer, SurfaceMaterial};
+    use diffract::render::offscreen::OffscreenFrames;
+    use diffract::render::surface::{orientation, MaterialInput, RendererSetup, SceneRenderer, SurfaceMaterial};
     let (w, h) = (64u32, 64u32);
     let (mut mesh, mut sc) = scene(0.0, 1.0);
     mesh.front_first = front_first;
@@ -185,10 +187,10 @@ fn silhouette(samples: u32, material: &Material, front_first: bool) -> (diffract
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
         let surface = SurfaceMaterial { orientation: orientation(0.0), pigment: [0.5, 0.5, 0.5], matte: false };
         let inputs = [MaterialInput { material, surface }];
-        let format = OffscreenFrames::format(false);
-        let mut renderer = SceneRenderer::new(ctx, &inputs, &[(&mesh, 0)], format, false, samples).unwrap();
+        let setup = RendererSetup::forward(OffscreenFrames::format(false), false, samples);
+        let extent = ash::vk::Extent2D { width: w, height: h };
+        let renderer = SceneRenderer::new(ctx, (&inputs, &[(&mesh, 0)]), setup, (&sc, extent)).unwrap();
         let frames = OffscreenFrames::new(ctx, w, h, false, samples).unwrap();
-        renderer.update(ctx, &sc, 1.0).unwrap();
         let frame = frames.render(ctx, &renderer, sc.background).unwrap();
         // SAFETY: render waited.
         unsafe {

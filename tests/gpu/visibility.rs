@@ -6,6 +6,7 @@
 use diffract::gpu::vk::Owned;
 use diffract::material::SettingsPatch;
 use diffract::render::capture::SceneCapture;
+use diffract::render::visibility::ShadingPath;
 use diffract::render::SceneView;
 use diffract::scene::Scene;
 
@@ -17,12 +18,9 @@ fn both_paths(scene: &Scene, size: (u32, u32), samples: u32) -> [Vec<f32>; 2] {
     gpu_test(|ctx| {
         let materials = scene_materials(ctx, scene, size, &SettingsPatch::default());
         let samples = ctx.sample_count(samples, diffract::render::LINEAR_FORMAT).unwrap();
-        [false, true].map(|visibility| {
-            let mut capture =
-                Owned::new(ctx, SceneCapture::new(ctx, scene, &materials, size.0, size.1, samples).unwrap());
-            if visibility {
-                capture.use_visibility_buffer(ctx).unwrap();
-            }
+        [ShadingPath::Forward, ShadingPath::Visibility].map(|path| {
+            let capture = SceneCapture::with_path(ctx, scene, &materials, size, samples, path).unwrap();
+            let mut capture = Owned::new(ctx, capture);
             capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec()
         })
     })

@@ -18,9 +18,10 @@ use std::fmt::Write as _;
 use crate::error::{Error, Result};
 use crate::io::stats::Spread;
 use crate::material::{Approach, Settings, SettingsPatch};
-use crate::render::diffraction::{MapShader, Upload};
+use crate::render::diffraction::Upload;
+use crate::render::map::MapShader;
+use crate::render::offscreen::FrameTarget;
 use crate::render::pass;
-use crate::render::surface::FrameTarget;
 use crate::render::visibility::ShadingPath;
 
 /// One configuration of a profile: the settings it sets for every material (the rest are each material's own;

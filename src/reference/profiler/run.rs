@@ -21,9 +21,10 @@ use crate::reference::exact_image;
 use crate::reference::exact_image::{PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::reference::profiler::{Config, Row, TableSummary, MAX_SIZE};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
-use crate::render::diffraction::{MapShader, MapSpec, Upload};
+use crate::render::diffraction::Upload;
 use crate::render::gbuffer::{GBuffer, Seen};
-use crate::render::surface::FrameTarget;
+use crate::render::map::{MapShader, MapSpec};
+use crate::render::offscreen::FrameTarget;
 use crate::render::visibility::ShadingPath;
 use crate::render::workload::{Counts, FrameSample, MapWorkload, ProbeResult, SceneWorkload, Workload};
 use crate::render::SceneView;
@@ -310,7 +311,7 @@ fn scene_pixels(
     let quadratic = crate::light::prefilter::Quadratic::of_irradiance(&sky);
     // The environment without its sun, which each pixel reflects at its mirror direction (the surface pass's map).
     let panorama = match &scene.environment {
-        Some(e) => e.panorama(scene.light_dir, false, crate::render::surface::LIGHTING_SKY_WIDTH)?,
+        Some(e) => e.panorama(scene.light_dir, false, crate::render::scene_gpu::LIGHTING_SKY_WIDTH)?,
         None => None,
     };
     let moments: Vec<Option<crate::light::prefilter::Moments>> = scene

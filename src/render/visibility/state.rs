@@ -1,33 +1,5 @@
-//! The visibility buffer: a scene's multisampled frame shaded once per pixel and visible triangle.
-//!
-//! The forward pass ([`crate::render::surface`]) draws a multisampled frame into a multisampled colour target, which is then
-//! resolved; on lavapipe it also shades the hidden layers of a snake's scales when it multisamples (Mesa's
-//! llvmpipe tests each sample's depth after running the shader), so four samples cost about three times one.
-//! This path splits the frame in two passes instead:
-//!
-//! 1. **The raster pass**, at the frame's samples: every object's triangles with the depth test (nearer: GREATER,
-//!    the depth being reversed; written),
-//!    writing per sample only which triangle it sees (`(object + 1) << VISIBILITY_OBJECT_SHIFT | triangle`, an
-//!    R32_UINT target; glsl/visibility.frag). The vertex shader is the forward pass's own (`surface.vert`'s
-//!    VISIBILITY variants), which also keeps each vertex's outputs in a buffer per object.
-//! 2. **The shading pass**, at one sample per pixel: per object, one full-screen triangle whose fragment shader
-//!    (glsl/surface_resolve.frag) finds the object's distinct triangles among the pixel's samples, rebuilds each
-//!    one's inputs at the pixel centre from its three vertices (perspective-correct barycentrics, as the
-//!    rasteriser interpolates them) and its footprint from the same triangle's plane one pixel across and down,
-//!    shades it with the forward pass's code (glsl/include/surface_shade.glsl) and weighs it by the share of the
-//!    samples it covers. The objects add into a one-sample target cleared to the background; an environment
-//!    behind them is drawn last, under what they left uncovered. That pass shades each pixel's first triangle
-//!    only; where a pixel sees more (an edge), it lists the pixel.
-//! 3. **The edge pass**, where the frame has several samples: per object, a compute dispatch over its listed
-//!    pixels (glsl/surface_edges.comp, as many work groups as the shading pass counted: an indirect dispatch)
-//!    shades their further triangles alike and adds them to the target. On llvmpipe a full-screen pass runs a
-//!    branch's body for a whole block of pixels whenever one of them needs it, and most of the snake's blocks hold
-//!    an edge pixel (the spokes of its scales' fans), so a second shading there cost as much as the first; the
-//!    dispatch packs the edge pixels densely (docs/performance.md).
-//!
-//! A forward multisampled frame also shades each triangle once per pixel at its centre and averages over the
-//! samples it covers, so the two agree up to float rounding and the footprint's finite difference (the forward
-//! pass's derivatives come from 2×2 quads). `tests/gpu/visibility.rs` compares them.
+//! The visibility path's GPU state for one frame size: the ids' target, the coverage depth, each object's vertex
+//! outputs and edge lists, and the barriers between the path's passes and between its frames.
 
 use ash::vk;
 
@@ -37,50 +9,6 @@ use crate::gpu::interface::{
 };
 use crate::gpu::vk::{Buffer, BufferDesc, Context, Guard, Image, ImageDesc, ImageState, MemoryState, Sampler};
 use crate::render::MeshBuffers;
-
-/// How a scene's frame is shaded.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum ShadingPath {
-    /// Each object's fragments shaded as they are drawn, into a target of the frame's samples (then resolved).
-    #[default]
-    Forward,
-    /// Triangles first, then one shading per pixel and visible triangle (this module).
-    Visibility,
-}
-
-impl ShadingPath {
-    pub const NAMES: [&'static str; 2] = ["forward", "visibility"];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Forward => "forward",
-            Self::Visibility => "visibility",
-        }
-    }
-
-    pub fn parse(name: &str) -> Option<Self> {
-        match name {
-            "forward" => Some(Self::Forward),
-            "visibility" => Some(Self::Visibility),
-            _ => None,
-        }
-    }
-
-    /// The path a frame of `samples` per pixel takes on `ctx`'s device when the user does not choose: the
-    /// visibility buffer on a CPU device (lavapipe) at 2 to 8 samples, where it was measured faster
-    /// (docs/performance.md: the default scene's 4-sample frame at 800² in 0.54–0.62 of the forward path's time,
-    /// a lone frame in about half once Mesa's shader cache holds its shaders, at the same error against the exact
-    /// reference); forward at one sample, where the two cost the same, and on GPUs, where the visibility buffer
-    /// is not measured yet.
-    pub fn for_frame(ctx: &Context, samples: vk::SampleCountFlags) -> Self {
-        let cpu = ctx.info.kind == vk::PhysicalDeviceType::CPU;
-        let multisampled = (2..=VISIBILITY_MAX_SAMPLES).contains(&samples.as_raw());
-        match cpu && multisampled && ctx.has_visibility_buffer() {
-            true => Self::Visibility,
-            false => Self::Forward,
-        }
-    }
-}
 
 /// The vertex shader's storage writes, before the shading pass's fragment shader reads them.
 pub(crate) const VERTEX_STORAGE_WRITE: MemoryState =
@@ -170,46 +98,55 @@ pub(crate) struct VisibilityState {
     pub edges: Vec<Buffer>,
 }
 
+/// Whether `ctx`'s device and a frame of `samples` per pixel over objects of `triangles` each can take the path:
+/// else the reason, in one line.
+pub fn check(
+    ctx: &Context,
+    samples: vk::SampleCountFlags,
+    triangles: impl ExactSizeIterator<Item = u32>,
+) -> Result<()> {
+    if !ctx.has_visibility_buffer() {
+        return Err(Error::unsupported(
+            &ctx.info.name,
+            format!(
+                "{} cannot draw a visibility buffer (it lacks geometryShader, vertexPipelineStoresAndAtomics or \
+                 fragmentStoresAndAtomics): use the forward path",
+                ctx.info.name
+            ),
+        ));
+    }
+    if samples.as_raw() > VISIBILITY_MAX_SAMPLES {
+        return Err(Error::setting(
+            "samples",
+            format!(
+                "the visibility buffer takes at most {VISIBILITY_MAX_SAMPLES} samples per pixel, not {}",
+                samples.as_raw()
+            ),
+        ));
+    }
+    if triangles.len() > MAX_OBJECTS {
+        return Err(Error::TooLarge(format!(
+            "the visibility buffer tells at most {MAX_OBJECTS} objects apart; the scene has {}",
+            triangles.len()
+        )));
+    }
+    if let Some((i, n)) = triangles.enumerate().find(|&(_, n)| u64::from(n) > MAX_TRIANGLES) {
+        return Err(Error::TooLarge(format!(
+            "object {i} has {n} triangles; the visibility buffer takes at most {MAX_TRIANGLES} per object"
+        )));
+    }
+    Ok(())
+}
+
 impl VisibilityState {
-    /// Checks that the device and the frame can take the path, and makes its target (`extent`, `samples`) and
-    /// the objects' output buffers.
+    /// Makes the path's target (`extent`, `samples`) and the objects' output buffers, once [`check`] has passed.
     pub fn new(
         ctx: &Context,
         extent: vk::Extent2D,
         samples: vk::SampleCountFlags,
         meshes: &[&MeshBuffers],
     ) -> Result<Self> {
-        if !ctx.has_visibility_buffer() {
-            return Err(Error::unsupported(
-                &ctx.info.name,
-                format!(
-                    "{} cannot draw a visibility buffer (it lacks geometryShader, vertexPipelineStoresAndAtomics or \
-                 fragmentStoresAndAtomics): use the forward path",
-                    ctx.info.name
-                ),
-            ));
-        }
-        if samples.as_raw() > VISIBILITY_MAX_SAMPLES {
-            return Err(Error::setting(
-                "samples",
-                format!(
-                    "the visibility buffer takes at most {VISIBILITY_MAX_SAMPLES} samples per pixel, not {}",
-                    samples.as_raw()
-                ),
-            ));
-        }
-        if meshes.len() > MAX_OBJECTS {
-            return Err(Error::TooLarge(format!(
-                "the visibility buffer tells at most {MAX_OBJECTS} objects apart; the scene has {}",
-                meshes.len()
-            )));
-        }
-        if let Some((i, m)) = meshes.iter().enumerate().find(|(_, m)| u64::from(m.index_count / 3) > MAX_TRIANGLES) {
-            return Err(Error::TooLarge(format!(
-                "object {i} has {} triangles; the visibility buffer takes at most {MAX_TRIANGLES} per object",
-                m.index_count / 3
-            )));
-        }
+        check(ctx, samples, meshes.iter().map(|m| m.index_count / 3))?;
         let mut desc =
             ImageDesc::render_target(extent.width, extent.height, vk::Format::R32_UINT).multisampled(samples);
         desc.usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
