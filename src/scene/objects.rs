@@ -1,0 +1,189 @@
+//! A scene's materials and objects: each `[material.NAME]` table made a patch (loaded, generated or matte; tiled
+//! or extended) with its settings, and each `[[object]]` a mesh (a file or a built-in shape) placed in the world.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use toml::Spanned;
+
+use crate::error::Result;
+use crate::material::{Approach, Settings};
+use crate::physics::formats::png::PngScale;
+use crate::physics::generate::{generate, PatchKind, PatchSpec};
+use crate::physics::heightfield::HeightField;
+use crate::physics::illuminant::Illuminant;
+use crate::scene::checks::{check_coords, MAX_COORDINATE};
+use crate::scene::file::{built_in, Locator, MaterialDef, ObjectDef, TileDef};
+use crate::scene::mesh::shapes::Shape;
+use crate::scene::mesh::{obj, Mesh};
+
+/// The approach of a material that names none: the baked table (FLSS stays the reference, a material or the
+/// command line can ask for it).
+pub const DEFAULT_APPROACH: Approach = Approach::Baked;
+
+/// A material of a loaded scene.
+#[derive(Clone, Debug)]
+pub struct SceneMaterial {
+    pub name: String,
+    pub heightfield: HeightField,
+    pub settings: Settings,
+    pub orientation_deg: f32,
+    pub pigment: [f32; 3],
+    /// Pigment only (a material with neither heightfield nor generate, such as a ground's): a Lambertian albedo
+    /// with no grating and no skin over it. `heightfield` is then a small flat patch that nothing draws.
+    pub matte: bool,
+}
+
+/// An object of a loaded scene.
+#[derive(Clone, Debug)]
+pub struct SceneObject {
+    pub mesh: Mesh,
+    pub model: Mat4,
+    pub material: usize,
+    /// Whether it casts the sun's shadow (everything but the ground does; every object receives it).
+    pub casts_shadow: bool,
+}
+
+/// The flat patch behind a matte material: edge and pixel (µm).
+const MATTE_PATCH_UM: f64 = 4.0;
+const MATTE_PIXEL_UM: f64 = 0.25;
+
+pub(super) fn material(
+    loc: &Locator<'_>,
+    base: &Path,
+    name: &str,
+    def: &Spanned<MaterialDef>,
+    illuminant: Illuminant,
+) -> Result<SceneMaterial> {
+    let span = def.span();
+    let d = def.get_ref();
+    let at = |msg: String| loc.at(span.clone(), format!("[material.{name}] {msg}"));
+    let matte = d.heightfield.is_none() && d.generate.is_none();
+    let patch_keys = [d.pixel_size_um, d.height_um, d.size_um, d.period_um].iter().any(Option::is_some);
+    if matte && (patch_keys || d.seed.is_some() || d.tile.is_some() || d.extend_um.is_some()) {
+        return Err(at(
+            "has no heightfield or generate (a matte material: pigment only), so its patch keys mean nothing".into(),
+        ));
+    }
+    let hf =
+        match (&d.heightfield, d.generate) {
+            (Some(path), None) => {
+                let file = base.join(path.get_ref());
+                let png = match (d.pixel_size_um, d.height_um) {
+                    (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+                    (None, None) => None,
+                    _ => return Err(at("pixel_size_um and height_um go together".into())),
+                };
+                match (built_in(&file), png) {
+                    (Some(bytes), Some(scale)) => crate::physics::formats::png::from_bytes(&file, bytes, scale)
+                        .map_err(|e| loc.at(path.span(), e))?,
+                    (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
+                    (None, _) if !file.exists() => {
+                        return Err(loc.at(
+                            path.span(),
+                            format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
+                        ))
+                    }
+                    (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
+                }
+            }
+            (None, Some(kind)) => {
+                let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
+                spec.period_um = d.period_um.unwrap_or(spec.period_um);
+                spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
+                spec.seed = d.seed.unwrap_or(1);
+                generate(&spec).map_err(|e| at(e.to_string()))?
+            }
+            (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
+            // Matte: a flat patch the renderer never draws (the smallest the preparation accepts).
+            (None, None) => generate(&PatchSpec::new(PatchKind::Flat, MATTE_PATCH_UM, MATTE_PIXEL_UM))
+                .map_err(|e| at(e.to_string()))?,
+        };
+    let hf = match (d.tile, d.extend_um) {
+        (Some(_), Some(_)) => {
+            return Err(at("give tile (repeat the patch) or extend_um (grow it without a period), not both".into()))
+        }
+        (None, Some(um)) => crate::physics::extend::extend(&hf, um).map_err(|e| at(e.to_string()))?,
+        (None, None) => hf,
+        (Some(TileDef::Both(n)), None) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
+        (Some(TileDef::Each([x, y])), None) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
+    };
+    if !f64::from(d.orientation_deg).is_finite() {
+        return Err(at(format!("orientation_deg = {}: expected a finite number", d.orientation_deg)));
+    }
+    d.settings.check().map_err(at)?;
+    let mut patch = d.settings;
+    // A scene that states its table tolerance means it: a table that cannot reach it is refused.
+    patch.strict_table |= patch.table_tolerance.is_some();
+    let settings = patch.apply(Settings { approach: DEFAULT_APPROACH, illuminant, ..Settings::default() });
+    if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
+        return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));
+    }
+    Ok(SceneMaterial {
+        name: name.to_string(),
+        heightfield: hf,
+        settings,
+        orientation_deg: d.orientation_deg,
+        pigment: d.pigment,
+        matte,
+    })
+}
+
+pub(super) fn object(
+    loc: &Locator<'_>,
+    base: &Path,
+    def: &Spanned<ObjectDef>,
+    materials: &BTreeMap<String, usize>,
+) -> Result<SceneObject> {
+    let span = def.span();
+    let d = def.get_ref();
+    let mesh = match (&d.mesh, d.shape) {
+        (Some(path), None) => {
+            let file: PathBuf = base.join(path.get_ref());
+            obj::load(&file).map_err(|e| loc.at(path.span(), e))?
+        }
+        (None, Some(Shape::Snake)) => {
+            use crate::scene::mesh::snake::{snake, SnakeSpec, MAX_SCALE_DOME};
+            let defaults = SnakeSpec::default();
+            let scale_dome = match &d.scale_dome {
+                Some(dome) if !(0.0..=MAX_SCALE_DOME).contains(dome.get_ref()) => {
+                    return Err(loc.at(dome.span(), format!("scale_dome must be between 0 (flat) and {MAX_SCALE_DOME}")))
+                }
+                Some(dome) => *dome.get_ref(),
+                None => defaults.scale_dome,
+            };
+            snake(&SnakeSpec { pattern: d.pattern.unwrap_or_default(), scale_dome, ..defaults })
+        }
+        (None, Some(_)) if d.pattern.is_some() || d.scale_dome.is_some() => {
+            return Err(loc.at(span, "pattern and scale_dome are for shape = \"snake\""))
+        }
+        (None, Some(shape)) => shape.build(),
+        (Some(_), Some(_)) => return Err(loc.at(span, "an [[object]] has either mesh or shape, not both")),
+        (None, None) => return Err(loc.at(span, "an [[object]] needs mesh = \"FILE.obj\" or shape = \"...\"")),
+    };
+    let material = *materials.get(d.material.get_ref()).ok_or_else(|| {
+        let known: Vec<&str> = materials.keys().map(String::as_str).collect();
+        loc.at(
+            d.material.span(),
+            format!("no [material.{}] in the scene (it has: {})", d.material.get_ref(), known.join(", ")),
+        )
+    })?;
+    let scale = d.scale.as_ref().map(|s| *s.get_ref()).unwrap_or(1.0);
+    if !(scale.is_finite() && scale > 0.0 && scale <= MAX_COORDINATE) {
+        return Err(loc.at(
+            d.scale.as_ref().map(|s| s.span()).unwrap_or(span),
+            format!("scale must be positive and at most {MAX_COORDINATE:e}"),
+        ));
+    }
+    check_coords(loc, span.clone(), "translate", &d.translate)?;
+    check_coords(loc, span.clone(), "rotate_deg", &d.rotate_deg)?;
+    let [rx, ry, rz] = d.rotate_deg.map(f32::to_radians);
+    let model = Mat4::from_scale_rotation_translation(
+        Vec3::splat(scale),
+        Quat::from_euler(EulerRot::XYZ, rx, ry, rz),
+        Vec3::from(d.translate),
+    );
+    Ok(SceneObject { mesh, model, material, casts_shadow: d.shape != Some(Shape::Ground) })
+}
+
