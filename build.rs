@@ -1,7 +1,8 @@
 //! Compiles every `glsl/<name>.<stage>.glsl` to SPIR-V with shaderc (`crates/glsl-compile`) into `$OUT_DIR` (never into the source
 //! tree) and writes `$OUT_DIR/shaders.rs`, which `src/gpu/shaders.rs` includes: one `pub static NAME_STAGE:
 //! Shader` per shader and variant, its SPIR-V embedded with `include_bytes!` and its descriptor bindings read
-//! from that SPIR-V (`rspirv-reflect`), from which the pipelines make their set layouts.
+//! from that SPIR-V (by this script's own reader of its decorations, `reflect`), from which the pipelines make
+//! their set layouts.
 //!
 //! `#include "x.glsl"` resolves against `glsl/include/`, then `$OUT_DIR/include/`, where this script writes what
 //! `src/gpu/interface.rs` declares (the one source of what both sides share, compiled into this script): the

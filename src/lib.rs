@@ -30,18 +30,19 @@
 //! ```
 //!
 //! ## Layers
-//! Each folder of `src/` is a layer that uses only the layers listed before it (ARCHITECTURE.md draws them):
+//! Each folder of `src/` is a layer that uses only the layers listed before it (ARCHITECTURE.md draws them; a
+//! reading of every `use` line finds no import circle between files or folders):
 //! 1. [`error`]: one error type; every variant renders as one line a user can act on.
 //! 2. [`io`]: bounded reads of user files, atomic writes, the verified on-disk cache, progress, statistics.
 //! 3. [`gpu`]: the Vulkan backend ([`gpu::vk`], the only code that creates or destroys Vulkan objects), the
 //!    shaders' SPIR-V and [`gpu::interface`], the numbers and layouts the shaders and the Rust side share.
 //! 4. [`physics`]: the CPU truth: height fields, the coherence window, Taylor terms, the exact BRDF, spectra,
 //!    colour, illuminants, the sky and the baked table (no Vulkan).
-//! 5. [`light`]: environment maps, their sampling against the BRDF, the prefiltered moments.
-//! 6. [`material`]: the settings that trade speed for accuracy and a patch prepared under them.
-//! 7. [`scene`]: scene files, the camera, meshes (shapes, the procedural snake, OBJ).
-//! 8. [`display`]: exposure and the verdict on a frame.
-//! 9. [`render`]: frames: targets, passes, scene capture, readback.
+//! 5. [`display`]: exposure, the tone curve and the verdict on a frame (CPU twins of `glsl/include/display.glsl`).
+//! 6. [`light`]: environment maps, their sampling against the BRDF, the prefiltered moments, a map's sun.
+//! 7. [`material`]: the settings that trade speed for accuracy and a patch prepared under them.
+//! 8. [`scene`]: scene files, the camera, meshes (shapes, the procedural snake, OBJ).
+//! 9. [`render`]: frames: targets, the frame renderer's state and passes, scene capture, readback.
 //! 10. [`reference`](mod@reference): the BRDF by every evaluator, exact reference images, the profiler.
 //! 11. `view` and `cli` (feature `cli`): the viewer's window and the `diffract` command line.
 

@@ -31,7 +31,7 @@ void record_fetches() {
 #endif
 }
 
-// The material's uniforms, generated from `material::DiffractionParams` (the Rust struct is their one source).
+// The material's uniforms, generated from `gpu::interface::DiffractionParams` (the Rust struct is their one source).
 #include "diffraction_params.glsl"
 
 #ifdef BAKED

@@ -1,4 +1,5 @@
-//! `diffract gen`: generated nanostructures (and, later, meshes).
+//! `diffract gen`: generated nanostructures (`gen patch`), the procedural snake as an OBJ mesh (`gen snake`) and the
+//! clear sky as an HDR environment map (`gen sky`).
 
 use std::path::PathBuf;
 

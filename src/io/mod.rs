@@ -1,6 +1,7 @@
 //! What every layer shares with the file system and the terminal: bounded reads of the user's files (`input`),
 //! checked, atomic writes of images and files ([`output`]), the on-disk cache of tables and references (`cache`),
-//! progress bars on stderr (`progress`) and the statistics the reports print ([`stats`]).
+//! progress bars on stderr (`progress`), the statistics the reports print ([`stats`]) and the command line's
+//! lines on stdout and stderr, which end the run with an error on a full or closed stream ([`stream`]).
 //!
 //! The library prints nothing itself: what a user should read (a table it could not cache, a cached entry it
 //! computes again, a material's caveat, a validation message) goes to the `log` crate, warnings as

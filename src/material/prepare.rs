@@ -1,10 +1,9 @@
-//! Shading approaches and everything a patch needs before the GPU sees it (model.md §3): which approach, the
-//! settings that trade speed for accuracy, what views a material must serve ([`Reach`]), and the prepared
-//! [`Material`] — Taylor terms or the baked table, plan, window, wavelength sampling and the uniform block
-//! `DiffractionParams` of `glsl/include/params.glsl`.
-//!
-//! Approaches are selected by name; the thesis's four are specialization constants of one shader (term count,
-//! wavelength count, window radius, approach), the baked table a second build of the same shaders (`BAKED`).
+//! A patch prepared for the GPU under a material's settings (`settings.rs` holds the settings and the approaches;
+//! model.md §3): what views it must serve ([`Reach`]) and the prepared [`Material`] — Taylor terms or the baked
+//! table, plan, window, wavelength sampling, the environment's moments and the uniform block `DiffractionParams`
+//! of `glsl/include/params.glsl`. The thesis's four approaches are specialization constants of one shader (term
+//! count, wavelength count, window radius, approach), the baked table a second build of the same shaders (`BAKED`):
+//! [`Material::spec_constants`].
 
 use std::time::Instant;
 

@@ -1,6 +1,6 @@
 //! Camera matrices for Vulkan's clip space (right-handed view space looking down −z; clip y points down; depth
-//! 0 at the near plane and 1 at the far plane). Written out here rather than taken from glam so that the
-//! convention is visible in one place.
+//! reversed: 1 at the near plane and 0 at the far plane, [`NEAR_DEPTH`] and [`FAR_DEPTH`]). Written out here
+//! rather than taken from glam so that the convention is visible in one place.
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -42,7 +42,7 @@ pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
     )
 }
 
-/// Perspective projection to Vulkan clip space (y down, depth in [0, 1]).
+/// Perspective projection to Vulkan clip space (y down, depth from 1 at `near` to 0 at `far`).
 pub fn perspective(fov_y: f32, aspect: f32, near: f32, far: f32) -> Mat4 {
     let f = 1.0 / (0.5 * fov_y).tan();
     // Reversed depth: the near plane at 1, the far one at 0. With a float depth buffer the depth's relative
