@@ -153,20 +153,8 @@ fn write_map(args: &MapArgs, map: &map::MapImage) -> anyhow::Result<f64> {
 /// The map under the environment in `path` (`light::sampling`): a table for every pair of directions, the GPU's
 /// estimate, and with --env-reference the exact BRDF's at random pixels.
 fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
-    use crate::light::sampling::{EnvLight, TableProposal};
-    // Baked unless another approach is asked for (and refused).
-    let mut settings = args
-        .material
-        .patch
-        .apply(crate::material::Settings { approach: Approach::Baked, ..crate::material::Settings::default() });
-    if settings.approach != Approach::Baked {
-        anyhow::bail!(
-            "--environment needs --approach baked: {} evaluates one pair of directions per pixel, and an environment \
-             needs thousands (the exact reference is --env-reference)",
-            settings.approach.name()
-        );
-    }
-    settings.illuminant = settings.illuminant.physical();
+    use crate::light::sampling::EnvLight;
+    let settings = environment_settings(args)?;
     let map = crate::light::environment::EnvironmentMap::load(path)?;
     if args.env_intensity <= 0.0 {
         anyhow::bail!("--env-intensity must be positive, got {}", args.env_intensity);
@@ -220,33 +208,61 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
         device = ctx.info.name
     );
     if let Some(count) = args.env_reference {
-        let table = material.table.as_ref().context("the baked material has a table")?;
-        let proposal = TableProposal::new(table)?;
-        let pixels = crate::reference::exact_env::random_map_pixels(args.size, count as usize, 0x5eed);
-        let start = Instant::now();
-        let samples = crate::light::sampling::REFERENCE_SAMPLES;
-        let reference = crate::reference::exact_env::reference_map_pixels(
-            &hf,
-            &material.settings,
-            &proposal,
-            &env,
-            args.size,
-            &pixels,
-            samples,
-        )?;
-        let check = crate::reference::exact_env::compare(&image, &pixels, &reference, exposure);
-        outln!(
-            "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
-             {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
-            pixels.len(),
-            crate::reference::exact_env::REFERENCE_STEP_NM,
-            start.elapsed().as_secs_f64(),
-            check.mean,
-            check.worst,
-            100.0 * check.median_relative_error
-        );
+        environment_reference(args, (&hf, &material, &env), (&image, exposure), count)?;
     }
     let log = ctx.validation();
     drop(ctx);
     Ok(crate::cli::validation_status(&log))
+}
+
+/// The settings of a map under an environment: baked unless another approach is asked for (and refused), the
+/// light in physical units.
+fn environment_settings(args: &MapArgs) -> anyhow::Result<crate::material::Settings> {
+    let baked = crate::material::Settings { approach: Approach::Baked, ..crate::material::Settings::default() };
+    let mut settings = args.material.patch.apply(baked);
+    if settings.approach != Approach::Baked {
+        anyhow::bail!(
+            "--environment needs --approach baked: {} evaluates one pair of directions per pixel, and an environment \
+             needs thousands (the exact reference is --env-reference)",
+            settings.approach.name()
+        );
+    }
+    settings.illuminant = settings.illuminant.physical();
+    Ok(settings)
+}
+
+/// --env-reference: the exact BRDF integrated over the environment at `count` random pixels of `image` (drawn at
+/// `exposure`), and how far the GPU's estimate lies from it.
+fn environment_reference(
+    args: &MapArgs,
+    (hf, material, env): (&crate::physics::heightfield::HeightField, &Material, &crate::light::sampling::EnvLight),
+    (image, exposure): (&map::MapImage, f64),
+    count: u32,
+) -> anyhow::Result<()> {
+    let table = material.table.as_ref().context("the baked material has a table")?;
+    let proposal = crate::light::sampling::TableProposal::new(table)?;
+    let pixels = crate::reference::exact_env::random_map_pixels(args.size, count as usize, 0x5eed);
+    let start = Instant::now();
+    let samples = crate::light::sampling::REFERENCE_SAMPLES;
+    let reference = crate::reference::exact_env::reference_map_pixels(
+        hf,
+        &material.settings,
+        &proposal,
+        env,
+        args.size,
+        &pixels,
+        samples,
+    )?;
+    let check = crate::reference::exact_env::compare(image, &pixels, &reference, exposure);
+    outln!(
+        "exact reference at {} random pixels ({samples} samples each, {} nm, {:.1} s): mean ΔE00 {:.3} (largest \
+         {:.2}) at {exposure:+.2} EV; the reference's own standard error {:.2} % of luminance (median)",
+        pixels.len(),
+        crate::reference::exact_env::REFERENCE_STEP_NM,
+        start.elapsed().as_secs_f64(),
+        check.mean,
+        check.worst,
+        100.0 * check.median_relative_error
+    );
+    Ok(())
 }

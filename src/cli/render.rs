@@ -166,17 +166,7 @@ fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::scene::camer
 }
 
 pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::ExitCode> {
-    crate::io::output::check_png_path(&args.out)?;
-    if let Some(exr) = &args.exr {
-        crate::io::output::check_exr_path(exr)?;
-    }
-    if args.turn_deg < 360.0 && !(args.orbit || args.light_sweep) {
-        anyhow::bail!("--turn-deg {} needs --orbit or --light-sweep (what should turn?)", args.turn_deg);
-    }
-    if args.frames > 1 && !(args.orbit || args.light_sweep) {
-        anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
-    }
-    check_sequence_names(args)?;
+    check_args(args)?;
     let scene = args.settings.load_scene(args.scene.as_deref())?;
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
@@ -188,41 +178,17 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     }
     let samples = args.settings.sample_count(&ctx, &scene, crate::render::LINEAR_FORMAT)?;
     let start = Instant::now();
-    // One frame: each baked table covers what that frame's pixels see (a G-buffer says); a sequence: any view.
-    let reaches = if args.frames == 1 {
-        scene_reaches(&ctx, &scene, &[(scene.camera, scene.light_dir)], width, height)?
-    } else {
-        vec![crate::material::Reach::ANY]
-    };
-    let materials = prepare_materials(&scene, &args.settings.patch, &reaches)?;
-    if let Some(environment) = &scene.environment {
-        errln!("{}", environment.describe());
-    }
-    for (m, material) in scene.materials.iter().zip(&materials) {
-        if m.matte {
-            errln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
-        } else if let Some(line) = material.table_line() {
-            errln!("material {:?}: {line}", m.name);
-        }
-    }
+    let materials = prepare(&ctx, &scene, args, (width, height))?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let path = match args.path {
         PathChoice::Fixed(path) => path,
-        PathChoice::Auto => match ShadingPath::for_frame(&ctx, samples) {
-            ShadingPath::Forward => ShadingPath::Forward,
-            ShadingPath::Visibility => {
-                let triangles = scene.objects.iter().map(|o| (o.mesh.indices.len() / 3) as u32);
-                match crate::render::visibility::check(&ctx, samples, triangles) {
-                    Ok(()) => ShadingPath::Visibility,
-                    Err(e) => {
-                        // The scene is beyond the visibility buffer's limits (objects, triangles): the forward
-                        // path draws it.
-                        errln!("drawing forward: {e}");
-                        ShadingPath::Forward
-                    }
-                }
+        PathChoice::Auto => {
+            let (path, why) = ShadingPath::for_scene(&ctx, samples, scene.objects.iter().map(|o| &o.mesh));
+            if let Some(e) = why {
+                errln!("drawing forward: {e}");
             }
-        },
+            path
+        }
     };
     let capture = SceneCapture::with_path(&ctx, &scene, &materials, (width, height), samples, path)?;
     let mut capture = Owned::new(&ctx, capture);
@@ -259,6 +225,49 @@ pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::
     let log = ctx.validation();
     drop(ctx);
     Ok(crate::cli::validation_status(&log))
+}
+
+/// The flags checked against each other before any work: outputs that can be written, a turn or a sequence with
+/// something that turns, sequence names that do not overwrite.
+fn check_args(args: &RenderArgs) -> anyhow::Result<()> {
+    crate::io::output::check_png_path(&args.out)?;
+    if let Some(exr) = &args.exr {
+        crate::io::output::check_exr_path(exr)?;
+    }
+    if args.turn_deg < 360.0 && !(args.orbit || args.light_sweep) {
+        anyhow::bail!("--turn-deg {} needs --orbit or --light-sweep (what should turn?)", args.turn_deg);
+    }
+    if args.frames > 1 && !(args.orbit || args.light_sweep) {
+        anyhow::bail!("--frames {} needs --orbit or --light-sweep (what should change between frames?)", args.frames);
+    }
+    check_sequence_names(args)
+}
+
+/// The scene's materials prepared for the frames: each baked table covering what one frame's pixels see (a
+/// G-buffer says), or any view for a sequence; a line per material says what it is.
+fn prepare(
+    ctx: &crate::gpu::vk::Context,
+    scene: &Scene,
+    args: &RenderArgs,
+    (width, height): (u32, u32),
+) -> anyhow::Result<Vec<crate::material::Material>> {
+    let reaches = if args.frames == 1 {
+        scene_reaches(ctx, scene, &[(scene.camera, scene.light_dir)], width, height)?
+    } else {
+        vec![crate::material::Reach::ANY]
+    };
+    let materials = prepare_materials(scene, &args.settings.patch, &reaches)?;
+    if let Some(environment) = &scene.environment {
+        errln!("{}", environment.describe());
+    }
+    for (m, material) in scene.materials.iter().zip(&materials) {
+        if m.matte {
+            errln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
+        } else if let Some(line) = material.table_line() {
+            errln!("material {:?}: {line}", m.name);
+        }
+    }
+    Ok(materials)
 }
 
 fn render_frames(

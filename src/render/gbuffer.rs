@@ -13,7 +13,8 @@ use crate::gpu::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
 use crate::gpu::shaders;
 use crate::gpu::shaders::VERTEX_ATTRIBUTES;
 use crate::gpu::vk::{
-    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Pipeline, SpecConstants,
+    Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
+    SpecConstants,
 };
 use crate::material::Reach;
 use crate::physics::baked::Domain;
@@ -146,41 +147,7 @@ impl GBuffer {
         count: u32,
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
-        let sky_sh = scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir));
-        // The sun's shadow, placed as the surface pass places it.
-        let placed: Vec<(Aabb, bool)> = scene
-            .objects
-            .iter()
-            .filter_map(|o| Some((Aabb::of(&o.mesh.vertices)?.moved(o.model), o.casts_shadow)))
-            .collect();
-        let view_proj = camera.view_projection(width as f32 / height.max(1) as f32);
-        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed, view_proj)).flatten();
-        let size = if frame.is_some() { SHADOW_SIZE } else { 1 };
-        let shadow = parts.shadow.insert(ShadowMap::new(ctx, scene.objects.len(), size)?);
-        let view = ObjectView {
-            camera,
-            aspect: width as f32 / height as f32,
-            light_dir,
-            sun: scene.sun_strength(),
-            ambient: scene.ambient,
-            sky_sh,
-            sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
-            shadow: ShadowFrame::uniforms(frame.as_ref(), size),
-        };
-        let mut all = Vec::with_capacity(scene.objects.len());
-        for (i, object) in scene.objects.iter().enumerate() {
-            parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
-            let size = std::mem::size_of::<SurfaceUniforms>() as u64;
-            let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
-            let mut uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms (g-buffer)"))?;
-            let material = &scene.materials[object.material];
-            let u = SurfaceUniforms::new(&view, object.model, &SurfaceMaterial::of(material), object.material);
-            all.push(u);
-            let written = uniforms.write(bytemuck::bytes_of(&u));
-            parts.uniforms.push(uniforms);
-            written?;
-        }
-        shadow.update(frame, &all)?;
+        let shadow = Self::upload(ctx, scene, (camera, light_dir), (width, height), parts)?;
         for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
@@ -198,6 +165,7 @@ impl GBuffer {
             })?);
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
+        let shadow = parts.shadow.insert(shadow);
         let mut out: [Vec<f32>; PARTS as usize] = Default::default();
         for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
             ctx.one_shot("g-buffer", |cmd| {
@@ -218,6 +186,52 @@ impl GBuffer {
             *out = bytemuck::pod_collect_to_vec(&target.read(ctx)?);
         }
         Ok(out)
+    }
+
+    /// Uploads the objects' meshes and their uniforms for `camera` and `light_dir` into `parts`, and returns the
+    /// sun's shadow map placed as the surface pass places it (undrawn).
+    fn upload(
+        ctx: &Context,
+        scene: &Scene,
+        (camera, light_dir): (&Camera, Vec3),
+        (width, height): (u32, u32),
+        parts: &mut Parts,
+    ) -> Result<ShadowMap> {
+        let sky_sh = scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir));
+        let placed: Vec<(Aabb, bool)> = scene
+            .objects
+            .iter()
+            .filter_map(|o| Some((Aabb::of(&o.mesh.vertices)?.moved(o.model), o.casts_shadow)))
+            .collect();
+        let view_proj = camera.view_projection(width as f32 / height.max(1) as f32);
+        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed, view_proj)).flatten();
+        let size = if frame.is_some() { SHADOW_SIZE } else { 1 };
+        let mut shadow = Guard::new(ctx, ShadowMap::new(ctx, scene.objects.len(), size)?);
+        let view = ObjectView {
+            camera,
+            aspect: width as f32 / height as f32,
+            light_dir,
+            sun: scene.sun_strength(),
+            ambient: scene.ambient,
+            sky_sh,
+            sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
+            shadow: ShadowFrame::uniforms(frame.as_ref(), size),
+        };
+        let mut all = Vec::with_capacity(scene.objects.len());
+        for (i, object) in scene.objects.iter().enumerate() {
+            parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
+            let size = std::mem::size_of::<SurfaceUniforms>() as u64;
+            let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
+            let mut uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms (g-buffer)"))?;
+            let material = &scene.materials[object.material];
+            let u = view.uniforms(object.model, &SurfaceMaterial::of(material), object.material);
+            all.push(u);
+            let written = uniforms.write(bytemuck::bytes_of(&u));
+            parts.uniforms.push(uniforms);
+            written?;
+        }
+        shadow.update(frame, &all)?;
+        Ok(shadow.keep())
     }
 
     /// Per material (of `count`): the box of (u, v, w) that its pixels lit from above the surface see, widened by

@@ -281,17 +281,7 @@ impl Context {
             })
             .collect();
         let vb = [vk::VertexInputBindingDescription::default().binding(0).stride(desc.vertex_stride)];
-        let attrs: Vec<_> = desc
-            .vertex_attributes
-            .iter()
-            .map(|a| {
-                vk::VertexInputAttributeDescription::default()
-                    .location(a.location)
-                    .binding(0)
-                    .format(a.format)
-                    .offset(a.offset)
-            })
-            .collect();
+        let attrs: Vec<_> = desc.vertex_attributes.iter().map(attribute).collect();
         let mut vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
         if desc.vertex_stride > 0 {
             vertex_input = vertex_input.vertex_binding_descriptions(&vb).vertex_attribute_descriptions(&attrs);
@@ -303,27 +293,9 @@ impl Context {
         let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(desc.samples);
         let (depth_format, test) = desc.depth.unzip();
         let depth = depth_state(test);
-        let writes =
-            if desc.fragment.is_some() { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
         // A depth-only target (`color_format` UNDEFINED, the shadow map) has no colour attachment at all.
         let colorless = desc.color_format == vk::Format::UNDEFINED;
-        let factors = match desc.blend {
-            Blend::Replace => None,
-            Blend::Add => Some((vk::BlendFactor::ONE, vk::BlendFactor::ONE)),
-            Blend::Under => Some((vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::ONE)),
-        };
-        let mut attachment = vk::PipelineColorBlendAttachmentState::default().color_write_mask(writes);
-        if let Some((src, dst)) = factors {
-            attachment = attachment
-                .blend_enable(true)
-                .src_color_blend_factor(src)
-                .dst_color_blend_factor(dst)
-                .color_blend_op(vk::BlendOp::ADD)
-                .src_alpha_blend_factor(src)
-                .dst_alpha_blend_factor(dst)
-                .alpha_blend_op(vk::BlendOp::ADD);
-        }
-        let blend_attachment = [attachment];
+        let blend_attachment = [blend_attachment(desc.blend, desc.fragment.is_some())];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(if colorless {
             &[]
         } else {
@@ -429,6 +401,31 @@ impl Context {
             }
         }
     }
+}
+
+/// A vertex attribute of binding 0.
+fn attribute(a: &VertexAttribute) -> vk::VertexInputAttributeDescription {
+    vk::VertexInputAttributeDescription::default().location(a.location).binding(0).format(a.format).offset(a.offset)
+}
+
+/// The colour attachment's blend state for `blend`; every channel written where the pipeline has a fragment shader
+/// (`writes`), none where it draws depth only.
+fn blend_attachment(blend: Blend, writes: bool) -> vk::PipelineColorBlendAttachmentState {
+    let mask = if writes { vk::ColorComponentFlags::RGBA } else { vk::ColorComponentFlags::empty() };
+    let attachment = vk::PipelineColorBlendAttachmentState::default().color_write_mask(mask);
+    let (src, dst) = match blend {
+        Blend::Replace => return attachment,
+        Blend::Add => (vk::BlendFactor::ONE, vk::BlendFactor::ONE),
+        Blend::Under => (vk::BlendFactor::ONE_MINUS_DST_ALPHA, vk::BlendFactor::ONE),
+    };
+    attachment
+        .blend_enable(true)
+        .src_color_blend_factor(src)
+        .dst_color_blend_factor(dst)
+        .color_blend_op(vk::BlendOp::ADD)
+        .src_alpha_blend_factor(src)
+        .dst_alpha_blend_factor(dst)
+        .alpha_blend_op(vk::BlendOp::ADD)
 }
 
 /// Fills triangles; back faces culled where asked (counter-clockwise is front).

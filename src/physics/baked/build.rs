@@ -38,6 +38,9 @@ const BAND_BYTES: usize = 512 << 10;
 const BATCH_BYTES: usize = 256 << 20;
 const MAX_BATCH: usize = 8;
 
+/// One wavelength's taps along u and along v at the sub-samples: per sub-sample column (row), its (cell, weight)s.
+type LambdaTaps = (Vec<Vec<(usize, f64)>>, Vec<Vec<(usize, f64)>>);
+
 /// Progress callback: (steps done, steps in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
 
@@ -310,7 +313,6 @@ impl Pass<'_> {
         let channels = self.spectral.channels;
         let mut planes: Vec<Vec<f64>> = (0..self.nodes).map(|_| vec![0.0; nu * nv * channels]).collect();
         let done = AtomicUsize::new(0);
-        let share = 1.0 / (s * s) as f64;
         let lambdas: Vec<usize> = (0..self.spectral.lambda_um.len()).collect();
         // A wavelength's sums along u (one line per spectrum row) take this much memory while its batch runs.
         let sums = py * nu * s * std::mem::size_of::<Complex64>();
@@ -324,71 +326,7 @@ impl Pass<'_> {
                     (self.ax.taps(lambda, s, px), self.ay.taps(lambda, s, py))
                 })
                 .collect();
-            planes.par_iter_mut().zip(&ws).for_each(|(plane, &w)| {
-                let mut scratch = Vec::new();
-                // Per wavelength, the rows of the spectrum that carry anything (an AFM scan's all do; a 1D
-                // grating's one), summed along u at every sub-sample column (zero where the lookup is out of
-                // band). |A| as √|A|², not `norm`, whose overflow-safe hypot took 4 % of a build.
-                let q: Vec<Vec<Option<Vec<Complex64>>>> = chunk
-                    .iter()
-                    .zip(&taps)
-                    .map(|(&l, (columns, _))| {
-                        let kappa = 2.0 * std::f64::consts::PI * w / self.spectral.lambda_um[l];
-                        let a = self.cell.amplitudes(kappa, &mut scratch);
-                        (0..py)
-                            .map(|r| {
-                                let line = &a[r * px..][..px];
-                                (line.iter().map(|c| c.norm_sqr().sqrt()).sum::<f64>() >= INVISIBLE * 1e-3).then(|| {
-                                    columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect()
-                                })
-                            })
-                            .collect()
-                    })
-                    .collect();
-                // P along one sub-sample row; Σ|P|² over a texel row's s×s sub-samples at one wavelength; the
-                // batch's colour in that texel row.
-                let mut p = vec![Complex64::default(); nu * s];
-                let mut texels = vec![0.0; nu];
-                let mut colour = vec![0.0; nu * channels];
-                for row in 0..nv {
-                    let mut touched = false;
-                    for ((&l, (_, rows)), q) in chunk.iter().zip(&taps).zip(&q) {
-                        let mut any = false;
-                        for taps in &rows[row * s..(row + 1) * s] {
-                            let mut live = taps.iter().filter_map(|&(k, g)| q[k].as_ref().map(|line| (line, g)));
-                            let Some((line, g)) = live.next() else { continue };
-                            for (p, &a) in p.iter_mut().zip(line) {
-                                *p = a * g;
-                            }
-                            for (line, g) in live {
-                                for (p, &a) in p.iter_mut().zip(line) {
-                                    *p += a * g;
-                                }
-                            }
-                            for (sum, p) in texels.iter_mut().zip(p.chunks_exact(s)) {
-                                *sum += p.iter().map(|p| p.norm_sqr()).sum::<f64>();
-                            }
-                            any = true;
-                        }
-                        if any {
-                            let weight: Vec<f64> = self.spectral.at(l).iter().map(|c| c * share).collect();
-                            for (texel, sum) in colour.chunks_exact_mut(channels).zip(&mut texels) {
-                                for (t, w) in texel.iter_mut().zip(&weight) {
-                                    *t += w * *sum;
-                                }
-                                *sum = 0.0;
-                            }
-                            touched = true;
-                        }
-                    }
-                    if touched {
-                        for (dst, c) in plane[row * nu * channels..][..nu * channels].iter_mut().zip(&mut colour) {
-                            *dst += *c;
-                            *c = 0.0;
-                        }
-                    }
-                }
-            });
+            planes.par_iter_mut().zip(&ws).for_each(|(plane, &w)| self.coherent_node(plane, w, chunk, &taps));
             for _ in chunk {
                 Self::tick(progress, &done, offset, total);
             }
@@ -401,6 +339,77 @@ impl Pass<'_> {
             }
         }
         NodeValues { nodes: self.nodes, data }
+    }
+
+    /// [`Self::coherent`]'s work for one node in w and one batch of wavelengths (`chunk`, with each one's taps along
+    /// u and v at the sub-samples): their colour added into the node's `plane` of texels, row by row.
+    fn coherent_node(&self, plane: &mut [f64], w: f64, chunk: &[usize], taps: &[LambdaTaps]) {
+        let (nu, nv, s) = (self.grid.nu, self.grid.nv, self.subsamples);
+        let (px, py) = (self.cell.px, self.cell.py);
+        let channels = self.spectral.channels;
+        let share = 1.0 / (s * s) as f64;
+        let mut scratch = Vec::new();
+        // Per wavelength, the rows of the spectrum that carry anything (an AFM scan's all do; a 1D
+        // grating's one), summed along u at every sub-sample column (zero where the lookup is out of
+        // band). |A| as √|A|², not `norm`, whose overflow-safe hypot took 4 % of a build.
+        let q: Vec<Vec<Option<Vec<Complex64>>>> = chunk
+            .iter()
+            .zip(taps)
+            .map(|(&l, (columns, _))| {
+                let kappa = 2.0 * std::f64::consts::PI * w / self.spectral.lambda_um[l];
+                let a = self.cell.amplitudes(kappa, &mut scratch);
+                (0..py)
+                    .map(|r| {
+                        let line = &a[r * px..][..px];
+                        (line.iter().map(|c| c.norm_sqr().sqrt()).sum::<f64>() >= INVISIBLE * 1e-3)
+                            .then(|| columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect())
+                    })
+                    .collect()
+            })
+            .collect();
+        // P along one sub-sample row; Σ|P|² over a texel row's s×s sub-samples at one wavelength; the
+        // batch's colour in that texel row.
+        let mut p = vec![Complex64::default(); nu * s];
+        let mut texels = vec![0.0; nu];
+        let mut colour = vec![0.0; nu * channels];
+        for row in 0..nv {
+            let mut touched = false;
+            for ((&l, (_, rows)), q) in chunk.iter().zip(taps).zip(&q) {
+                let mut any = false;
+                for taps in &rows[row * s..(row + 1) * s] {
+                    let mut live = taps.iter().filter_map(|&(k, g)| q[k].as_ref().map(|line| (line, g)));
+                    let Some((line, g)) = live.next() else { continue };
+                    for (p, &a) in p.iter_mut().zip(line) {
+                        *p = a * g;
+                    }
+                    for (line, g) in live {
+                        for (p, &a) in p.iter_mut().zip(line) {
+                            *p += a * g;
+                        }
+                    }
+                    for (sum, p) in texels.iter_mut().zip(p.chunks_exact(s)) {
+                        *sum += p.iter().map(|p| p.norm_sqr()).sum::<f64>();
+                    }
+                    any = true;
+                }
+                if any {
+                    let weight: Vec<f64> = self.spectral.at(l).iter().map(|c| c * share).collect();
+                    for (texel, sum) in colour.chunks_exact_mut(channels).zip(&mut texels) {
+                        for (t, w) in texel.iter_mut().zip(&weight) {
+                            *t += w * *sum;
+                        }
+                        *sum = 0.0;
+                    }
+                    touched = true;
+                }
+            }
+            if touched {
+                for (dst, c) in plane[row * nu * channels..][..nu * channels].iter_mut().zip(&mut colour) {
+                    *dst += *c;
+                    *c = 0.0;
+                }
+            }
+        }
     }
 }
 

@@ -276,6 +276,28 @@ const SEGMENT_MIN_W: f64 = 1.5;
 /// carries exp(−(T/σ)²/4) ≤ 10⁻¹².
 pub(crate) const INDEPENDENT_STRIDE: f64 = 10.5;
 
+/// A request and a tolerance a plan can be made for: the tolerance in (0, 1), each range an interval, the smallest
+/// footprint non-negative (positive for an aligned table's).
+fn check_request(request: &TableRequest, tolerance: f64) -> Result<()> {
+    if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
+        return Err(Error::setting(
+            "table_tolerance",
+            format!("the table tolerance must lie in (0, 1), got {tolerance}"),
+        ));
+    }
+    let d = request.domain;
+    for (name, (a, b)) in [("u", d.u), ("v", d.v), ("w", d.w)] {
+        if !(a.is_finite() && b.is_finite() && a <= b) {
+            return Err(Error::Invalid(format!("the table's {name} range [{a}, {b}] is not an interval")));
+        }
+    }
+    let footprint = request.footprint;
+    if !(footprint.is_finite() && footprint >= 0.0) || (request.aligned && footprint == 0.0) {
+        return Err(Error::Invalid(format!("the smallest pixel footprint must be positive, got {footprint}")));
+    }
+    Ok(())
+}
+
 impl TablePlan {
     pub fn new(hf: &HeightField, coherence_um: f64, request: &TableRequest, tolerance: f64) -> Result<Self> {
         Self::new_under(hf, coherence_um, request, tolerance, Illuminant::d65())
@@ -289,22 +311,8 @@ impl TablePlan {
         tolerance: f64,
         illuminant: Illuminant,
     ) -> Result<Self> {
-        if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1.0) {
-            return Err(Error::setting(
-                "table_tolerance",
-                format!("the table tolerance must lie in (0, 1), got {tolerance}"),
-            ));
-        }
+        check_request(request, tolerance)?;
         let d = request.domain;
-        for (name, (a, b)) in [("u", d.u), ("v", d.v), ("w", d.w)] {
-            if !(a.is_finite() && b.is_finite() && a <= b) {
-                return Err(Error::Invalid(format!("the table's {name} range [{a}, {b}] is not an interval")));
-            }
-        }
-        let footprint = request.footprint;
-        if !(footprint.is_finite() && footprint >= 0.0) || (request.aligned && footprint == 0.0) {
-            return Err(Error::Invalid(format!("the smallest pixel footprint must be positive, got {footprint}")));
-        }
         let (lx, ly) = hf.size_um();
         let window = CoherenceWindow::new(lx, ly, coherence_um, None)?;
         // A lobe's intensity |A|²·exp(−d²/σ²) has the standard deviation σ/√2 bins, λ/L in u per bin.
@@ -345,6 +353,13 @@ impl TablePlan {
         plan.terms = plan.estimate.terms;
         plan.segments[0].estimate = plan.estimate;
         plan.size_grid(request);
+        plan.segmented_as_asked(hf, request)
+    }
+
+    /// This one-segment plan, or its w-interval cut into the segments `request` asks for (texels sized again for
+    /// their memory), or into two where `auto` finds they read fewer layers.
+    fn segmented_as_asked(self, hf: &HeightField, request: &TableRequest) -> Result<Self> {
+        let d = self.domain;
         let segments = match request.segments {
             Some(n) if !(1..=MAX_SEGMENTS).contains(&n) => {
                 return Err(Error::setting(
@@ -352,23 +367,23 @@ impl TablePlan {
                     format!("a table has 1 to {MAX_SEGMENTS} segments of w, not {n}"),
                 ))
             }
-            Some(1) => return Ok(plan),
-            Some(n) => plan.segmented(hf, n)?,
+            Some(1) => return Ok(self),
+            Some(n) => self.segmented(hf, n)?,
             // Two segments where they read fewer layers (a series over half the interval needs fewer terms)
             // within SEGMENT_MEMORY_RATIO of one's memory on the same grid, never a coarser one. The layers are
             // compared at a term more than each estimate: the certificate, made on every texel at 1 nm steps,
             // has kept one more than the estimate in the shipped scenes' tables (docs/performance.md). Tried only
             // on w-intervals longer than SEGMENT_MIN_W (the two segments' estimates cost time): a map's spans 1,
             // the shipped scenes' frames about 1, and none of those read fewer layers in two.
-            None if plan.terms > 1 && d.w.1 - d.w.0 > SEGMENT_MIN_W => {
-                let two = plan.segmented(hf, 2)?;
-                let (bytes, one) = (two.grid.bytes(two.terms + 1), plan.grid.bytes(plan.terms + 1));
-                let fewer = layers_for(two.terms + 1) < layers_for(plan.terms + 1);
+            None if self.terms > 1 && d.w.1 - d.w.0 > SEGMENT_MIN_W => {
+                let two = self.segmented(hf, 2)?;
+                let (bytes, one) = (two.grid.bytes(two.terms + 1), self.grid.bytes(self.terms + 1));
+                let fewer = layers_for(two.terms + 1) < layers_for(self.terms + 1);
                 // On the same texels as the one segment's plan, which were sized (and coarsened) for fewer bytes.
                 let keep = fewer && bytes <= MAX_TABLE_BYTES && bytes as f64 <= SEGMENT_MEMORY_RATIO * one as f64;
-                return Ok(if keep { two } else { plan });
+                return Ok(if keep { two } else { self });
             }
-            None => return Ok(plan),
+            None => return Ok(self),
         };
         // Segments the user asked for: texels sized again for their memory.
         let mut plan = segments;

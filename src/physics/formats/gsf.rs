@@ -53,25 +53,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<HeightField> {
         return Err(bad(format!("the header must end with {padding} NUL byte(s) so data starts at a multiple of 4")));
     }
     let text = std::str::from_utf8(&header[..text_end]).map_err(|_| bad("the header is not UTF-8 text".into()))?;
-    let mut keys = std::collections::HashMap::new();
-    let mut seen = std::collections::HashMap::new();
-    for (i, line) in text.lines().enumerate().skip(1) {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let (k, v) =
-            line.split_once('=').ok_or_else(|| bad(format!("header line {}: expected `Key = Value`", i + 1)))?;
-        let k = k.trim();
-        // A key given twice is ambiguous (which XReal is the scan's?): Gwyddion writes each once.
-        if let Some(first) = seen.insert(k.to_string(), i + 1) {
-            return Err(bad(format!("header line {}: {k} is given a second time (first on line {first})", i + 1)));
-        }
-        if !KNOWN_KEYS.contains(&k) {
-            // Gwyddion allows further keys (metadata); they are kept out of the physics.
-            continue;
-        }
-        keys.insert(k.to_string(), (i + 1, v.trim().to_string()));
-    }
+    let keys = header_keys(path, text)?;
     let res = |key: &str| -> Result<u64> {
         let (line, v) = keys.get(key).ok_or_else(|| bad(format!("the header lacks the required key {key}")))?;
         v.parse::<u64>()
@@ -116,6 +98,32 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<HeightField> {
     }
     HeightField::new(nx, ny, x_real * xy_um / nx as f64, y_real * xy_um / ny as f64, heights)
         .map_err(|e| bad(e.to_string()))
+}
+
+/// The header's known keys (`KNOWN_KEYS`), each with its line and value; refused: a line that is not `Key =
+/// Value`, a key given twice.
+fn header_keys(path: &Path, text: &str) -> Result<std::collections::HashMap<String, (usize, String)>> {
+    let bad = |m: String| Error::input(path, m);
+    let mut keys = std::collections::HashMap::new();
+    let mut seen = std::collections::HashMap::new();
+    for (i, line) in text.lines().enumerate().skip(1) {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let (k, v) =
+            line.split_once('=').ok_or_else(|| bad(format!("header line {}: expected `Key = Value`", i + 1)))?;
+        let k = k.trim();
+        // A key given twice is ambiguous (which XReal is the scan's?): Gwyddion writes each once.
+        if let Some(first) = seen.insert(k.to_string(), i + 1) {
+            return Err(bad(format!("header line {}: {k} is given a second time (first on line {first})", i + 1)));
+        }
+        if !KNOWN_KEYS.contains(&k) {
+            // Gwyddion allows further keys (metadata); they are kept out of the physics.
+            continue;
+        }
+        keys.insert(k.to_string(), (i + 1, v.trim().to_string()));
+    }
+    Ok(keys)
 }
 
 /// Writes a height field as `.gsf` with metres as units (what Gwyddion writes).

@@ -5,7 +5,7 @@
 //! dispatch over the pixels that see further triangles, `glsl/surface_edges.comp`). ARCHITECTURE.md ("The
 //! visibility buffer") says why, and what each pass writes.
 //!
-//! [`VisibilityPath`] owns the path's pipelines and its per-size state ([`state::VisibilityState`]); it draws
+//! `VisibilityPath` owns the path's pipelines and its per-size state (`state::VisibilityState`); it draws
 //! linear frames only (not a window's display-encoded ones, nor the profiler's counting ones). It agrees with the
 //! forward path up to float rounding and the footprint's finite difference (`tests/gpu/visibility.rs`).
 
@@ -54,6 +54,22 @@ impl ShadingPath {
             "forward" => Some(Self::Forward),
             "visibility" => Some(Self::Visibility),
             _ => None,
+        }
+    }
+
+    /// The path `diffract render` takes for `meshes` when the user does not choose: [`Self::for_frame`]'s, but
+    /// forward where the scene is beyond the visibility buffer's limits (objects, triangles), with the reason.
+    pub fn for_scene<'a>(
+        ctx: &Context,
+        samples: vk::SampleCountFlags,
+        meshes: impl ExactSizeIterator<Item = &'a crate::scene::mesh::Mesh>,
+    ) -> (Self, Option<Error>) {
+        match Self::for_frame(ctx, samples) {
+            Self::Forward => (Self::Forward, None),
+            Self::Visibility => match check(ctx, samples, meshes.map(|m| (m.indices.len() / 3) as u32)) {
+                Ok(()) => (Self::Visibility, None),
+                Err(e) => (Self::Forward, Some(e)),
+            },
         }
     }
 
