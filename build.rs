@@ -5,25 +5,23 @@
 //! their set layouts.
 //!
 //! `#include "x.glsl"` resolves against `glsl/include/`, then `$OUT_DIR/include/`, where this script writes what
-//! `src/gpu/interface.rs` declares (the one source of what both sides share, compiled into this script): the
-//! constants (`interface.glsl`), the uniform and push-constant blocks, and the vertex inputs. Every file read is
+//! the crate `diffract-gpu-interface` (`crates/gpu-interface`, the library's `gpu::interface`) declares, the one
+//! source of what both sides share: the constants (`interface.glsl`), the uniform and push-constant blocks, and
+//! the vertex inputs. Every file read is
 //! announced with `rerun-if-changed`, so editing an include rebuilds its users.
 //! A compile error fails the build with shaderc's `file:line: error: ...` lines.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-// The interface, compiled here as it is in the library: its declarations (constants, structs with their fields'
-// offsets) are read as values, not parsed as text.
-#[allow(dead_code)]
-#[path = "src/gpu/interface.rs"]
-mod interface;
-
+// The interface, a build-dependency as it is the library's dependency: its declarations (constants, structs with
+// their fields' offsets) are read as values, not parsed as text; Cargo reruns this script when it changes.
 use diffract_glsl::{Compiler, Options, ShaderKind};
+use diffract_gpu_interface as interface;
 use interface::{GlslType, Value};
 
-/// Where the interface lives (messages, rerun).
-const INTERFACE: &str = "src/gpu/interface.rs";
+/// Where the interface lives (messages).
+const INTERFACE: &str = "crates/gpu-interface/src/lib.rs";
 
 /// Further builds of a shader with macros defined: (source `<name>.<stage>`, variant `<name>.<stage>`, macros
 /// separated by spaces). `BAKED` makes the diffraction shaders read the baked colour table instead of the Taylor
@@ -60,8 +58,6 @@ fn main() {
 
     let generated = out.join("include");
     std::fs::create_dir_all(&generated).expect("create $OUT_DIR/include");
-    // The interface is compiled into this script (`mod interface` above): a change to it reruns the script.
-    println!("cargo:rerun-if-changed={}", root.join(INTERFACE).display());
     std::fs::write(generated.join("interface.glsl"), interface_header()).expect("write interface.glsl");
     std::fs::write(generated.join("vertex_inputs.glsl"), vertex_inputs()).expect("write vertex_inputs.glsl");
     for block in &interface::UNIFORM_BLOCKS {

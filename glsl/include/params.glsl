@@ -1,5 +1,5 @@
 // Specialization constants and resources shared by every diffraction shader.
-// The uniform block `params` is generated from `DiffractionParams` in src/gpu/interface.rs (its size is in the
+// The uniform block `params` is generated from `DiffractionParams` in crates/gpu-interface (its size is in the
 // generated file's first line); the constants' values come from `material::Material::spec_constants`, their ids and
 // the bindings from interface.glsl.
 #include "interface.glsl"

@@ -1,5 +1,5 @@
 // Spectral integration into colour; mirrors src/physics/spectrum.rs (same names). The tables' range and
-// XYZ_TO_LINEAR_SRGB come from src/gpu/interface.rs.
+// XYZ_TO_LINEAR_SRGB come from crates/gpu-interface (the library's gpu::interface).
 
 #include "interface.glsl"
 

@@ -154,7 +154,7 @@ impl SceneView {
 }
 
 /// A frame read back to the CPU, rows top first: what every offscreen pass but the BRDF map (a
-/// [`diffraction::MapImage`], square and in direction space) gives.
+/// [`map::MapImage`], square and in direction space) gives.
 #[derive(Clone, Debug)]
 pub struct Frame {
     pub width: u32,

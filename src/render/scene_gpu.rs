@@ -1,8 +1,8 @@
 //! A scene's GPU state, which both shading paths read: each material's patch and uniforms, each object's buffers
 //! and uniforms, the sun's shadow map, the environment the surfaces reflect and the one drawn behind them.
 //!
-//! [`SceneGpu::update`] writes all of it for a view and says whether the view casts shadows; the paths
-//! (`render::forward`, `render::visibility`) build their pipelines from [`SceneGpu::formats`] and each material's
+//! `SceneGpu::update` writes all of it for a view and says whether the view casts shadows; the paths
+//! (`render::forward`, `render::visibility`) build their pipelines from `SceneGpu::formats` and each material's
 //! shader choices, and record draws that read this state. Nothing here records a draw of the objects.
 
 use ash::vk;
@@ -181,27 +181,27 @@ pub struct ObjectView<'a> {
     pub shadow: ShadowUniforms,
 }
 
-impl SurfaceUniforms {
+impl ObjectView<'_> {
     /// One object's uniforms: its model matrix, its material's orientation (cos, sin) and pigment, the
     /// material's index (`orientation.z`, which the G-buffer writes) and whether it is matte.
-    pub fn new(view: &ObjectView<'_>, model: Mat4, material: &SurfaceMaterial, index: usize) -> Self {
+    pub fn uniforms(&self, model: Mat4, material: &SurfaceMaterial, index: usize) -> SurfaceUniforms {
         let SurfaceMaterial { orientation, pigment, matte } = *material;
         let normal = Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
         let [cos, sin] = orientation;
         let [r, g, b] = pigment;
-        Self {
-            view_proj: view.camera.view_projection(view.aspect).to_cols_array_2d(),
+        SurfaceUniforms {
+            view_proj: self.camera.view_projection(self.aspect).to_cols_array_2d(),
             model: model.to_cols_array_2d(),
             normal_matrix: normal.to_cols_array_2d(),
-            camera_pos: view.camera.position.extend(1.0).to_array(),
-            light_dir: view.light_dir.normalize().extend(view.sun).to_array(),
+            camera_pos: self.camera.position.extend(1.0).to_array(),
+            light_dir: self.light_dir.normalize().extend(self.sun).to_array(),
             orientation: [cos, sin, index as f32, if matte { 1.0 } else { 0.0 }],
-            pigment: [r, g, b, view.ambient],
-            sky_sh: view.sky_sh,
-            shadow_view_proj: view.shadow.view_proj,
-            shadow: view.shadow.lookup,
-            shadow_penumbra: view.shadow.penumbra,
-            sky_quadratic: view.sky_quadratic,
+            pigment: [r, g, b, self.ambient],
+            sky_sh: self.sky_sh,
+            shadow_view_proj: self.shadow.view_proj,
+            shadow: self.shadow.lookup,
+            shadow_penumbra: self.shadow.penumbra,
+            sky_quadratic: self.sky_quadratic,
         }
     }
 }
@@ -363,7 +363,7 @@ impl SceneGpu {
         let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(&view.models) {
             let material = &self.materials[object.material];
-            let mut u = SurfaceUniforms::new(&object_view, *model, &material.surface, object.material);
+            let mut u = object_view.uniforms(*model, &material.surface, object.material);
             // The environment diffracts where the material has its moments, its specular reflection read from the
             // map where the view has one.
             u.sky_quadratic[0][3] = if material.patch.has_moments { 1.0 } else { 0.0 };

@@ -1,15 +1,15 @@
-//! The numbers and layouts the shaders and the Rust side must agree on: specialization-constant ids, descriptor
-//! bindings (all in set 0), workgroup sizes, approach ids, the physical and colour constants both sides use, the
-//! uniform and push-constant blocks, and the vertex layout. This file is their one source, and it is compiled
-//! twice: as this module, and by `build.rs`, which includes it as a module of its own and writes the shaders'
-//! GLSL from its declarations (nothing here is parsed as text):
+//! The numbers and layouts diffract's shaders and its Rust side must agree on: specialization-constant ids,
+//! descriptor bindings (all in set 0), workgroup sizes, approach ids, the physical and colour constants both sides
+//! use, the uniform and push-constant blocks, and the vertex layout. This crate is their one source: the library
+//! uses it as `gpu::interface`, and diffract's `build.rs` (a build-dependency) writes the shaders' GLSL from its
+//! declarations (nothing here is parsed as text):
 //! - `interface.glsl`: every constant declared in `shared!` (`#define NAME value`, arrays as `const` GLSL
 //!   values), with its documentation;
 //! - a std140 uniform block for each of [`UNIFORM_BLOCKS`] and a push-constant block for each of [`PUSH_BLOCKS`],
 //!   refused where GLSL's layout rules would place a field elsewhere than `repr(C)` does;
 //! - the vertex shaders' inputs, [`VERTEX_INPUTS`] of [`Vertex`] at locations 0, 1, ….
 //!
-//! So it may use nothing but `core`, `std` and `bytemuck`: a number or a field changes here, and both sides follow.
+//! Its one dependency is bytemuck (its Cargo.toml): a number or a field changes here, and both sides follow.
 
 /// A GLSL type a shared field has.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -544,6 +544,20 @@ pub const PUSH_BLOCKS: [Block; 5] = [
     block!(SelftestPush, "pc", "selftest_push.glsl"),
     block!(VisibilityPush, "visibility", "visibility_push.glsl"),
 ];
+
+impl Default for Vertex {
+    /// At the origin, facing +z with its tangent along +x, untinted (a pigment of 1 leaves the material's as it
+    /// is: the library's `scene::mesh::UNTINTED`).
+    fn default() -> Self {
+        Self {
+            position: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+            tangent: [1.0, 0.0, 0.0, 1.0],
+            uv: [0.0; 2],
+            pigment: [1.0; 3],
+        }
+    }
+}
 
 /// The vertex shaders' inputs: [`Vertex`]'s fields at locations 0, 1, … (`in_<field>` in the GLSL). The others
 /// (`uv`) stay on the CPU.

@@ -3,7 +3,7 @@
 //! Design notes:
 //! - One top-level [`Context`] owns the instance, the device, the allocator and a command pool; its `Drop` waits
 //!   idle and destroys them in reverse order (allocator before device). The only other `Drop`s that free Vulkan
-//!   state are [`Guard`]'s (an object under construction, on an early return) and [`Owned`]'s (a user's finished
+//!   state are `Guard`'s (an object under construction, on an early return) and `Owned`'s (a user's finished
 //!   object: waits idle first).
 //! - Leaves (`Buffer`, `Image`, `Pipeline`, `Sampler`, `TimestampRing`) are plain structs
 //!   `{ raw, allocation, desc }` without `Drop`; their `unsafe fn destroy(self, &Context)` consumes them

@@ -17,18 +17,6 @@ use crate::gpu::interface::Vertex;
 /// A vertex pigment that leaves the material's as it is.
 pub const UNTINTED: [f32; 3] = [1.0; 3];
 
-impl Default for Vertex {
-    fn default() -> Self {
-        Self {
-            position: [0.0; 3],
-            normal: [0.0, 0.0, 1.0],
-            tangent: [1.0, 0.0, 0.0, 1.0],
-            uv: [0.0; 2],
-            pigment: UNTINTED,
-        }
-    }
-}
-
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     pub vertices: Vec<Vertex>,
@@ -214,6 +202,11 @@ pub(crate) fn grid_indices(m: &mut Mesh, rows: u32, cols: u32, ccw_from_row_orde
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_default_vertex_is_untinted() {
+        assert_eq!(Vertex::default().pigment, UNTINTED);
+    }
 
     #[test]
     fn sphere_triangles_face_outwards() {
