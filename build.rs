@@ -42,6 +42,7 @@ const VARIANTS: &[(&str, &str, &str)] = &[
     ("surface_resolve.frag", "surface_resolve_one.frag", "ONE_SAMPLE"),
     ("surface_resolve.frag", "surface_resolve_baked_one.frag", "BAKED ONE_SAMPLE"),
     ("surface_edges.comp", "surface_edges_baked.comp", "BAKED"),
+    ("twins.comp", "twins_baked.comp", "BAKED"),
 ];
 
 /// Shader stages recognised from the second-to-last component of a file name.

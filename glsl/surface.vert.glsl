@@ -6,7 +6,7 @@
 // camera is the current one (the thesis used object-space positions and a stale camera: §7.2 item 14).
 #include "surface_frame.glsl"
 
-#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment (render::surface::VERTEX_ATTRIBUTES)
+#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment (gpu::shaders::VERTEX_ATTRIBUTES)
 
 layout(location = 0) out vec3 patch_light;
 layout(location = 1) out vec3 patch_view;

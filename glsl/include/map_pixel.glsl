@@ -1,16 +1,13 @@
-// One pixel of the BRDF map (model.md §1.1, the thesis's figures), shared by map.frag (a full-screen triangle) and
-// map.comp (one invocation per pixel): the inscribed disk is the hemisphere of view directions. The pixel at
-// (x, y) from the centre (x right, y up, radius 1) looks along sin θ_r = √(x²+y²), φ_r = atan2(y, x), i.e.
-// ω_r = (x, y, √(1 − x² − y²)); the light is params.light. Outside the disk: black.
+// One pixel of the BRDF map, shared by map.frag (a full-screen triangle) and map.comp (one invocation per pixel): its
+// view from map_view.glsl, the light params.light; outside the disk, black.
 // Requires params.glsl, spectrum.glsl, brdf.glsl, baked.glsl or taylor.glsl + approaches.glsl, and map_push.glsl.
+#include "map_view.glsl"
 
 // The colour of the pixel whose centre is at `frag_coord` (pixels of the target, as gl_FragCoord.xy).
 vec4 map_pixel(vec2 frag_coord) {
-    vec2 xy = (frag_coord - map.offset - 0.5 * map.size) / (0.5 * map.size);
-    xy.y = -xy.y;
-    float r2 = dot(xy, xy);
-    if (r2 >= 1.0) return vec4(0.0, 0.0, 0.0, 1.0);
-    vec3 omega_r = vec3(xy, sqrt(1.0 - r2));
+    vec4 view = map_view(frag_coord, map.offset, map.size);
+    if (view.w == 0.0) return vec4(0.0, 0.0, 0.0, 1.0);
+    vec3 omega_r = view.xyz;
 #ifdef BAKED
     // A map pixel spans 2/size in ω_r.xy, and so in (u, v).
     float lod = FOOTPRINT == 1u ? table_lod(2.0 / map.size.x) : 0.0;

@@ -2,7 +2,7 @@
 // Requires surface_frame.glsl (frame.shadow, frame.shadow_penumbra) and interface.glsl. The maps have one mip
 // level, read with textureLod, so that compute shaders (the visibility buffer's edge pass) may call it too.
 
-// 0 where the view casts no shadows (`render::surface`): the lookups compile out.
+// 0 where the view casts no shadows (`render::scene_gpu`): the lookups compile out.
 layout(constant_id = SPEC_SHADOWS) const uint SHADOWS = 1;
 
 layout(set = 0, binding = BINDING_SHADOW) uniform sampler2DShadow shadow_map;

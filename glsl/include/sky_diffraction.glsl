@@ -12,7 +12,7 @@
 #include "interface.glsl" // MOMENT_GRID, MOMENT_LAYERS, PI, SKY_DIFFRACTION_*
 #include "panorama.glsl"  // panorama_uv
 
-// Where the material's moments are read (`render::surface`): SKY_DIFFRACTION_NONE compiles the term out.
+// Where the material's moments are read (`render::scene_gpu::MaterialGpu`): SKY_DIFFRACTION_NONE compiles the term out.
 layout(constant_id = SPEC_SKY_DIFFRACTION) const uint SKY_DIFFRACTION = SKY_DIFFRACTION_NONE;
 
 layout(set = 0, binding = BINDING_MOMENTS) uniform sampler2DArray env_moments;
@@ -104,7 +104,7 @@ vec3 sky_diffracted(vec3 omega_r, vec3 x, vec3 y, vec3 n) {
 }
 
 #ifndef SKY_DIFFRACTION_AT_VERTEX
-// The environment without its sun (`render::surface::EnvLighting`), equirectangular like the background's map:
+// The environment without its sun (`render::scene_gpu`'s `EnvLighting`), equirectangular like the background's map:
 // frame.sky_quadratic[1].w turns its texels into the frame's units, [2].w is its turn about +y, [3].w is 1 where
 // the view has one (else the specular reflection reads the quadratic form).
 layout(set = 0, binding = BINDING_ENV_LIGHT) uniform sampler2D env_light_map;

@@ -48,6 +48,15 @@ pub struct EnvironmentMap {
     pub rgb: Vec<[f32; 3]>,
 }
 
+/// The texture coordinates of the unit direction `d` in an equirectangular map turned by `rotation` radians about
+/// +y (the texel at azimuth φ shows at φ + rotation): u from the azimuth, not yet wrapped into [0, 1) (a sampler
+/// wraps it), v from the elevation, 0 at the zenith (`panorama_uv` in glsl/include/panorama.glsl, its twin).
+pub fn panorama_uv(d: DVec3, rotation: f64) -> [f64; 2] {
+    let azimuth = d.x.atan2(d.z) - rotation;
+    let elevation = d.y.clamp(-1.0, 1.0).asin();
+    [azimuth / std::f64::consts::TAU + 0.5, 0.5 - elevation / std::f64::consts::PI]
+}
+
 /// The unit direction through the point (`x`, `y`) of a `width`×`width/2` map, in texels from its top left corner.
 pub fn direction_at(x: f64, y: f64, width: u32) -> DVec3 {
     let height = f64::from(width / 2);
@@ -229,11 +238,10 @@ impl EnvironmentMap {
     /// The radiance towards `d` (unit, world) as a linearly filtered sampler reads the map turned by `rotation`
     /// radians about +y (`create_panorama_sampler`: wrapping in azimuth, clamped at the poles; the shaders' lookup).
     pub fn bilinear(&self, d: DVec3, rotation: f64) -> DVec3 {
-        let azimuth = d.x.atan2(d.z) - rotation;
-        let elevation = d.y.clamp(-1.0, 1.0).asin();
+        let [u, v] = panorama_uv(d, rotation);
         let (w, h) = (f64::from(self.width), f64::from(self.height));
-        let fx = ((azimuth / std::f64::consts::TAU + 0.5).rem_euclid(1.0)) * w - 0.5;
-        let fy = (0.5 - elevation / std::f64::consts::PI) * h - 0.5;
+        let fx = u.rem_euclid(1.0) * w - 0.5;
+        let fy = v * h - 0.5;
         let (x0, y0) = (fx.floor(), fy.floor());
         let (tx, ty) = (fx - x0, fy - y0);
         let at = |x: f64, y: f64| {

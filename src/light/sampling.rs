@@ -449,7 +449,8 @@ fn above(x: f64, y: f64) -> Option<DVec3> {
     (r2 < 1.0).then(|| DVec3::new(x, y, (1.0 - r2).sqrt()))
 }
 
-/// ω_r of BRDF-map pixel (x, y) of a `size`-pixel map (`glsl/include/map_pixel.glsl`); None outside the disk.
+/// ω_r of BRDF-map pixel (x, y) of a `size`-pixel map (`map_view` in glsl/include/map_view.glsl); None outside the
+/// disk.
 pub fn map_view(size: u32, x: u32, y: u32) -> Option<DVec3> {
     let half = f64::from(size) / 2.0;
     let (px, py) = ((f64::from(x) + 0.5 - half) / half, -((f64::from(y) + 0.5 - half) / half));

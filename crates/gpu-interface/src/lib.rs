@@ -196,7 +196,7 @@ shared! {
     pub const SPEC_COUNT_STRIDE: u32 = 5;
     /// 1: the baked shaders filter over the pixel's footprint; 0: they read the table's finest level.
     pub const SPEC_FOOTPRINT: u32 = 8;
-    /// `map.comp`'s workgroup side (`render::diffraction::map_workgroup`): side² invocations, one per pixel.
+    /// `map.comp`'s workgroup side (`render::map::map_workgroup`): side² invocations, one per pixel.
     pub const SPEC_MAP_LOCAL_SIZE: u32 = 9;
     /// Where the surface pass diffracts the environment (the material has its moments): `SKY_DIFFRACTION_*`. With
     /// `SKY_DIFFRACTION_NONE` the code is compiled out (a CPU device runs both sides of a branch, so a uniform switch
@@ -285,6 +285,35 @@ shared! {
     /// The self-test's input and output buffers (`selftest.comp`).
     pub const BINDING_SELFTEST_IN: u32 = 0;
     pub const BINDING_SELFTEST_OUT: u32 = 1;
+    /// The twins' points and results (`twins.comp`: four vec4s in, one out per point). Above the bindings of the
+    /// includes it shares with the frames.
+    pub const BINDING_TWIN_IN: u32 = 21;
+    pub const BINDING_TWIN_OUT: u32 = 22;
+
+    section "The GLSL functions `twins.comp` evaluates (`TwinPush::function`; `reference::twins::Twin`).";
+    pub const TWIN_FRESNEL_REFLECTANCE: u32 = 0;
+    pub const TWIN_FRESNEL_RATIO: u32 = 1;
+    pub const TWIN_GAIN_FACTOR: u32 = 2;
+    pub const TWIN_SHADOW_MASK: u32 = 3;
+    pub const TWIN_TRANSMITTANCE: u32 = 4;
+    pub const TWIN_PIGMENT_RGB: u32 = 5;
+    pub const TWIN_PIGMENT_SKY_RGB: u32 = 6;
+    pub const TWIN_SKY_OVER_PI: u32 = 7;
+    pub const TWIN_SRGB_OETF: u32 = 8;
+    pub const TWIN_AGX: u32 = 9;
+    pub const TWIN_DISPLAY_ENCODE: u32 = 10;
+    pub const TWIN_XYZ_TO_LINEAR_SRGB: u32 = 11;
+    pub const TWIN_SPECTRUM_AT: u32 = 12;
+    pub const TWIN_PANORAMA_UV: u32 = 13;
+    pub const TWIN_MAP_VIEW: u32 = 14;
+    pub const TWIN_MOMENT_GRID_OF_VIEW: u32 = 15;
+    pub const TWIN_SKY_COEFFICIENTS: u32 = 16;
+    pub const TWIN_SAMPLE_CELL: u32 = 17;
+    pub const TWIN_R2: u32 = 18;
+    pub const TWIN_TENT: u32 = 19;
+    pub const TWIN_TABLE_LOD: u32 = 20;
+    pub const TWIN_TABLE_SEGMENT: u32 = 21;
+    pub const TWIN_BAKED_XYZ: u32 = 22;
 
     section "Workgroup sizes.";
     /// Invocations per workgroup of every compute shader (`local_size_x`); dispatches divide by it.
@@ -376,6 +405,14 @@ gpu_struct! {
     /// `selftest.comp`'s push constants (`SelftestPush`, as `pc`).
     pub struct SelftestPush {
         pub offset: f32,
+        pub count: u32,
+    }
+}
+
+gpu_struct! {
+    /// `twins.comp`'s push constants (`TwinPush`, as `twin`): which function (`TWIN_*`) at how many points.
+    pub struct TwinPush {
+        pub function: u32,
         pub count: u32,
     }
 }
@@ -537,12 +574,13 @@ pub const UNIFORM_BLOCKS: [Block; 4] = [
 ];
 
 /// The push-constant blocks: the struct, the GLSL instance, the include file.
-pub const PUSH_BLOCKS: [Block; 5] = [
+pub const PUSH_BLOCKS: [Block; 6] = [
     block!(MapPush, "map", "map_push.glsl"),
     block!(EnvMapPush, "map", "env_map_push.glsl"),
     block!(EvalPush, "eval", "eval_push.glsl"),
     block!(SelftestPush, "pc", "selftest_push.glsl"),
     block!(VisibilityPush, "visibility", "visibility_push.glsl"),
+    block!(TwinPush, "twin", "twin_push.glsl"),
 ];
 
 impl Default for Vertex {

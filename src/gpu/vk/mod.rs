@@ -26,7 +26,7 @@ pub(crate) mod query;
 #[cfg(feature = "view")]
 pub mod swapchain;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::mem::ManuallyDrop;
 use std::sync::{Arc, Mutex, MutexGuard};

@@ -12,8 +12,9 @@ use crate::gpu::vk::{
     MemoryState, SpecConstants,
 };
 
-/// Runs `f` on a fresh validated context on the test device and checks the teardown.
-fn gpu_test<T>(f: impl FnOnce(&Context) -> T) -> T {
+/// Runs `f` on a fresh validated context on the test device and checks the teardown (the library's GPU unit tests
+/// all run through it).
+pub(crate) fn gpu_test<T>(f: impl FnOnce(&Context) -> T) -> T {
     let device = std::env::var("DIFFRACT_TEST_DEVICE").ok().filter(|d| !d.trim().is_empty());
     let device = device.unwrap_or_else(|| "llvmpipe".into());
     let desc = ContextDesc { device: DeviceSelector::parse(&device), validation: true, window: false };
