@@ -6,7 +6,9 @@
 - functions: at most MAX_LONG functions in src/ run over FUNCTION_LINES lines (from `fn` to its closing brace, unit
   tests left out), and each of those says why in its doc comment (a line with "over 80 lines");
 - files: no file in src/render holds more than RENDER_FILE_LINES lines;
-- module headers: no `//!` header in src/ (but the crate's, src/lib.rs) runs over HEADER_LINES lines.
+- module headers: no `//!` header in src/ (but the crate's, src/lib.rs) runs over HEADER_LINES lines;
+- citations: every `model.md §N` (or §N.M, and the §s listed after it) in src/, glsl/, crates/ and the docs names a
+  section docs/model.md has.
 
 Usage: scripts/check-house.py [--list]   (--list prints every long function and header, passing or not)
 """
@@ -133,8 +135,26 @@ def layer_of(path, order):
     return top[:-3] if top.endswith(".rs") else top
 
 
-def main():
+def citations():
+    """Failures for each `model.md §…` that names no section of docs/model.md."""
+    model = open("docs/model.md", encoding="utf-8").read()
+    sections = set(re.findall(r"^##+ (\d+(?:\.\d+)*)[. ]", model, re.M))
     failures = []
+    roots = ["src", "glsl", "crates", "docs"]
+    files = [os.path.join(d, n) for r in roots for d, _, ns in os.walk(r) for n in ns
+             if n.endswith((".rs", ".glsl", ".md")) and "experiments" not in d]
+    for path in files + ["README.md", "ARCHITECTURE.md"]:
+        text = open(path, encoding="utf-8").read()
+        for m in re.finditer(r"model\.md[^§\n]{0,3}((?:§\s?\d+(?:\.\d+)*(?:[–-]§?\d+(?:\.\d+)*)?(?:,\s*)?)+)", text):
+            for ref in re.findall(r"\d+(?:\.\d+)*", m.group(1)):
+                if ref not in sections:
+                    line = text.count("\n", 0, m.start()) + 1
+                    failures.append(f"{path}:{line}: cites model.md §{ref}, which docs/model.md does not have")
+    return failures
+
+
+def main():
+    failures = citations()
     listing = "--list" in sys.argv
     order = layers()
     long_ones = []
@@ -180,7 +200,7 @@ def main():
     if not failures:
         print(f"check-house: layers as src/lib.rs lists them; {len(long_ones)} functions over {FUNCTION_LINES} lines "
               f"(at most {MAX_LONG}, each with its reason); src/render's files within {RENDER_FILE_LINES} lines; "
-              f"module headers within {HEADER_LINES} lines")
+              f"module headers within {HEADER_LINES} lines; every model.md § cited exists")
     return 1 if failures else 0
 
 

@@ -1,18 +1,13 @@
-//! Exposure measured from a frame, for a scene or command that sets none, and the one-line verdict on a frame
-//! that came out almost all black or all white.
+//! Exposure measured from a frame, for a scene or command that sets none, and the one-line verdict on a frame that
+//! came out almost all black or all white. The meter reads the pixels that count (the subject's where the caller
+//! knows which pixels show objects, else the lit ones) as the tone curve needs them:
+//! - through clip, their luminance's 99.5th percentile goes to [`AUTO_TARGET`] (the brightest half percent, the
+//!   glints, may clip);
+//! - through the filmic curve, their median goes to middle grey ([`MIDDLE_GREY`]) unless that would put their
+//!   99.5th percentile more than [`GLINT_HEADROOM_EV`] stops over white: a grating's colours stay on the curve's
+//!   shoulder, where they keep most of their saturation, instead of its top, where AgX turns them white.
 //!
-//! Auto exposure meters the pixels that count (the subject's where the caller knows which pixels show objects —
-//! `SceneCapture::meter` does for the filmic curve — else the lit ones: Y > 0 of linear sRGB, so a black
-//! background does not count), as the tone curve needs:
-//! - shown through clip (`Tone::Clip`), the 99.5th percentile of their luminance is mapped to [`AUTO_TARGET`]
-//!   before the sRGB transfer function: the brightest half percent (glints) may clip, the rest keeps its ratios;
-//! - shown through the filmic curve, their median is mapped to middle grey ([`MIDDLE_GREY`], as a camera's meter
-//!   does), unless that would put their 99.5th percentile more than [`GLINT_HEADROOM_EV`] stops over display
-//!   white: the glints — a grating's colours — stay on the curve's shoulder, where they keep most of their
-//!   saturation, instead of its top, where AgX turns them white.
-//!
-//! A sequence measures its first frame and keeps that exposure for every frame, so that brightness changes between
-//! frames stay visible.
+//! A sequence measures its first frame and keeps that exposure, so that brightness changes between frames show.
 
 use crate::display::tone::{encode, Tone};
 use crate::physics::spectrum::luminance;

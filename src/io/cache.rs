@@ -1,16 +1,13 @@
-//! The on-disk cache of expensive results (the profiler's exact reference images, the baked tables and their
-//! estimates): where it lives, the stable hash that names its files, the verified entries it holds, and writes
-//! that never leave half a file behind ([`crate::io::output::write_atomic`]).
+//! The on-disk cache of expensive results (the profiler's exact references, the baked tables and their estimates):
+//! where it lives (`$DIFFRACT_CACHE` when set — empty or `off`: none —, else `$XDG_CACHE_HOME/diffract`, else
+//! `~/.cache/diffract`), the stable hash that names its files, and writes that never leave half a file
+//! ([`crate::io::output::write_atomic`]).
 //!
-//! Folder: `$DIFFRACT_CACHE` when set (empty or `off`: no cache), else `$XDG_CACHE_HOME/diffract`, else
-//! `~/.cache/diffract`.
-//!
-//! Every entry ([`store`], [`load`]) carries its kind, the version of diffract that wrote it and the version of
-//! the kind's definition, the plan it was computed for (the bytes of everything it depends on), its length and a
-//! CRC-32 of all of it. A read opens the file without blocking (a FIFO put in its place cannot hang it), accepts
-//! only a regular file whose length is what its header says and at most what the caller expects, and checks
-//! every field and the checksum before the bytes are used; anything else is recomputed with a one-line note on
-//! stderr. The cache costs time when it fails, never correctness.
+//! Every entry ([`store`], [`load`]) carries its kind, the versions of diffract and of the kind that wrote it, the
+//! plan it was computed for, its length and a CRC-32 of all of it. A read opens the file without blocking, accepts
+//! only a regular file of the length its header says (and at most what the caller expects), and checks every field
+//! and the checksum before the bytes are used; anything else is recomputed with a note. The cache costs time when
+//! it fails, never correctness.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};

@@ -1,16 +1,12 @@
-//! Equirectangular environment maps: light from every direction, as linear sRGB radiance whose luminance Y is
-//! in cd/m² (physical units: the sun and the sky in their true ratio).
+//! Equirectangular environment maps: linear sRGB radiance from every direction, its luminance in cd/m² (the sun and
+//! the sky in their true ratio). Layout (+y up, twice as wide as high): column x covers the azimuth from −180° at
+//! the left to +180° at the right (0 along +z, +90° along +x: [`crate::physics::sky::direction`]'s), row y the
+//! elevation from +90° at the top; a texel holds the mean radiance over its patch of sphere, of solid angle
+//! Δφ·(sin e_top − sin e_bottom) ([`panorama_uv`] and `glsl/include/panorama.glsl` read it alike).
 //!
-//! Layout (the usual latitude–longitude map, +y up): a map is twice as wide as it is high; column x covers the
-//! azimuth φ from −180° at the left edge to +180° at the right (φ = 0 along +z, +90° along +x, the azimuth of
-//! [`crate::physics::sky::direction`]); row y covers the elevation from +90° (the zenith) at the top to −90° at
-//! the bottom. A texel holds the mean radiance over its patch of sphere, whose solid angle is
-//! Δφ·(sin e_top − sin e_bottom).
-//!
-//! [`EnvironmentMap::of_sky`] renders the built-in clear sky ([`crate::physics::sky`]) into one: the sky at each
-//! texel's centre, the sun's disc spread over the texels it covers with its energy kept exactly (a disc narrower
-//! than a texel lands in the texel that holds its centre), and below the horizon a uniform Lambertian ground of
-//! the given albedo lit by that sun and sky.
+//! [`EnvironmentMap::of_sky`] renders the built-in clear sky into one: the sky at each texel's centre, the sun's disc
+//! spread over the texels it covers with its energy kept exactly, and below the horizon a uniform Lambertian ground
+//! of the given albedo lit by that sun and sky.
 
 use std::path::Path;
 

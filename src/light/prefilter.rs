@@ -1,32 +1,13 @@
-//! The environment's diffraction prefiltered for frames (model.md §3.11): sampling it per pixel needs about a
-//! thousand samples for a mean ΔE00 below 1 (docs/usage.md's table), far beyond a frame's budget. A smooth
-//! environment (a sky without its sun, whose sun diffracts as the scene's directional light) is instead taken to
-//! its projection on the spherical harmonics up to l = 2 — in a frame, a quadratic form of the direction,
+//! The environment's diffraction prefiltered for frames (model.md §3.11, which derives it): the environment (without
+//! its sun) projected to l ≤ 2 is a quadratic form of the direction ([`Quadratic`]), which in a patch frame stays
+//! one, so its integral against the BRDF is a sum of nine moments of the BRDF that depend on the view alone
+//! ([`Moments`], tabulated per material on a grid of views from coarse tables for every pair of directions).
 //!
-//!   L(d) = c₀ + c·d + dᵀQ d   (per colour channel, world frame),
-//!
-//! which in a patch frame T (d = T ω) stays one: L(ω) = c₀ + (Tᵀc)·ω + ωᵀ(TᵀQT)ω. Its integral against the
-//! BRDF is then a sum of nine moments of the BRDF in the patch frame, functions of the view alone,
-//!
-//!   L_r(ω_r) = Σ_j a_j M_j(ω_r),  M_j(ω_r) = ∫ ρ(ω_i, ω_r)·K·m_j(ω_i) dω_i,
-//!
-//! over the monomials m = (1, x, y, z, x², y², xy, xz, yz) of ω_i (z² = 1 − x² − y² folds into the others), with
-//! a_j from c₀, Tᵀc and TᵀQT ([`Quadratic::coefficients`]). [`Moments`] tabulates M_j over a grid of ω_r.xy from a
-//! baked table (every pair of directions, coarse: the moments integrate it against smooth functions), and a
-//! frame's shader needs nine table reads and a 3×3 sandwich per pixel.
-//!
-//! The environment is RGB; its light is upsampled to spectra linearly, in the basis of [`basis`]: three smooth,
-//! positive bands of D65 (blue, green, red; `Illuminant::d65_band`) that sum to D65. An RGB radiance ℓ is the
-//! spectrum Σ_k c_k B_k with c = A⁻¹ℓ, A's columns being the bands' own colours, so that its colour is ℓ again
-//! and a D65-coloured light is D65 itself. Each band has its own coarse table, baked once, and a moment is a 3×3
-//! colour matrix N_j = [M_j(B_0) M_j(B_1) M_j(B_2)]·A⁻¹ from light RGB to reflected RGB: the environment's
-//! diffraction is spectral (within the upsampling) and does not depend on the sun's illuminant.
-//!
-//! Where a frame evaluates it is [`SkyAt`](crate::material::SkyAt): the nine diffraction moments against a quadratic light give a broad
-//! term that changes slowly with the view and the patch's frame, so by default it is evaluated at the mesh's
-//! vertices and interpolated (21 of the 23 layers' reads leave the pixels); the specular moment (the structure's
-//! coherent reflectance, whose colour changes quickly with the angle) and the environment's own light at the
-//! mirror direction stay per pixel.
+//! The environment's RGB is upsampled to spectra in the [`basis`] of three smooth bands of D65, each band with its
+//! own table, so a moment is a colour matrix from light RGB to reflected RGB and does not depend on the sun's
+//! illuminant. Where a frame evaluates it is [`SkyAt`](crate::material::SkyAt): by default the nine diffraction
+//! moments at the vertices, the specular moment and the environment's own light at the mirror direction per pixel
+//! (`glsl/include/sky_diffraction.glsl`, whose functions are twins of this module's).
 
 use glam::{DMat3, DVec3};
 

@@ -1,43 +1,13 @@
-//! Light from a whole environment integrated against the diffraction BRDF (model.md §3.10): a pixel's radiance
-//! towards ω_r is
+//! Light from a whole environment integrated against the diffraction BRDF (model.md §3.10, which derives it): a
+//! pixel's radiance towards ω_r as ∫∫ ρ·K·L(ω_i)/cos θ_i du dv over the table's (u, v), estimated by multiple
+//! importance sampling (the balance heuristic) over three strategies — the baked table's texels by their colour's
+//! envelope with a tent within each ([`TableProposal`]), a cosine-weighted floor ([`BRDF_FLOOR`] of the BRDF's
+//! samples), and the environment's texels by luminance × solid angle ([`EnvLight`]) — each drawing its cells by
+//! inverting 2D CDFs ([`Distribution2D`]) at the points of a shifted R2 sequence ([`r2`]).
 //!
-//!   L_r(ω_r) = ∫ f(ω_i, ω_r) L(ω_i) cos θ_i dω_i = ∫∫ ρ(u, v, w)·K·L(ω_i) / cos θ_i du dv,
-//!
-//! with f = ρ·K/cos θ_i the BRDF in sr⁻¹ (model.md §1.5: K = R₀(kσ_s)²/π, carried by [`env_gain`]) and
-//! du dv = cos θ_i dω_i the projected solid angle of ω_i, which for a fixed view is the measure of (u, v).
-//!
-//! Its lobes are narrow (a 65 µm coherence length gives lobes of ~10⁻⁴ sr), so an estimate that only samples the
-//! environment would find them about once in 10⁵ samples, and one that only samples the BRDF misses a small bright
-//! source (the sun's disc). Both are drawn and combined by multiple importance sampling (the balance heuristic,
-//! Veach 1997 §9.2):
-//! - **the table's** ([`TableProposal`]): a texel of the baked table drawn in proportion to its colour's envelope
-//!   over w (Σ_d |a_d| over the three channels' Chebyshev coefficients, times its area), then a point about its
-//!   centre with a tent of one texel either way — exactly the density the table's bilinear reconstruction of that
-//!   envelope has, which the GPU evaluates from the same four texels;
-//! - **a floor**: a share [`BRDF_FLOOR`] of the BRDF's samples drawn cosine-weighted (uniform over the disc of
-//!   ω_i.xy), so that no lobe the table underrates is left without samples;
-//! - **the environment's** ([`EnvLight`]): a texel drawn in proportion to its luminance times its solid angle,
-//!   then a uniform point over it in (φ, sin e), so that the density is constant over the texel (sr⁻¹).
-//!
-//! Each draws its cells by inverting a 2D CDF ([`Distribution2D`]) at the points of a randomly shifted R2
-//! sequence ([`r2`]): stratified, so that a lobe's colours along a grating's streak are integrated like a
-//! quadrature rather than guessed at (tests/gpu/env_map.rs measures the difference on a blazed grating under a
-//! sky). With n_t, n_f and
-//! n_e samples of each, a sample at (u, v) contributes
-//!
-//!   ρ·K·L / ((n_t·p_t(u, v) + n_f/π)·cos θ_i + n_e·p_ω(ω_i)),
-//!
-//! the BRDF's density in (u, v) and the environment's per steradian (p_uv = p_ω / cos θ_i), multiplied through
-//! by cos θ_i so that grazing light stays finite. The environment's radiance is each texel's own (constant over
-//! it: the map's texels are the mean radiance of their patch of sky). ρ is a colour matrix from the light's RGB
-//! to the reflected RGB.
-//!
-//! The same estimator runs on the GPU with the baked table as ρ (`glsl/map_env.comp.glsl`), whose one table is
-//! baked under the material's illuminant: there the environment's RGB tints the diffraction channel by channel
-//! (ρ = diag(rgb / the illuminant's white)), exact for light of the illuminant's colour, an approximation of the
-//! dispersion of coloured light; and on the CPU with the exact BRDF ([`ExactEnv`](crate::reference::exact_env::ExactEnv), `Reference::flss_xyz_bands`),
-//! the light upsampled to spectra in the basis frames use (`light::prefilter::basis`: ρ from the BRDF under each of
-//! its three bands): the reference, whose standard error comes from the samples' own variance (model.md §3.10).
+//! [`Integrator::pass`] is one estimate. It runs on the GPU with the baked table as ρ (`glsl/map_env.comp.glsl`,
+//! whose sampling functions are this module's twins: ARCHITECTURE.md, "Twins") and on the CPU with the exact BRDF
+//! (`reference::exact_env::ExactEnv`), the light then upsampled to spectra in `light::prefilter::basis`.
 
 use glam::{DMat3, DVec3};
 

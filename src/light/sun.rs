@@ -1,20 +1,9 @@
-//! The sun in an environment map, found by its energy: a camera-made HDRI holds its sun, in the map's own
-//! (often relative) units, and a scene lit by such a map takes its sun from it instead of adding a physical one.
-//!
-//! The search, the same at every map size:
-//! 1. The candidate is the texel of highest luminance.
-//! 2. Around it, a cap of angular radius [`cap_radius`] (at least 2.5°, and 1.5 texels on coarse maps, where the
-//!    sun's 0.53° disc is spread over a texel or two) and a ring of the same width beyond it. The ring's mean radiance
-//!    is the sky behind the sun.
-//! 3. The sun is the cap's light above that background: its irradiance at normal incidence Σ (L − L_ring)·Ω over
-//!    the cap's texels (per channel), its direction the centroid of the excess luminance, its angular radius that
-//!    of a uniform disc with the excess's second moment about that centroid (a few texels at most: the size is
-//!    resolved only where a texel is finer than the disc).
-//! 4. It is a sun where it holds at least [`MIN_SHARE`] of the irradiance the whole map gives a surface facing it
-//!    (a clear day's sun holds 70–90 %); a bright patch of an overcast sky holds a few per cent.
-//!
-//! Taking it out fills the cap with the ring's mean, which removes exactly the light the sun is given: it is counted
-//! once. A second compact sun in what remains is reported and left in the map.
+//! The sun in an environment map, found by its energy (model.md §3.12, "A map's own sun"): about the brightest
+//! texel a cap of [`cap_radius`] and a ring as wide beyond it; the sun is the cap's light above the ring's mean
+//! (its irradiance, the centroid of the excess as its direction, the disc with the excess's second moment as its
+//! size), and it is a sun where it holds at least [`MIN_SHARE`] of the irradiance the whole map gives a surface
+//! facing it. Taking it out fills the cap with the ring's mean, which removes exactly the light the sun is given;
+//! a second compact sun in what remains is reported and left in the map.
 
 use glam::DVec3;
 

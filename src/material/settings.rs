@@ -1,21 +1,12 @@
-//! The material settings that trade speed for accuracy, declared once.
+//! The material settings that trade speed for accuracy, declared once: `settings!` below is the only place a
+//! setting is named, and from its list come [`Settings`] (every value, with the defaults a user gets),
+//! [`SettingsPatch`] (each set or left alone: a scene's material, the command line's flags, a profile's `--sweep`,
+//! the viewer's keys), [`Settings::KEYS`] and [`Settings::values`] (the profile's CSV columns) and
+//! [`Settings::label`] (its row labels). Adding a setting is one entry here plus its use.
 //!
-//! `settings!` below is the only place a setting is named. From its list come:
-//! - [`Settings`]: every setting's value, with the defaults a user gets;
-//! - [`SettingsPatch`]: the same settings, each either set or left alone: a scene's material (serde, with the old
-//!   names as aliases), the command line's flags (clap, under the `cli` feature), one configuration of a profile
-//!   ([`SettingsPatch::set`] parses `--sweep KEY=VALUE`), the viewer's keys;
-//! - [`Settings::KEYS`] and [`Settings::values`]: the profile's CSV columns; [`Settings::label`]: its row labels.
-//!
-//! Adding a setting is one entry here plus its use (where the shading reads `settings.<key>`).
-//!
-//! Each entry reads `KEY: KIND<TYPE> = DEFAULT, check CHECK, flag "--FLAG" …;` where KIND is
-//! - `value`: always has a value (`Settings` holds `TYPE`);
-//! - `auto`: `None` lets the shading choose (`Settings` holds `Option<TYPE>`; `auto` on the command line);
-//! - `switch`: a flag that is off unless a material or the command line turns it on (`TYPE` is `bool`).
-//!
-//! An entry with `set_in "[light]"` is the light's, not a material's: a scene sets it once, in that table, for
-//! every material, so a material table does not take its key.
+//! An entry reads `KEY: KIND<TYPE> = DEFAULT, check CHECK, flag "--FLAG" …;` where KIND is `value` (always
+//! set), `auto` (`None` lets the shading choose; `auto` on the command line) or `switch` (off unless turned on).
+//! With `set_in "[light]"` the setting is the light's: a scene sets it once, in that table, for every material.
 
 use crate::error::{Error, Result};
 use crate::gpu::interface;

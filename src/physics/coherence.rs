@@ -1,4 +1,4 @@
-//! The frequency lookup and the Gaussian coherence window (model.md §1.4, §2.3).
+//! The frequency lookup and the Gaussian coherence window (model.md §1.4).
 //!
 //! A view asks for P at the spatial frequency (u/λ, v/λ) in cycles/µm, which lies at the fractional bin
 //! position s = (u·Lx/λ, v·Ly/λ) relative to DC. The surface is the periodic replica of the patch times a

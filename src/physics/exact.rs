@@ -1,16 +1,12 @@
-//! The exact CPU reference of the diffraction BRDF (model.md §1.2–§1.7), in f64: what every test reads the
-//! shaders against. (The profiler's reference image, built from it, is `reference::exact_image`.)
+//! The exact CPU reference of the diffraction BRDF (model.md §1.2–§1.7), in f64: what every test reads the shaders
+//! against (the profiler's reference image, built from it, is `reference::exact_image`). `power` is |P(u/λ, v/λ)|²
+//! with P the coherence-windowed DTFT of p = exp(i·k·w·h) ([`crate::physics::coherence`]), 1 at specular for a flat
+//! patch; `reflectance` = C·power ([`crate::physics::optics::gain_factor`]); `brdf_sr` the BRDF in sr⁻¹.
 //!
-//! `power` = |P(u/λ, v/λ)|², where P is the coherence-windowed DTFT of p = exp(i·k·w·h) normalised so that a
-//! flat patch gives 1 at specular ([`crate::physics::coherence`]); `reflectance` = C(ω_i, ω_r)·power with the gain factor of
-//! [`crate::physics::optics::gain_factor`] (the thesis's peak-normalised relative reflectance); `brdf_sr` = the BRDF in
-//! sr⁻¹ ([`crate::physics::optics::brdf_per_sr_scale`]).
-//!
-//! Two methods, which share the lookup and the window:
-//! - [`Method::Exact`] evaluates the DFT coefficients of p itself at the window's bins, by a separable direct
-//!   sum (rows, then columns), with no Taylor series and no FFT — an independent check on the precomputation.
-//! - [`Method::Taylor`] sums the precomputed terms, P = Σ_taps g · Σ_n c_n F_n with c_n = (k w)^n/n! built
-//!   incrementally, exactly as the shaders do (but in f64).
+//! Two methods share the lookup and the window: [`Method::Exact`] evaluates the DFT coefficients of p itself at the
+//! window's bins by a separable direct sum (no Taylor series, no FFT: an independent check on the precomputation);
+//! [`Method::Taylor`] sums the precomputed terms, c_n = (k w)ⁿ/n! built incrementally, exactly as the shaders do
+//! (but in f64).
 
 use glam::DVec3;
 use rustfft::num_complex::Complex64;

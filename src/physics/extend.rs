@@ -1,23 +1,7 @@
-//! A measured patch extended beyond its size without a period (`extend_um`): the scans in `assets/afm` are
-//! cut-outs of 6.5 µm, and tiling one to the 65 µm a scene's coherence needs adds a 6.5 µm period no snake has —
-//! its diffraction breaks into a lattice of thin lines 1/(6.5 µm) apart instead of the broad, continuous lobes of
-//! the thesis's whole-scan maps.
-//!
-//! The extension is a random-phase field with the cut-out's measured power spectrum, remapped to the cut-out's own
-//! height distribution:
-//! 1. the cut-out's power spectrum, estimated through a Hann window (so that its edges, which do not meet when the
-//!    patch repeats, add no cross of leakage), on its own grid of 1/(6.5 µm) bins;
-//! 2. on the extended grid (1/(65 µm) bins, the same pixel and so the same highest frequency), complex Gaussian
-//!    noise of that spectrum, interpolated bilinearly between the cut-out's bins, turned back into heights (the
-//!    real part of its inverse transform);
-//! 3. each height replaced by the cut-out's height of the same rank (histogram matching).
-//!
-//! What it preserves: the cut-out's height distribution exactly (its mean, spread and extremes, which set the
-//! specular reflectance and the Taylor terms' reach), and its power spectrum up to the window's resolution (two
-//! bins of the cut-out: the lobes' positions, orientations and widths) and the remapping's change (measured in the
-//! tests). What it assumes: that the skin beyond the cut-out is the same texture with no long-range order (the AFM
-//! scans show regions of differing orientation a few tens of µm across, which neither this nor tiling models), and
-//! random phases: the cut-out's shapes (each finger's outline) are not copied, only their statistics.
+//! A measured patch extended beyond its size without a period (`extend_um`; model.md §5.3, which says what it keeps
+//! and what it assumes): a random-phase field with the cut-out's Hann-windowed power spectrum on the extended grid,
+//! remapped to the cut-out's own height distribution (histogram matching), from a fixed seed. The scans in
+//! `assets/afm` are 6.5 µm cut-outs: tiled to a scene's 65 µm they add a period no snake has.
 
 use rustfft::num_complex::Complex64;
 use rustfft::FftPlanner;

@@ -1,16 +1,9 @@
-//! The light's spectrum: CIE illuminants and measured ones, as relative spectral power at 1 nm from 380 to
-//! 780 nm (100 at 560 nm), the grid of the colour-matching functions in [`crate::physics::cie_tables`].
-//!
-//! - `D65`: the CIE table the renderer always used ([`crate::physics::cie_tables::d65`]).
-//! - `D50`, `D55`, `D75`, … `D<N>` for N from 40 to 250: the CIE daylight series at the correlated colour
-//!   temperature N·100 K × 1.4388/1.4380 (the CIE's convention that makes D65 6504 K), from the S0, S1, S2
-//!   basis (CIE 15:2018 §4.1) as the `colorimetry` crate computes it.
-//! - `A` (a Planckian radiator at 2856 K), `E` (equal energy), `F1` … `F12` (fluorescent lamps): the CIE 15:2018
-//!   tables of the `colorimetry` crate (MIT or Apache-2.0).
-//! - `sun:E` or `sun:E:T`: the direct sun at E degrees above the horizon through an atmosphere of turbidity T
-//!   (default [`SUN_TURBIDITY`]): a 5778 K black body dimmed by Rayleigh and aerosol extinction, the clear-sky
-//!   model's sun ([`crate::physics::sky`]); a low sun is redder. In a scene, `sun` alone takes E from the light's direction.
-//! - a CSV file of `nm,relative power` rows: measured, interpolated linearly to 1 nm and zero outside its range.
+//! The light's spectrum, as relative spectral power at 1 nm from 380 to 780 nm (100 at 560 nm), the grid of the
+//! colour-matching functions ([`crate::physics::cie_tables`]): `D65`; the CIE daylight series `D<N>` (N from 40 to
+//! 250, CIE 15:2018 §4.1, through `colorimetry`); `A`, `E` and `F1` … `F12` (the CIE 15:2018 tables of
+//! `colorimetry`, MIT or Apache-2.0); `sun:E[:T]`, the clear-sky model's direct sun E degrees above the horizon
+//! through turbidity T ([`SUN_TURBIDITY`] by default; a scene's `sun` takes E from its light); or a CSV file of
+//! `nm,relative power` rows, interpolated linearly to 1 nm and zero outside its range.
 //!
 //! An [`Illuminant`] is `Copy` (it refers to its table, interned for the life of the process), so the spectral
 //! sampling that carries it ([`crate::physics::spectrum::Sampling`]) stays a small value.

@@ -1,27 +1,10 @@
-//! A clear sky and its sun, in physical units. Two skies, one sun:
+//! A clear sky and its sun, in physical units (model.md §3.12, which states the models and what they were checked
+//! against): the built-in sky is Hosek–Wilkie's (SIGGRAPH 2012, the authors' RGB datasets through `hw-skymodel`,
+//! × 683 lm/W to cd/m²), Preetham's (SIGGRAPH 1999) is kept by name (`sky_model = "preetham"`), and both share the
+//! sun: a 5778 K black body through Rayleigh and aerosol extinction for the sun's air mass.
 //!
-//! - **Hosek–Wilkie** (*An Analytic Model for Full Spectral Sky-Dome Radiance*, SIGGRAPH 2012), the built-in sky:
-//!   the authors' fitted RGB datasets (through the `hw-skymodel` crate), nine parameters per channel interpolated
-//!   in turbidity (1–10), ground albedo and the sun's elevation (0°–90°), each direction's radiance
-//!   (1 + A·e^{B/(cos θ + 0.01)})·(C + D·e^{Eγ} + F·cos²γ + G·χ(H, γ) + I·√cos θ). The RGB datasets are linear sRGB
-//!   radiance in W·m⁻²·sr⁻¹ weighted by the CIE functions, so 683 lm/W turns them into cd/m²: checked against
-//!   Mitsuba 3.9's `sunsky` (the same model) at three (turbidity, elevation) pairs in the tests below.
-//! - **Preetham** (Preetham, Shirley and Smits, *A Practical Analytic Model for Daylight*, SIGGRAPH 1999), kept by
-//!   name (`sky_model = "preetham"`): the luminance Y and chromaticity (x, y) of each direction follow Perez et
-//!   al.'s F(θ, γ) = (1 + A·e^{B/cos θ})·(1 + C·e^{Dγ} + E·cos²γ), normalised to the zenith's values,
-//!   Y = Y_z·F(θ, γ)/F(0, θ_s), the coefficients linear in the turbidity T (their Appendix A.2, the numbers below).
-//!   The model overestimates: its sky gives 1.2–2.3× Hosek–Wilkie's horizontal illuminance and 2.2–3.4× its zenith.
-//! - **Sun** (both): spectral radiance L_λ = B_λ(5778 K)·τ_R(λ)·τ_a(λ), W·m⁻²·sr⁻¹·nm⁻¹: the black body of the
-//!   sun's effective temperature (over the sun's disc, [`crate::physics::optics::SUN_SOLID_ANGLE`], it gives 1.36
-//!   kW/m² above the atmosphere, the solar constant), through Rayleigh scattering τ_R = exp(−0.008735·λ^−4.08·m)
-//!   and aerosols (Ångström) τ_a = exp(−β·λ^−1.3·m), β = 0.04608·T − 0.04586, λ in µm, for the relative air mass m
-//!   of the sun's zenith angle (Kasten's formula, as Preetham et al. use it). Ozone, water vapour and mixed-gas
-//!   absorption are left out (they remove a few per cent, mostly in the red and near infrared).
-//!
-//! Luminances are photometric (cd/m², 683 lm/W with the CIE 1931 ȳ), so the sun and the sky keep their physical
-//! ratio. Validity: Hosek and Wilkie fitted turbidities 1 to 10 and suns from the horizon to the zenith; Preetham
-//! et al. turbidities 2 to 10 (below 2 the Perez luminance goes negative near the zenith, Zotti et al. 2007). Each
-//! is refused outside its range ([`SkyModel::turbidity_range`]), as is a sun below the horizon.
+//! Each model is refused outside the turbidities it was fitted at ([`SkyModel::turbidity_range`]), as is a sun
+//! below the horizon. The tests below compare Hosek–Wilkie with Mitsuba 3's `sunsky`.
 
 use glam::DVec3;
 

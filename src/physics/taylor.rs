@@ -1,21 +1,7 @@
-//! The Taylor expansion of p = exp(i·k·w·h) and its precomputed Fourier terms (model.md §1.6, §2.1, §7.3).
-//!
-//! P = Σ_n (k·w)^n/n! · F_n, where F_n is the centred, normalised inverse DFT of (i·h)^n over the mean-centred
-//! heights h (µm):  F_n\[j\] = 1/(Nx·Ny) · Σ_x (i·h\[x\])^n · e^{+2πi j·x/N}, DC at index (⌊Nx/2⌋, ⌊Ny/2⌋).
-//! The +i exponent is Stam's sign convention (P(α) = ∫ p e^{+iαx} dx), so the bin for a view is +u·L/λ.
-//!
-//! Everything is computed in f64. Two real powers are transformed with one complex FFT (h^n + i·h^{n+1}) and
-//! separated by conjugate symmetry, which halves the work; terms are spread over the machine's cores.
-//!
-//! Choosing N: with x = k·|w|·|h| ≤ x_max = k_max·|w|_max·max|h − mean|, the series' tail after N is bounded by
-//! x^{N+1}/(N+1)! · (N+2)/(N+2−x) (a geometric majorant, valid once N+2 > x), and |P − P_N| by that times the
-//! window's largest weight sum G. N is the smallest order whose bound is below the tolerance.
-//!
-//! f32 on the GPU: the terms c_n·F_n grow while P stays ≤ 1, so the sum cancels. Every bin of F_n is at most
-//! the moment m_n = mean(|h − mean|^n), so a term is at most T_n = κ^n/n!·m_n with κ = k_max·|w|_max (for the
-//! worst case m_n = max|h − mean|^n this is x_max^n/n!, which peaks near e^x/√(2πx)). The rounding error of
-//! the sum is estimated as 2·u·√(N+1)·G·max_n T_n (u = 2⁻²⁴: one rounding in each stored term and one in each
-//! product, accumulating like a random walk). Where that exceeds the tolerance, the plan says so.
+//! The Taylor expansion of p = exp(i·k·w·h) and its precomputed Fourier terms (model.md §1.6, §2.1–§2.3):
+//! P = Σ_n (k·w)ⁿ/n!·F_n, F_n the centred, normalised DFT of (i·h)ⁿ over the mean-centred heights (µm), in f64,
+//! two real powers per complex FFT, the terms spread over the machine's cores. Its plan chooses the order N from
+//! the series' tail bound (§2.2) and says where f32 cannot reach the tolerance (§2.3).
 
 use std::sync::Arc;
 

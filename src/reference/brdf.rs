@@ -1,16 +1,13 @@
-//! The BRDF at chosen wavelengths and pairs of directions, by any of the four ways diffract evaluates P — and
-//! the refusals they share, so that `diffract brdf` and the extremes grid (`tests/extremes.rs`) take the same
-//! path.
+//! The BRDF at chosen wavelengths and pairs of directions by any of the four ways diffract evaluates P, and the
+//! refusals they share, so that `diffract brdf` and the extremes grid (`tests/extremes.rs`) take the same path:
+//! - [`Method::Exact`]: the DFT of exp(i·k·w·h) itself, in f64 (no series): defined everywhere;
+//! - [`Method::Taylor`]: the precomputed Taylor terms summed in f64; refused where its own rounding exceeds the
+//!   tolerance (model.md §2.3);
+//! - [`Method::TaylorF32`] and [`Evaluator::Gpu`]: the same sum in f32 (CPU emulation, or the shaders' code on the
+//!   device); refused where f32 cannot reach the tolerance unless the caller accepts that error, and the GPU also
+//!   where the full window has more taps than the shaders take.
 //!
-//! - [`Method::Exact`]: the DFT of exp(i·k·w·h) itself, in f64 (no series): defined everywhere.
-//! - [`Method::Taylor`]: the precomputed Taylor terms summed in f64; refused where its own rounding (the terms
-//!   grow to about κⁿ·mₙ/n! before they cancel) exceeds the tolerance.
-//! - [`Method::TaylorF32`] and [`Evaluator::Gpu`]: the same sum in f32 (CPU emulation, or the shaders' code on
-//!   the device); refused where f32 cannot reach the tolerance unless the caller accepts that error, and the
-//!   GPU also where the full window has more taps than the shaders take.
-//!
-//! Every evaluation ends either in finite values or in an error naming why it was refused: a non-finite value
-//! is never returned.
+//! Every evaluation ends in finite values or in an error naming why it was refused.
 
 use crate::error::{number, Error, Result};
 use crate::material::Settings;

@@ -1,18 +1,13 @@
-//! The exact reference image that defines "error" for every other setting, and the error metrics.
+//! The exact reference image that defines "error" for every other setting, and the error metrics. The same BRDF as
+//! the shaders' FLSS (`Reference::flss_xyz`) in f64 with every accuracy setting pushed to a stated bound: the Taylor
+//! order whose truncation bound is ≤ [`REFERENCE_TOLERANCE`] (or the exact DFT, for structures so deep that the f64
+//! series would round by more than [`MAX_REFERENCE_ROUNDING`]), the full window, 1 nm wavelength steps (their
+//! quadrature error estimated in the same run against 0.5 nm: [`ReferenceImage::quadrature`]). A large image's
+//! reference may be evaluated at random pixels ([`ReferenceJob::keep_random_pixels`]), its errors then estimates
+//! with a standard error.
 //!
-//! The reference evaluates the same BRDF as the shaders' FLSS (`Reference::flss_xyz`) on the CPU in f64, with
-//! every accuracy setting pushed to a stated bound: the Taylor order N for which the truncation bound on
-//! |P − P_N| (window gain included) is ≤ [`REFERENCE_TOLERANCE`] (or, for structures so deep that the f64
-//! series would round by more than [`MAX_REFERENCE_ROUNDING`], the exact DFT of exp(i·k·w·h)), the full
-//! Gaussian window (every tap weighing more than 10⁻¹⁷ of the peak), and 1 nm wavelength steps. The quadrature
-//! error of the 1 nm steps is estimated in the same run by comparing with 0.5 nm steps on 64 pixels
-//! ([`ReferenceImage::quadrature`]). A large image's reference may be evaluated at random pixels only
-//! ([`ReferenceJob::keep_random_pixels`]: `profile --reference-pixels N`), its errors then estimates whose mean
-//! carries a standard error.
-//!
-//! Errors are measured on the image as displayed: CIE XYZ (relative to a D65 mirror, Y = 1) scaled by 2^EV,
-//! then CIELAB against the D65 white with Y = 1 (no clipping) and CIEDE2000. Only pixels that show the
-//! surface count (the hemisphere disk of a map, covered pixels of a scene).
+//! Errors are measured as displayed: XYZ (relative to a D65 mirror) scaled by 2^EV, CIELAB against the D65 white
+//! with Y = 1 (no clipping), CIEDE2000; only pixels that show the surface count.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

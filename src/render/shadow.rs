@@ -1,18 +1,9 @@
-//! The sun's shadow: a depth map drawn from the light, read by the surface pass (and the G-buffer) to tell
-//! which surfaces the sun reaches.
-//!
-//! The light is a direction (the sun), so the map is an orthographic view along −`light_dir`, fitted each frame
-//! ([`ShadowFrame::of_objects`]) to what the camera sees: across the rays, to the receivers within the view's box
-//! and the casters over them — the ground does not cast: fitted to a 100 m plane a snake's shadow would be a few
-//! texels; nor does an object far outside the view take the map's resolution — and deep enough to hold every
-//! object that receives one there. A point the map does not cover is lit (the sampler's border passes every
-//! comparison); a map too coarse for the casters in view says so once.
-//!
-//! Reading it (`sun_visibility` in glsl/include/shadow.glsl): the point, pushed off its surface along the
-//! normal by [`NORMAL_OFFSET_TEXELS`] texels (more as the light grazes it) so that a surface does not shadow
-//! itself ("acne"), is compared over the disc of rays that reach it from the sun's disc (0.53°): the casters'
-//! mean depth d above it (a blocker search) sets the penumbra's radius d·tan α ([`sun_tan_radius`]), over
-//! which the comparisons are averaged (percentage-closer soft shadows, at least one texel wide).
+//! The sun's shadow (model.md §3.9): a depth map drawn along the sun's rays, fitted each frame to what the camera
+//! sees ([`ShadowFrame::of_objects`]: the receivers in view and the casters over them; the ground does not cast),
+//! redrawn only when the sun, the placements or the casters change, and read by the surface pass and the G-buffer
+//! (`sun_visibility` in glsl/include/shadow.glsl): a point pushed off its surface by [`NORMAL_OFFSET_TEXELS`]
+//! texels, the casters' mean depth above it setting the penumbra of the sun's disc ([`sun_tan_radius`]), over which
+//! the comparisons are averaged. A point the map does not cover is lit.
 
 use std::cell::RefCell;
 

@@ -380,4 +380,3 @@ pub(super) fn background_units_warning(env: &Environment, light_dir: Vec3, bg: [
         );
     }
 }
-

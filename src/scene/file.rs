@@ -182,4 +182,3 @@ impl Locator<'_> {
         Error::Scene { file: self.name.to_string(), line: None, message: message.to_string() }
     }
 }
-

@@ -1,34 +1,15 @@
-//! Scene files (TOML): a camera, a directional light, objects (OBJ meshes or built-in shapes) and materials
-//! (a height field, measured or generated, with the settings that trade speed for accuracy). Paths are relative
-//! to the scene file. Every mistake is refused with the file, the line and what was expected.
-//!
-//! ```toml
-//! [camera]
-//! position = [0.0, 0.5, 3.0]
-//! target = [0.0, 0.0, 0.0]
-//! fov_y_deg = 30.0
-//!
-//! [light]                       # a directional light: the sun
-//! direction = [0.3, 1.0, 0.5]   # towards the light (optional under a map that holds its sun)
-//! # environment = "sky"         # the default: the clear sky around it; "none": the sun alone; or "sky.exr"
-//!
-//! [[object]]
-//! mesh = "meshes/snake.obj"     # or: shape = "plane" | "disk" | "sphere" | "cylinder" | "cube" | "snake"
-//! # pattern = "corn"           # with shape = "snake": "corn" (default) or "plain"
-//! # scale_dome = 0.12          # with shape = "snake": the scales' dome over their half-width (0.35 by default)
-//! material = "elaphe"
-//!
-//! [material.elaphe]
-//! heightfield = "patches/elaphe.gsf"   # or a PNG with pixel_size_um and height_um, or generate = "elaphe"
-//! approach = "flss"
-//! ```
+//! Scene files (TOML): a camera, the sun and what lights the scene around it, objects (OBJ meshes or built-in
+//! shapes) and materials (a height field, measured or generated, with the settings that trade speed for accuracy).
+//! Paths are relative to the scene file; every mistake is refused with the file, the line and what was expected.
+//! docs/usage.md ("The scene file") documents the format, which `file.rs` declares; `checks.rs` makes the camera,
+//! light and image tables values, `objects.rs` the materials and objects, `light.rs` holds what lights a scene.
 
+pub mod camera;
 mod checks;
 mod file;
 mod light;
-mod objects;
-pub mod camera;
 pub mod mesh;
+mod objects;
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -40,8 +21,8 @@ use crate::material::Settings;
 use crate::physics::illuminant::Illuminant;
 use crate::scene::camera::Camera;
 pub use crate::scene::checks::{RenderSettings, DEFAULT_SAMPLES};
-use crate::scene::file::{Locator, SceneFile, BUILT_IN_BASE};
 pub use crate::scene::file::DEFAULT_SCENE;
+use crate::scene::file::{Locator, SceneFile, BUILT_IN_BASE};
 pub use crate::scene::light::{Environment, MapLight, MapSun, SkyLight, SKY_GROUND_ALBEDO};
 pub use crate::scene::objects::{SceneMaterial, SceneObject, DEFAULT_APPROACH};
 

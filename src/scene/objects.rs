@@ -186,4 +186,3 @@ pub(super) fn object(
     );
     Ok(SceneObject { mesh, model, material, casts_shadow: d.shape != Some(Shape::Ground) })
 }
-

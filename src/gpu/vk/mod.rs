@@ -1,18 +1,14 @@
 //! The Vulkan backend: the only module that creates or destroys Vulkan objects.
-//!
-//! Design notes:
 //! - One top-level [`Context`] owns the instance, the device, the allocator and a command pool; its `Drop` waits
 //!   idle and destroys them in reverse order (allocator before device). The only other `Drop`s that free Vulkan
 //!   state are `Guard`'s (an object under construction, on an early return) and `Owned`'s (a user's finished
 //!   object: waits idle first).
-//! - Leaves (`Buffer`, `Image`, `Pipeline`, `Sampler`, `TimestampRing`) are plain structs
-//!   `{ raw, allocation, desc }` without `Drop`; their `unsafe fn destroy(self, &Context)` consumes them
-//!   (`Destroy`). Objects under construction sit in a `Guard`, which destroys them on an early return.
-//!   Tests assert that no allocation is live when the context goes.
-//! - Vulkan 1.3 only: synchronization2 barriers, dynamic rendering, push descriptors. One graphics+compute
-//!   queue; work is recorded and submitted with [`Context::one_shot`].
-//! - Every object gets a debug name at creation when validation is on (and the allocation carries the same
-//!   name), so validation messages say which object they mean.
+//! - Leaves (`Buffer`, `Image`, `Pipeline`, `Sampler`, `TimestampRing`) are plain structs `{ raw, allocation, desc }`
+//!   without `Drop`, consumed by `unsafe fn destroy(self, &Context)` (`Destroy`). Tests assert that no allocation
+//!   is live when the context goes.
+//! - Vulkan 1.3 only: synchronization2 barriers, dynamic rendering, push descriptors; one graphics+compute queue,
+//!   work recorded and submitted with [`Context::one_shot`]. Every object is named at creation when validation is
+//!   on (its allocation too), so validation messages say which object they mean.
 
 mod buffer;
 mod command;

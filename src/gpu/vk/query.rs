@@ -1,17 +1,12 @@
 //! GPU timings from timestamp queries (after h3r2tic/gpu-profiler): a ring of `frames` slots, each a run of
-//! timestamps written back to back through a frame — one where it starts, then one where each of its passes ends
-//! (a *lap*), so that the passes' times sum to the frame's exactly. A frame writes into its slot; its results are
-//! read once the frame's work has completed, which with `frames` ≥ frames in flight never stalls.
+//! timestamps written back to back through a frame — one where it starts, then one where each pass ends (a *lap*),
+//! so that the passes' times sum to the frame's. A slot is read once its frame's work has completed, which with
+//! `frames` ≥ frames in flight never stalls. A lap waits for all the work recorded before it (`ALL_COMMANDS`): on a
+//! GPU that overlaps passes, it is the time the pass added to the frame.
 //!
-//! A lap's timestamp waits for all the work recorded before it (`ALL_COMMANDS`): on a GPU that overlaps passes,
-//! the lap is the time the pass added to the frame.
-//!
-//! A CPU device needs one more step. llvmpipe (lavapipe) bins a timestamp into every tile of the *next* scene and
-//! reads the clock when those tiles are rasterised, at the next flush: written alone, a lap would be stamped at the
-//! end of the following pass, and every pass would be charged to the one before it (docs/performance.md, "Per-pass
-//! GPU times", has the figures). An `ALL_COMMANDS` timestamp flushes what is binned, so on such a device
-//! each mark is followed by a second, *settling* timestamp whose flush rasterises the (empty) scene holding the
-//! mark right away; the settling queries are never read.
+//! On a CPU device llvmpipe bins a timestamp into the *next* scene's tiles and reads the clock when they are
+//! rasterised, so each mark is followed by a second, *settling* timestamp, never read, whose flush rasterises the
+//! (empty) scene holding the mark right away (docs/performance.md, "Per-pass GPU times", has the figures).
 
 use std::cell::{Cell, RefCell};
 

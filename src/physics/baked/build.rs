@@ -1,23 +1,9 @@
-//! The exact build of a baked table, in f64 (the module overview in `mod.rs` says what is built and why).
-//!
-//! For each wavelength λ (1 nm steps over 380–780 nm) and each Chebyshev node w_c in w, the amplitudes
-//! A_k = DFT(exp(i·κ·h))(k) with κ = 2π·w_c/λ come from one FFT of the patch's tiling cell (a tiled patch's
-//! spectrum is its cell's spectrum on every T-th bin). Then, per texel:
-//!
-//! - lattice path (the tiling stride is ≥ `crate::physics::baked::INDEPENDENT_STRIDE` window widths, so lobes do not
-//!   interfere): |P(s)|² = Σ_k |A_k|²·exp(−|T·k − s|²/σ²), and a texel's average of each lobe is exactly
-//!   (σ_u√π/2)·Δerf(edges)/texel per axis (or its value at the texel's centre, for point tables). These
-//!   weights depend on λ only, so every node in w shares them. Lobes weaker than [`crate::physics::baked::INVISIBLE`], and
-//!   their tails beyond it, are left out. The lobes' intensities are computed first (the FFTs, in parallel over
-//!   λ); then bands of texel rows, small enough to stay in cache, gather every lobe that reaches them, for all
-//!   nodes in w at once.
-//! - coherent path (anything else): P(s) = Σ_taps g(j − s)·A_j with the full window (the reference's taps),
-//!   evaluated at s×s sub-samples of each texel (s from the lobe width; 1 for point tables) and averaged,
-//!   separably: first along u for every spectrum row that carries anything, then along v.
-//!
-//! w is sampled at the plan's nodes (enough that what they miss is bounded analytically below
-//! [`crate::physics::baked::INVISIBLE`]/4); the node values become Chebyshev coefficients by a DCT per texel, and the degree kept
-//! is the one the certificate of [`crate::physics::baked::degree`] proves on these very values.
+//! The exact build of a baked table in f64 (model.md §3.5, "How it is built"): per wavelength (1 nm steps) and per
+//! Chebyshev node in w, one FFT of the patch's tiling cell; then per texel the lattice path (lobes that do not
+//! interfere, each texel's average of a lobe a product of error functions, in bands of texel rows that stay in
+//! cache) or the coherent path (the windowed sum at sub-samples of each texel, separably, a batch of wavelengths
+//! at a time); the node values become Chebyshev coefficients by a DCT per texel, and the degree kept is the one
+//! [`crate::physics::baked::degree`]'s certificate proves on these very values.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

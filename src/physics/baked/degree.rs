@@ -1,22 +1,12 @@
-//! The degree in w of a baked table (the module overview in `mod.rs` says what the table holds).
-//!
-//! At a fixed (u, v) and wavelength, everything the table stores is a sum of pure frequencies e^{iωw} with
-//! |ω| ≤ Ω_λ = 2π·(h_max − h_min)/λ (|P|² pairs the phases k·w·h of two heights), whose coefficients' moduli add
-//! up to at most the window's gain on the tiling lattice, squared. Over a w-interval of half-width ρ its
-//! Chebyshev coefficients therefore fall like the Bessel functions J_d(Ω_λ·ρ) (see [`chebyshev`]). Three things
-//! are built on that:
-//!
-//! - **Nodes** (`nodes_for`): the build samples w at M Chebyshev nodes, M chosen so that what an M-point
-//!   interpolant cannot see — its error, at most 2·Σ_{d≥M}|a_d|, bounded by the Bessel tail — stays below a
-//!   quarter of [`INVISIBLE`] in every texel and channel, whatever the structure does between its lobes.
-//! - **The estimate** ([`estimate`]), before the build, sizes the table's memory: the tail of |P|² in w at every
-//!   lobe centre the tiling lattice (the patch's FFT) knows inside the table's (u, v) box and, on the coherent
-//!   path where neighbouring lobes interfere, at the midpoints between them — not at a blind grid, which a
-//!   narrow lobe slips through.
-//! - **The certificate** (`certify`), on the built table itself: per texel and channel, the coefficients of
-//!   the M-point interpolant and the smallest degree whose dropped terms plus the unseen bound stay within the
-//!   tolerance × the texel's brightest value + [`INVISIBLE`]. The table keeps that degree or, where memory or
-//!   [`MAX_TERMS`] forbids it, fewer, and then the certificate says by how much it misses.
+//! The degree in w of a baked table (model.md §3.5, "Its degree in w"): its Chebyshev coefficients fall like
+//! Bessel functions J_d(Ω_λ·ρ) of the structure's height range, so
+//! - **nodes** (`nodes_for`): enough Chebyshev nodes in w that what an interpolant on them cannot see stays below a
+//!   quarter of [`INVISIBLE`] in every texel and channel;
+//! - **the estimate** ([`estimate`]), before the build: the tail at every lobe centre in the table's (u, v) box (and
+//!   the midpoints between lobes where they interfere), which sizes the table's memory;
+//! - **the certificate** (`certify`), on the built table: per texel and channel the smallest degree within the
+//!   tolerance × the texel's brightest value + [`INVISIBLE`]; where memory or [`MAX_TERMS`] keeps fewer, it says
+//!   by how much the table misses.
 
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;

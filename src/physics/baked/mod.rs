@@ -1,29 +1,11 @@
-//! The baked colour table: the spectrally integrated colour of a patch over (u, v), with its dependence on w
-//! as a Chebyshev series, prefiltered into mip levels — the `baked` approach's few filtered fetches per pixel in
-//! place of FLSS's tens of thousands.
+//! The baked colour table: the spectrally integrated colour of a patch over (u, v), its dependence on w a Chebyshev
+//! series, prefiltered into mip levels — the `baked` approach's few filtered fetches per pixel in place of FLSS's
+//! tens of thousands. model.md §3.5 says what it stores, how it is built and how its degree in w is certified.
 //!
-//! What it stores. The colour of a pixel depends on the patch only through (u, v, w) = −ω_i − ω_r; the gain C
-//! and the shadowing stay analytic. So the table holds, per texel of a (u, v) grid and per colour channel,
-//!
-//!   B(u, v, w) = Σ_λ |P(u/λ, v/λ; k·w)|²·x̄(λ)·S(λ)·Δλ / Σ_λ ȳ(λ)·S(λ)·Δλ      (likewise Y, Z)
-//!
-//! — the XYZ that `Reference::flss_xyz` divides by C·shadowing — averaged over the texel's square, and
-//! expanded in w as Σ_d a_d·T_d(t) with t the position of w in the table's interval mapped to [−1, 1]
-//! (see [`crate::physics::chebyshev`] for why Chebyshev and not slices). Mip level L averages 2^L texels per axis, so a
-//! pixel whose footprint in (u, v) spans F picks the level whose texels are F wide and sees the footprint's
-//! average colour. A texel narrower than the narrowest lobe holds the point value.
-//!
-//! How it is built ([`build`]): exactly, in f64, with 1 nm wavelength steps and the reference's full window,
-//! from FFTs of exp(i·k·w·h) itself — no Taylor series, so no cancellation however deep the structure. Where
-//! the patch is a tiling of a cell (the AFM cut-outs are tiled 10×) and the tiling stride is many window widths,
-//! the spectrum's lobes do not overlap and each lobe's average over a texel is a product of two error
-//! functions: the build then costs what the lobes cost, not what the texels cost. Otherwise the coherent
-//! windowed sum is evaluated at sub-samples of every texel.
-//!
-//! What it costs is decided by what the scene can show ([`TablePlan`]): the (u, v, w) box its directions
-//! produce, the smallest pixel footprint (texels finer than it are never read; finer than the lobes they gain
-//! nothing), the degree in w the tolerance needs (estimated at every lobe centre before the build, certified
-//! on the built table itself: [`degree`]), and at most [`MAX_TABLE_BYTES`] of GPU memory.
+//! This module plans a table ([`TablePlan`]: the (u, v, w) box the views produce, the smallest pixel footprint, the
+//! degree the tolerance needs, at most [`MAX_TABLE_BYTES`], the segments of w) and holds it ([`BakedTable`], its
+//! [`Grid`]); [`build`] builds it exactly in f64, [`degree`] estimates and certifies its degree, `sample` reads it
+//! as the shaders do (their twin), `cache` keeps it verified on disk.
 
 pub mod build;
 pub mod cache;
