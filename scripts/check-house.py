@@ -8,7 +8,9 @@
 - files: no file in src/render holds more than RENDER_FILE_LINES lines;
 - module headers: no `//!` header in src/ (but the crate's, src/lib.rs) runs over HEADER_LINES lines;
 - citations: every `model.md §N` (or §N.M, and the §s listed after it) in src/, glsl/, crates/ and the docs names a
-  section docs/model.md has.
+  section docs/model.md has;
+- links: every relative link of README.md, ARCHITECTURE.md and docs/ leads to a file that exists, and to a heading
+  of it where it names one (GitHub's anchors).
 
 Usage: scripts/check-house.py [--list]   (--list prints every long function and header, passing or not)
 """
@@ -153,8 +155,44 @@ def citations():
     return failures
 
 
+def anchor(heading):
+    """GitHub's anchor of a heading: lower case, letters, marks, numbers, `_`, spaces as hyphens, the rest dropped."""
+    import unicodedata
+    kept = "".join(c for c in heading.strip().lower()
+                   if unicodedata.category(c)[0] in "LMN" or c in "_- ")
+    return kept.replace(" ", "-")
+
+
+def links():
+    """Failures for each relative markdown link that leads nowhere."""
+    failures = []
+    pages = ["README.md", "ARCHITECTURE.md"] + [os.path.join(d, n) for d, _, ns in os.walk("docs") for n in ns
+                                                if n.endswith(".md")]
+    anchors = {}
+    for page in pages:
+        text = open(page, encoding="utf-8").read()
+        prose = re.sub(r"```.*?```", "", text, flags=re.S)
+        for m in re.finditer(r"\]\(([^)\s]+)\)", prose):
+            target = m.group(1)
+            if re.match(r"[a-z]+:", target):
+                continue
+            path, _, frag = target.partition("#")
+            file = os.path.normpath(os.path.join(os.path.dirname(page), path)) if path else page
+            line = text.count("\n", 0, text.find(m.group(0))) + 1
+            if not os.path.exists(file):
+                failures.append(f"{page}:{line}: the link {target} leads to no file")
+                continue
+            if frag and file.endswith(".md"):
+                if file not in anchors:
+                    body = re.sub(r"```.*?```", "", open(file, encoding="utf-8").read(), flags=re.S)
+                    anchors[file] = {anchor(h) for h in re.findall(r"^#+ (.*)$", body, re.M)}
+                if frag not in anchors[file]:
+                    failures.append(f"{page}:{line}: the link {target} names no heading of {file}")
+    return failures
+
+
 def main():
-    failures = citations()
+    failures = citations() + links()
     listing = "--list" in sys.argv
     order = layers()
     long_ones = []
@@ -200,7 +238,8 @@ def main():
     if not failures:
         print(f"check-house: layers as src/lib.rs lists them; {len(long_ones)} functions over {FUNCTION_LINES} lines "
               f"(at most {MAX_LONG}, each with its reason); src/render's files within {RENDER_FILE_LINES} lines; "
-              f"module headers within {HEADER_LINES} lines; every model.md § cited exists")
+              f"module headers within {HEADER_LINES} lines; every model.md § cited exists; every relative link of the docs leads "
+              f"somewhere")
     return 1 if failures else 0
 
 
