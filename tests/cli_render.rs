@@ -239,6 +239,32 @@ fn gen_snake_writes_an_obj_a_scene_can_use() {
         .success());
 }
 
+#[test]
+fn a_preview_shows_each_materials_pigment() {
+    // An orange sphere and a material of diffraction alone: the preview shows the orange (it showed every
+    // object grey-green), and the pigmentless one in the preview's grey-green.
+    let dir = scratch("preview-pigment");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    let text = "[camera]\nposition = [0.0, 0.0, 6.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 30.0\n\
+                [light]\ndirection = [0.0, 0.0, 1.0]\nenvironment = \"none\"\n\
+                [[object]]\nshape = \"sphere\"\nmaterial = \"orange\"\ntranslate = [-1.2, 0.0, 0.0]\n\
+                [[object]]\nshape = \"sphere\"\nmaterial = \"bare\"\ntranslate = [1.2, 0.0, 0.0]\n\
+                [material.orange]\npigment = [0.6, 0.15, 0.02]\n\
+                [material.bare]\ngenerate = \"flat\"\nsize_um = 2.0\n";
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join("preview.png");
+    let args = ["render", s(&scene), "--out", s(&out), "--width", "64", "--height", "32", "--preview"];
+    let o = diffract(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).unwrap().to_rgb8();
+    // The sphere's lit centre on each side (the light is the camera's direction).
+    let [r, g, b] = img.get_pixel(16, 16).0;
+    assert!(u32::from(r) > u32::from(g) + 40 && g > b, "the orange sphere is orange: {r} {g} {b}");
+    let [r, g, b] = img.get_pixel(48, 16).0;
+    assert!(g > r && g > b, "the pigmentless sphere is grey-green: {r} {g} {b}");
+}
+
 /// Runs `diffract` (with `--validation` among `args`), checks that it succeeds without a validation message and
 /// returns what it printed, stdout then stderr.
 fn render_clean(args: &[&str]) -> String {

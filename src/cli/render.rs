@@ -331,7 +331,10 @@ fn pass_line(times: &[crate::gpu::vk::FrameTimes], uploads: &[crate::render::dif
     Some(format!("GPU ms per pass (median): {passes}{upload}"))
 }
 
-/// The scene lit without diffraction: every object merged into one preview mesh.
+/// What a material of diffraction alone (no pigment) shows as in a preview: a grey-green.
+const PREVIEW_GREY: Vec3 = Vec3::new(0.18, 0.32, 0.25);
+
+/// The scene lit without diffraction: every object merged into one preview mesh, each in its material's pigment.
 fn preview(
     ctx: &crate::gpu::vk::Context,
     scene: &Scene,
@@ -343,11 +346,16 @@ fn preview(
     for o in &scene.objects {
         let mut part = o.mesh.clone();
         let normal = glam::Mat3::from_mat4(o.model).inverse().transpose();
+        // Each object in its material's pigment (under its tints); a material of diffraction alone in the
+        // preview's grey-green, so that it shows.
+        let pigment = Vec3::from(scene.materials[o.material].pigment);
+        let pigment = if pigment == Vec3::ZERO { PREVIEW_GREY } else { pigment };
         for v in &mut part.vertices {
             v.position = o.model.transform_point3(Vec3::from(v.position)).to_array();
             v.normal = (normal * Vec3::from(v.normal)).normalize_or_zero().to_array();
             let t = glam::Mat3::from_mat4(o.model) * Vec3::from_slice(&v.tangent[..3]);
             v.tangent = [t.x, t.y, t.z, v.tangent[3]];
+            v.pigment = (Vec3::from(v.pigment) * pigment).to_array();
         }
         mesh.append(&part);
     }
@@ -359,7 +367,7 @@ fn preview(
             model: Mat4::IDENTITY,
             camera,
             light_dir: light,
-            base_color: Vec3::new(0.18, 0.32, 0.25),
+            base_color: Vec3::ONE,
             background: [bg[0], bg[1], bg[2], 1.0],
         };
         let frame = render_offscreen(ctx, &preview, width, height, samples)?;
