@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Runs every complete `diffract …` command the documentation shows (README.md, ARCHITECTURE.md and docs/*.md; in
 # backticks or after `$ ` in a code block), as written, in a scratch folder beside a link to assets/: any non-zero
-# exit fails the script. Commands with
+# exit fails the script. A `$ diffract …` line in a ```console block is followed by what it prints: there the
+# output (stderr and stdout as they interleave) must be those lines, numbers within 1e-9 relative (durations,
+# a number before `ms` or `s`, excepted). Commands with
 # placeholders (FILE, SCENE, N, …, [optional parts], a|b choices, the user's own files) and `view` without
 # --frames (it waits for a window to close) are listed as skipped. A command still running after the time limit
 # (default 120 s per command; the README's longest, FLSS profiles at 800², take many minutes on lavapipe) is
@@ -73,5 +75,51 @@ for command in "${commands[@]}"; do
     failures=$((failures + 1))
   fi
 done
-echo "check-readme: $ran command(s) ran, $cut cut at $limit s, $skipped skipped, $failures failed"
+# The console examples: each command's output against the lines the page shows after it.
+examples=0
+if ! examples=$(cd "$work" && python3 - "$root" README.md ARCHITECTURE.md docs/*.md <<'PY'
+import os, re, subprocess, sys
+root, pages = sys.argv[1], sys.argv[2:]
+number = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+def tokens(line):
+    """The line's numbers (durations left out) and the text between them."""
+    line = re.sub(r"[-+]?\d+(?:\.\d+)?\s*(?:ms|s)\b", "<duration>", line)
+    return [float(t) for t in number.findall(line)], number.sub("#", line).split()
+
+def same(expected, actual):
+    (en, et), (an, at) = tokens(expected), tokens(actual)
+    return et == at and len(en) == len(an) and all(abs(a - e) <= 1e-9 * max(abs(e), 1e-300) or a == e
+                                                   for e, a in zip(en, an))
+
+failed = ran = 0
+for page in pages:
+    text = open(os.path.join(root, page), encoding="utf-8").read()
+    for block in re.findall(r"```console\n(.*?)```", text, re.S):
+        examples, current = [], None
+        for line in re.sub(r"\s*\\\n\s*", " ", block).splitlines():
+            if line.startswith("$ "):
+                current = (line[2:].strip(), [])
+                examples.append(current)
+            elif current is not None:
+                current[1].append(line)
+        for command, expected in examples:
+            out = subprocess.run(command, shell=True, capture_output=False, stdout=subprocess.PIPE,
+                                 stderr=subprocess.STDOUT, text=True, timeout=600).stdout.splitlines()
+            ran += 1
+            bad = len(out) != len(expected) or not all(same(e, a) for e, a in zip(expected, out))
+            if bad:
+                failed += 1
+                print(f"FAIL  {page}: `{command}` printed what the page does not show:", file=sys.stderr)
+                for e, a in zip(expected + [""] * len(out), out + [""] * len(expected)):
+                    if not same(e, a):
+                        print(f"      page:   {e}\n      binary: {a}", file=sys.stderr)
+                        break
+print(ran)
+sys.exit(1 if failed else 0)
+PY
+); then
+  failures=$((failures + 1))
+fi
+echo "check-readme: $ran command(s) ran, $cut cut at $limit s, $skipped skipped, $failures failed; ${examples:-0} console example(s) compared with their output"
 [ "$failures" -eq 0 ]
