@@ -14,6 +14,20 @@
 //!   [`render::capture::SceneCapture`] on a [`gpu::vk::Context`] (the repository's `examples/render_frame.rs`).
 //! - **Measure speed against accuracy**: [`reference::profiler`].
 //!
+//! ## Where the library's defaults are not the command line's
+//! - **Tone**: [`display::Tone`]'s default is `Clip` (values proportional to the light: what `diffract map` shows);
+//!   `render` and `view` show `Filmic`. Pass the one you want to [`display::tone::to_rgba8`].
+//! - **Exposure**: nothing is metered unless asked: [`render::capture::SceneCapture::meter`] meters a frame as
+//!   `render` does for a tone (a scene's `exposure_ev` first).
+//! - **Shading path**: [`render::capture::SceneCapture::new`] draws forward; `render` takes
+//!   [`render::visibility::ShadingPath::for_scene`] (the visibility buffer on a CPU device at 2–8 samples), which
+//!   [`render::capture::SceneCapture::with_path`] takes too.
+//! - **Clean-up**: hold GPU objects in a [`gpu::vk::Owned`], which waits for the device and frees them when it is
+//!   dropped; `unsafe fn destroy` is for the crate's own frame loops.
+//! - **Messages**: the library prints nothing but progress bars on a terminal's stderr. Its warnings and notes (a
+//!   table it could not cache, a long build's plan, validation messages) go to the `log` crate: install a logger
+//!   (`log::set_logger`, or a crate such as `env_logger`) to see them, as the command line does.
+//!
 //! ```
 //! use diffract::material::Settings;
 //! use diffract::physics::exact::{Method, Query};
