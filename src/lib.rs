@@ -20,7 +20,7 @@
 //! - **Exposure**: nothing is metered unless asked: [`render::capture::SceneCapture::meter`] meters a frame as
 //!   `render` does for a tone (a scene's `exposure_ev` first).
 //! - **Shading path**: [`render::capture::SceneCapture::new`] draws forward; `render` takes
-//!   [`render::visibility::ShadingPath::for_scene`] (the visibility buffer on a CPU device at 2–8 samples), which
+//!   [`render::visibility::ShadingPath::for_scene`] (the visibility buffer on a CPU device with several samples per pixel), which
 //!   [`render::capture::SceneCapture::with_path`] takes too.
 //! - **Clean-up**: hold GPU objects in a [`gpu::vk::Owned`], which waits for the device and frees them when it is
 //!   dropped; `unsafe fn destroy` is for the crate's own frame loops.

@@ -68,8 +68,8 @@ pub struct RenderArgs {
     pub preview: bool,
     /// How the frame is shaded: forward (each fragment as it is drawn), visibility (the triangles first, then
     /// each pixel's visible triangles shaded once: on lavapipe the default scene's 4-sample frame in about 0.6 of
-    /// the time, at the same error against the exact reference), or auto: visibility on a CPU device at 2 to 8
-    /// samples, forward at one sample and on GPUs (not measured there yet)
+    /// the time, at the same error against the exact reference), or auto: visibility on a CPU device with several
+    /// samples per pixel (lavapipe offers 4), forward at one sample and on GPUs (not measured there yet)
     #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_path, conflicts_with = "preview")]
     pub path: PathChoice,
     /// Let a sequence replace frames (NAME_0001.png, …) that exist already; without it a sequence refuses to

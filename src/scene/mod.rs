@@ -484,4 +484,20 @@ tile = [2, 3]
         assert!(sun.environment.is_none() && !sun.illuminant.physical && sun.ambient > 0.0);
         assert_eq!((sun.camera, sun.light_dir), (s.camera, s.light_dir));
     }
+
+    #[test]
+    fn the_usage_pages_template_parses_and_frames_its_sphere() {
+        // docs/usage.md's template, with a generated patch for the user's scan: it loads, and its camera shows the
+        // unit sphere at the middle of the picture, neither a speck nor filling it (it once did).
+        let page = include_str!("../../docs/usage.md");
+        let section = page.split("### The scene file").nth(1).expect("usage.md has its template");
+        let block = section.split("```toml\n").nth(1).and_then(|b| b.split("```").next()).unwrap();
+        let text = block.replace("heightfield = \"my-scan.gsf\"", "generate = \"elaphe\"\nsize_um = 6.5");
+        let scene = Scene::parse(&text, "usage.md", Path::new(".")).unwrap();
+        let (camera, object) = (&scene.camera, &scene.objects[0]);
+        assert_eq!(object.mesh.vertices.len(), crate::scene::mesh::shapes::Shape::Sphere.build().vertices.len());
+        let distance = (camera.position - object.model.transform_point3(Vec3::ZERO)).length();
+        let share = 2.0 * (1.0 / distance).asin().to_degrees() / camera.fov_y_deg;
+        assert!((0.3..0.8).contains(&share), "the sphere spans {share:.2} of the picture's height");
+    }
 }

@@ -74,11 +74,10 @@ impl ShadingPath {
     }
 
     /// The path a frame of `samples` per pixel takes on `ctx`'s device when the user does not choose: the
-    /// visibility buffer on a CPU device (lavapipe) at 2 to 8 samples, where it was measured faster
-    /// (docs/performance.md: the default scene's 4-sample frame at 800² in 0.54–0.62 of the forward path's time,
-    /// a lone frame in about half once Mesa's shader cache holds its shaders, at the same error against the exact
-    /// reference); forward at one sample, where the two cost the same, and on GPUs, where the visibility buffer
-    /// is not measured yet.
+    /// visibility buffer on a CPU device with several samples (any count it takes, up to `VISIBILITY_MAX_SAMPLES`;
+    /// lavapipe offers 4), where it was measured about twice as fast at the same error against the exact reference
+    /// (docs/performance.md); forward at one sample, where the two cost the same, and on GPUs, where the
+    /// visibility buffer is not measured yet.
     pub fn for_frame(ctx: &Context, samples: vk::SampleCountFlags) -> Self {
         let cpu = ctx.info.kind == vk::PhysicalDeviceType::CPU;
         let multisampled = (2..=VISIBILITY_MAX_SAMPLES).contains(&samples.as_raw());
