@@ -2,12 +2,9 @@
 //! their evaluation, and the bound that sizes a series for a band-limited function.
 //!
 //! The baked table ([`crate::physics::baked`]) stores each colour's dependence on w as Σ_d a_d·T_d(t), t the position
-//! in the table's w-interval mapped to [−1, 1]. Why Chebyshev: every quantity diffract integrates is a sum of
-//! pure frequencies e^{i·ω·w} with |ω| ≤ Ω = 2π·(h_max − h_min)/λ_min (|P|² pairs the phases k·w·h of two
-//! heights), and e^{iωρt} = Σ_d (2 − δ_d0)·i^d·J_d(ωρ)·T_d(t) (Jacobi–Anger): the coefficients fall like
-//! J_d(Ωρ) ≤ (Ωρ/2)^d/d!, super-exponentially once d > Ωρ. Slices in w with linear interpolation would need a
-//! spacing h with (hΩ)²/8 below the tolerance — for the Elaphe scan over w ∈ [−2, −1] about 60 slices for
-//! 10⁻³, where 8–10 Chebyshev terms give 10⁻⁵ (measured, see the module tests of `baked`).
+//! in the table's w-interval mapped to [−1, 1]: every quantity diffract integrates is a sum of pure frequencies
+//! e^{i·ω·w} with |ω| ≤ Ω = 2π·(h_max − h_min)/λ_min, whose Chebyshev coefficients fall like J_d(Ωρ) (Jacobi–Anger),
+//! super-exponentially once d > Ωρ (model.md §3.5 says why this and not slices in w).
 
 /// The `count` Chebyshev points of the first kind on [−1, 1]: t_c = cos(π(c + ½)/count), largest first.
 pub fn nodes(count: usize) -> Vec<f64> {
