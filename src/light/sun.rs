@@ -14,6 +14,13 @@ use crate::physics::colour::luminance;
 pub const MIN_SHARE: f64 = 0.25;
 /// The smallest cap around a sun, degrees: its disc, its aureole, and the texels a camera's optics spread it over.
 pub const MIN_CAP_DEG: f64 = 2.5;
+/// The widest cap a sun is looked for in, degrees: a photographed sun with its glare and bloom is often 1–3°
+/// across, and its cap must hold it whole wherever in it the brightest texel lies.
+pub const MAX_CAP_DEG: f64 = 12.0;
+/// How much wider each cap tried is than the one before.
+const CAP_STEP: f64 = 1.5;
+/// A wider cap is taken where it adds more than this share to the sun's light (its ring still held some of it).
+const CAP_GROWTH: f64 = 0.005;
 
 /// A sun found in a map, in the map's own frame (before any turn) and units.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,7 +184,34 @@ fn cap_and_background(map: &EnvironmentMap, centre: DVec3, radius: f64) -> (Vec<
     (cap, background)
 }
 
-/// The sun of `map` around its brightest texel; None where the cap's light is not a sun.
+/// A cap's light above the mean of the ring around it.
+struct Cap {
+    /// On a surface facing it, linear RGB in the map's units times sr.
+    irradiance: DVec3,
+    /// Towards the centroid of the excess.
+    direction: DVec3,
+    /// The cap's texels (index, direction, solid angle) and the ring's mean radiance.
+    texels: Vec<(usize, DVec3, f64)>,
+    background: DVec3,
+}
+
+/// The light of a cap of `radius` about `centre` above the mean of the ring around it; None where it has none.
+fn excess(map: &EnvironmentMap, centre: DVec3, radius: f64) -> Option<Cap> {
+    let (texels, background) = cap_and_background(map, centre, radius);
+    let mut irradiance = DVec3::ZERO;
+    let mut centroid = DVec3::ZERO;
+    for &(i, dir, omega) in &texels {
+        let excess = rgb_at(map, i) - background;
+        irradiance += excess * omega;
+        centroid += dir * (luminance(excess).max(0.0) * omega);
+    }
+    Some(Cap { irradiance, direction: centroid.try_normalize()?, texels, background })
+}
+
+/// The sun of `map` around its brightest texel; None where the cap's light is not a sun. The cap starts at
+/// [`cap_radius`] and, centred each time on the light it found, grows by half until the sun's light stops
+/// growing (by less than [`CAP_GROWTH`]): a photographed sun with its glare, or a disc wider than the first cap,
+/// is taken whole, where a first cap cut it and its ring counted the rest as sky.
 fn sun_at_brightest(map: &EnvironmentMap) -> Option<FoundSun> {
     use rayon::prelude::*;
     let (brightest, _) = map
@@ -187,26 +221,31 @@ fn sun_at_brightest(map: &EnvironmentMap) -> Option<FoundSun> {
         .map(|(i, c)| (i, luminance(DVec3::from(c.map(f64::from)))))
         .filter(|(_, y)| y.is_finite())
         .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let centre = direction_at(
+    let mut centre = direction_at(
         f64::from(brightest as u32 % map.width) + 0.5,
         f64::from(brightest as u32 / map.width) + 0.5,
         map.width,
     );
-    let radius = cap_radius(map.width);
-    let (cap, background) = cap_and_background(map, centre, radius);
-    let mut irradiance = DVec3::ZERO;
-    let mut centroid = DVec3::ZERO;
-    for &(i, dir, omega) in &cap {
-        let excess = rgb_at(map, i) - background;
-        irradiance += excess * omega;
-        centroid += dir * (luminance(excess).max(0.0) * omega);
+    let mut radius = cap_radius(map.width);
+    let mut cap = excess(map, centre, radius)?;
+    while radius * CAP_STEP <= MAX_CAP_DEG.to_radians() {
+        let Some(wider) = excess(map, cap.direction, radius * CAP_STEP) else { break };
+        if luminance(wider.irradiance) <= luminance(cap.irradiance) * (1.0 + CAP_GROWTH) {
+            break;
+        }
+        (centre, radius) = (cap.direction, radius * CAP_STEP);
+        cap = wider;
     }
-    let direction = centroid.try_normalize()?;
-    let irradiance = irradiance.max(DVec3::ZERO);
+    // The final cap centred on the sun itself (the brightest texel of a uniform disc may lie at its edge).
+    if radius > cap_radius(map.width) {
+        centre = cap.direction;
+        cap = excess(map, centre, radius)?;
+    }
+    let (irradiance, direction) = (cap.irradiance.max(DVec3::ZERO), cap.direction);
     // The second moment of the excess about its centroid: a uniform disc of radius ρ has ⟨α²⟩ = ρ²/2.
     let (mut spread, mut weight) = (0.0, 0.0);
-    for &(i, dir, omega) in &cap {
-        let w = luminance(rgb_at(map, i) - background).max(0.0) * omega;
+    for &(i, dir, omega) in &cap.texels {
+        let w = luminance(rgb_at(map, i) - cap.background).max(0.0) * omega;
         spread += w * dir.dot(direction).clamp(-1.0, 1.0).acos().powi(2);
         weight += w;
     }
@@ -219,7 +258,7 @@ fn sun_at_brightest(map: &EnvironmentMap) -> Option<FoundSun> {
         angular_radius: if weight > 0.0 { (2.0 * spread / weight).sqrt() } else { 0.0 },
         cap_centre: centre,
         cap_radius: radius,
-        cap_texels: cap.len(),
+        cap_texels: cap.texels.len(),
         texel: std::f64::consts::TAU / f64::from(map.width),
     };
     (share >= MIN_SHARE && luminance(irradiance) > 0.0).then_some(sun)
@@ -251,19 +290,31 @@ mod tests {
     /// A relative-unit sky (radiance ~1, brighter towards the zenith and round the sun) with a sun of known
     /// direction and irradiance spread over the texels its disc covers, at `width`.
     fn sky_with_sun(width: u32, sun: DVec3, sun_irradiance: f64) -> EnvironmentMap {
+        let sky = |dir: DVec3| {
+            if dir.y > 0.0 {
+                DVec3::new(0.6, 0.8, 1.0) * (0.5 + dir.y) + DVec3::splat(0.3 * dir.dot(sun).max(0.0).powi(8))
+            } else {
+                DVec3::splat(0.15)
+            }
+        };
+        sky_with_disc(width, &sky, (sun, crate::physics::sky::sun_angular_radius()), sun_irradiance)
+    }
+
+    /// `sky` at every texel's centre, and a uniform disc of angular `radius` (rad) about `sun` whose irradiance on
+    /// a surface facing it is `sun_irradiance`, spread over the texels it covers by sub-samples.
+    pub(crate) fn sky_with_disc(
+        width: u32,
+        sky: &dyn Fn(DVec3) -> DVec3,
+        (sun, radius): (DVec3, f64),
+        sun_irradiance: f64,
+    ) -> EnvironmentMap {
         let height = width / 2;
-        let radius = crate::physics::sky::sun_angular_radius();
         let sub = 8u32;
         let mut rgb = Vec::with_capacity((width * height) as usize);
         for row in 0..height {
             for x in 0..width {
                 let dir = direction_at(f64::from(x) + 0.5, f64::from(row) + 0.5, width);
-                let sky = if dir.y > 0.0 {
-                    DVec3::new(0.6, 0.8, 1.0) * (0.5 + dir.y) + DVec3::splat(0.3 * dir.dot(sun).max(0.0).powi(8))
-                } else {
-                    DVec3::splat(0.15)
-                };
-                rgb.push(sky.as_vec3().to_array());
+                rgb.push(sky(dir).as_vec3().to_array());
             }
         }
         // The disc's coverage of each texel by sub-samples (exact in the limit), its energy normalised to the
@@ -345,6 +396,32 @@ mod tests {
             let removed = facing(&map) - facing(&rest);
             assert!((removed / found.illuminance() - 1.0).abs() < 1e-3, "{width}: removed {removed}");
             assert!(find(&rest).sun.is_none(), "{width}: a sun left");
+        }
+    }
+
+    /// A uniform sky of 1 over a black ground, and a uniform disc of 0.5° to 3° radius holding 8 times the sky's
+    /// light on a horizontal plane, 25° high at azimuth 120°, 1024 wide (issue 62's maps): the sun is taken whole,
+    /// its direction within 0.05° and its irradiance within 1 %, and nothing of it is left in the map.
+    #[test]
+    fn a_large_sun_is_taken_whole() {
+        let sun = crate::physics::sky::direction(25.0, 120.0);
+        let uniform = |d: DVec3| if d.y > 0.0 { DVec3::ONE } else { DVec3::ZERO };
+        // The sky's irradiance on a horizontal plane is π; the sun's on it E·sin 25°.
+        let e_sun = 8.0 * std::f64::consts::PI / 25f64.to_radians().sin();
+        for radius_deg in [0.5, 1.0, 1.5, 2.5, 3.0] {
+            let map = sky_with_disc(1024, &uniform, (sun, f64::to_radians(radius_deg)), e_sun);
+            let search = find(&map);
+            let found = search.sun.unwrap_or_else(|| panic!("{radius_deg}°: no sun"));
+            let off = found.direction.dot(sun).clamp(-1.0, 1.0).acos().to_degrees();
+            let rel = found.illuminance() / e_sun - 1.0;
+            eprintln!("{radius_deg}°: {} — {off:.4}° off, irradiance {rel:+.5}", found.describe());
+            assert!(off < 0.05, "{radius_deg}°: {off}° off");
+            assert!(rel.abs() < 0.01, "{radius_deg}°: irradiance {rel:+}");
+            assert!((found.angular_radius.to_degrees() / radius_deg - 1.0).abs() < 0.1, "{radius_deg}°: {found:?}");
+            assert!(search.second.is_none(), "{radius_deg}°: a second sun {:?}", search.second);
+            let rest = search.rest.unwrap().map;
+            let brightest = rest.rgb.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
+            assert!(brightest <= 1.0 + 1e-6, "{radius_deg}°: a texel of {brightest} left of the sun");
         }
     }
 
