@@ -329,3 +329,31 @@ fn a_scene_beyond_the_visibility_buffers_limits_is_drawn_forward_unless_that_pat
     let last = err.trim_end().lines().last().unwrap_or_default();
     assert!(last.starts_with("error: ") && last.contains("at most 255 objects"), "{err}");
 }
+
+#[test]
+fn a_frame_of_sky_alone_is_metered_on_the_sky() {
+    // The camera looks up into the clear sky, its one object behind it: the filmic meter has no object's pixels
+    // to read and meters the sky (it wrote a black PNG at 0 EV, saying nothing was lit).
+    let dir = scratch("sky-alone");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("scene.toml");
+    let text = "[camera]\nposition = [0.0, 0.0, 0.0]\ntarget = [0.0, 1.0, 0.3]\nfov_y_deg = 40.0\n\
+                [light]\ndirection = [0.3, 1.0, 0.5]\n\
+                [[object]]\nshape = \"sphere\"\nmaterial = \"m\"\ntranslate = [0.0, -20.0, -5.0]\n\
+                [material.m]\npigment = [0.5, 0.5, 0.5]\n";
+    std::fs::write(&scene, text).unwrap();
+    for tone in ["filmic", "clip"] {
+        let out = dir.join(format!("{tone}.png"));
+        let args = ["render", s(&scene), "--out", s(&out), "--width", "32", "--height", "32", "--tone", tone];
+        let o = diffract(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(!err.contains("nothing in the first frame is lit"), "{tone}: {err}");
+        let img = image::open(&out).unwrap().to_rgb8();
+        let mean = img.pixels().map(|p| u32::from(p.0[2])).sum::<u32>() / (32 * 32);
+        assert!(mean > 60, "{tone}: the sky shows, blue {mean}: {err}");
+        if tone == "filmic" {
+            assert!(err.contains("no object is in view"), "{err}");
+        }
+    }
+}

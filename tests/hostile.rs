@@ -68,7 +68,9 @@ fn fixtures() -> &'static Path {
         for (name, target) in [("zero.gsf", "/dev/zero"), ("zero.obj", "/dev/zero"), ("zero.toml", "/dev/zero")] {
             std::os::unix::fs::symlink(target, dir.join(name)).unwrap();
         }
-        for name in ["fifo.gsf", "fifo.toml", "fifo.png"] {
+        // An output's name that is an input: a symlink named as a PNG to the height field good.gsf.
+        std::os::unix::fs::symlink("good.gsf", dir.join("good-link.png")).unwrap();
+        for name in ["fifo.gsf", "fifo.toml", "fifo.png", "fifo.ttf"] {
             let ok = Command::new("mkfifo").arg(dir.join(name)).status().map(|s| s.success()).unwrap_or(false);
             assert!(ok, "mkfifo (coreutils) is needed for the special-file cases");
         }
@@ -527,4 +529,110 @@ fn hostile_outputs() {
         full_disk,
         gen_full,
     ]);
+}
+
+/// Issue 62's cases: an output that is one of the run's inputs (by name, through `./` or a symlink), unbounded
+/// reads of a font, help on a full stdout, finite values too large to use, and a file-size limit whose signal
+/// is not ignored by the shell.
+#[test]
+fn hostile_fourth_round() {
+    let grey = ["--heightfield", "grey.png", "--pixel-size-um", "0.1", "--height-um", "0.2", "--light-theta", "10"];
+    let map = |name: &'static str, extra: &[&str], needle: &'static str| {
+        case(name, &[&["map"][..], &grey[..], extra].concat(), needle)
+    };
+    let env_scene = |name: &str, extra: &str| {
+        scene(name, |s| {
+            s.replace(
+                "direction = [0.3, 1.0, 0.5]",
+                &format!("direction = [0.3, 1.0, 0.5]\nenvironment = \"env-good.exr\"{extra}"),
+            )
+        })
+    };
+    let mut exr_over_env = with_scene("render --exr over its environment", env_scene("f1.toml", ""), "environment map");
+    exr_over_env.args.extend(["--exr".to_string(), "env-good.exr".to_string()]);
+    // Loading the scene said what it found in its map before the outputs could be checked against it.
+    exr_over_env.after_work = true;
+    let full_stdout = |name: &'static str, args: &[&str]| Case {
+        shell_prefix: Some("exec >/dev/full;"),
+        ..case(name, args, "could not write to standard output")
+    };
+    let file_size_limit = Case {
+        shell_prefix: Some("ulimit -f 1;"),
+        after_work: true,
+        ..case(
+            "a file-size limit, its signal not ignored",
+            &["render", "--out", "OUT/keep.png", "--width", "64", "--height", "64", "--approach", "gem"],
+            "File too large",
+        )
+    };
+    run_all(&[
+        map("map --out its own height field", &["--out", "grey.png"], "height field"),
+        map("map --out its height field through ./", &["--out", "./grey.png"], "height field"),
+        case(
+            "map --out a symlink to its height field",
+            &["map", "--heightfield", "good.gsf", "--light-theta", "10", "--out", "good-link.png"],
+            "height field",
+        ),
+        case(
+            "map --exr over its environment",
+            &[
+                "map",
+                "--heightfield",
+                "good.gsf",
+                "--size",
+                "8",
+                "--out",
+                "OUT/keep.png",
+                "--environment",
+                "env-good.exr",
+                "--exr",
+                "env-good.exr",
+            ],
+            "environment map",
+        ),
+        exr_over_env,
+        case(
+            "profile --plot-font a FIFO",
+            &["profile", "--plot", "OUT/p.png", "--plot-font", "fifo.ttf", "--width", "8"],
+            "not a regular file",
+        ),
+        case(
+            "profile --plot-font /dev/zero",
+            &["profile", "--plot", "OUT/p.png", "--plot-font", "zero.gsf", "--width", "8"],
+            "not a regular file",
+        ),
+        full_stdout("--help on a full stdout", &["--help"]),
+        full_stdout("--version on a full stdout", &["--version"]),
+        full_stdout("render --help on a full stdout", &["render", "--help"]),
+        with_scene("environment: intensity 1e308", env_scene("f2.toml", "\nintensity = 1e308"), "intensity 1e308"),
+        with_scene("environment: rotation 1e308", env_scene("f3.toml", "\nrotation_deg = 1e308"), "rotation 1e308"),
+        case("gen sky --width 9", &["gen", "sky", "--out", "OUT/s.exr", "--width", "9"], "8 and 8192"),
+        with_scene(
+            "scene: a camera 1e308 away",
+            scene("f4.toml", |s| s.replace("[0.0, 0.5, 3.0]", "[1e308, 0.0, 1.0]")),
+            "[1e308, 0, 1]",
+        ),
+        with_scene(
+            "scene: ambient 3e38",
+            scene("f5.toml", |s| s.replace("[light]", "[light]\nambient = 3e38\nenvironment = \"none\"")),
+            "ambient = 3e38",
+        ),
+        file_size_limit,
+    ]);
+}
+
+/// `DIFFRACT_CACHE` naming a file that is no folder (`/dev/null`): one warning that nothing is cached, and the
+/// command does its work.
+#[test]
+fn a_cache_that_is_not_a_folder_is_said_once_and_the_work_done() {
+    let out = common::place::scratch_root().join("cache-not-a-folder.png");
+    let o = Command::new(common::place::diffract_bin())
+        .args(["render", "--out", out.to_str().unwrap(), "--width", "16", "--height", "16", "--approach", "gem"])
+        .env("DIFFRACT_CACHE", "/dev/null")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(err.matches("DIFFRACT_CACHE=/dev/null is not a folder").count(), 1, "{err}");
+    assert!(!err.contains("os error"), "{err}");
 }

@@ -78,6 +78,25 @@ fn flags(used: &[&str]) -> String {
     used.iter().map(flag).collect::<Vec<_>>().join(", ")
 }
 
+/// The files a run reads besides a scene's (which names its own: `Scene::files`): a measured illuminant's SPD
+/// given by `--illuminant`, and `extra` (a height field, an environment map, a font: what the command reads).
+pub fn inputs(patch: &SettingsPatch, extra: &[(&str, Option<&std::path::Path>)]) -> Vec<(String, PathBuf)> {
+    let mut files: Vec<(String, PathBuf)> =
+        extra.iter().filter_map(|(what, path)| path.map(|p| (what.to_string(), p.to_path_buf()))).collect();
+    if let Some(illuminant) = patch.illuminant.filter(|i| i.name.to_ascii_lowercase().ends_with(".csv")) {
+        files.push(("the illuminant's SPD".to_string(), PathBuf::from(illuminant.name)));
+    }
+    files
+}
+
+/// Refuses, before any work, an output (what it is, its path) that is one of `inputs` ([`inputs`], a scene's
+/// `files`): writing it would replace what the run reads.
+pub fn check_outputs(outputs: &[(&str, PathBuf)], inputs: &[(String, PathBuf)]) -> crate::error::Result<()> {
+    let outputs: Vec<(&str, &std::path::Path)> = outputs.iter().map(|(what, p)| (*what, p.as_path())).collect();
+    let inputs: Vec<(&str, &std::path::Path)> = inputs.iter().map(|(what, p)| (what.as_str(), p.as_path())).collect();
+    crate::io::output::check_not_inputs(&outputs, &inputs)
+}
+
 /// Hides from `cmd`'s help the setting flags that `command` does not read (they are refused when given).
 pub fn hide_unused_settings(cmd: clap::Command, used: &[&str]) -> clap::Command {
     Settings::KEYS.iter().filter(|k| !used.contains(k)).fold(cmd, |cmd, key| cmd.mut_arg(*key, |a| a.hide(true)))

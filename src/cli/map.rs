@@ -57,7 +57,7 @@ pub struct MapArgs {
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub size: u32,
     /// Exposure in stops applied before the sRGB transfer function (PNG only; the EXR stays linear); default:
-    /// measured from the map (its lit pixels' 99.5th percentile of luminance shown at 0.9)
+    /// measured from the map (its lit pixels' brightest channel, 99.5th percentile, shown at 0.9)
     #[arg(value_parser = parse::exposure, long, value_name = "EV", alias = "exposure-ev")]
     pub exposure: Option<f64>,
     /// How the 8-bit output shows light: clip (the sRGB transfer function, clipped at white: a map is a plot of
@@ -74,6 +74,13 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     if let Some(exr) = &args.exr {
         crate::io::output::check_exr_path(exr)?;
     }
+    let mut outputs = vec![("--out", args.out.clone())];
+    outputs.extend(args.exr.iter().map(|e| ("--exr", e.clone())));
+    let reads = [
+        ("the height field", Some(args.heightfield.heightfield.as_path())),
+        ("the environment map", args.environment.as_deref()),
+    ];
+    crate::cli::args::check_outputs(&outputs, &crate::cli::args::inputs(&args.material.patch, &reads))?;
     if args.material.patch.sky_at.is_some() {
         anyhow::bail!("--sky-at has no effect on `diffract map` (a map's pixels are views of one patch, not a mesh's)");
     }
@@ -156,9 +163,6 @@ fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> any
     use crate::light::sampling::EnvLight;
     let settings = environment_settings(args)?;
     let map = crate::light::environment::EnvironmentMap::load(path)?;
-    if args.env_intensity <= 0.0 {
-        anyhow::bail!("--env-intensity must be positive, got {}", args.env_intensity);
-    }
     let env = EnvLight::new(&map, args.env_intensity, args.env_rotation)?;
     // The same search as a scene's: here the sun stays in the map, which the integral samples (its share of the
     // environment's samples goes where the light is).

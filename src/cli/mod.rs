@@ -153,6 +153,10 @@ pub fn main() -> ExitCode {
     // the next print into a panic.
     // SAFETY: restoring a signal's default disposition at start-up, before any other thread exists.
     unsafe { libc::signal(libc::SIGPIPE, libc::SIG_DFL) };
+    // A file-size limit (`ulimit -f`) reached while writing: the write fails with EFBIG instead of the process
+    // being killed, so the atomic writer removes its temporary file and the run ends with its `error:` line.
+    // SAFETY: as above.
+    unsafe { libc::signal(libc::SIGXFSZ, libc::SIG_IGN) };
     // Ctrl-C and SIGTERM: no temporary file left behind (a second handler, a test's, is theirs to keep).
     let _ = ctrlc::set_handler(|| crate::io::output::remove_temporaries_and_exit());
     // What the library logs is shown on stderr, one line each.
@@ -227,12 +231,20 @@ impl log::Log for StderrLog {
     fn flush(&self) {}
 }
 
-/// Help and version go to stdout as clap writes them; a usage error becomes one line on stderr (clap's own
+/// Help and version go to stdout through the same writer as every other line (a full stdout ends the run with an
+/// `error:` line and status 1, as any command's output does); a usage error becomes one line on stderr (clap's own
 /// first line, which names the argument and the reason) and exit status 2.
 fn usage_error(e: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
-        e.exit();
+        crate::io::stream::out_text(&e.render().to_string());
+        return match crate::io::stream::failure() {
+            Some(why) => {
+                errln!("error: {why}");
+                ExitCode::FAILURE
+            }
+            None => ExitCode::SUCCESS,
+        };
     }
     if matches!(e.kind(), ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand) {
         let text = e.render().to_string();

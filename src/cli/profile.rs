@@ -128,6 +128,15 @@ pub fn profile(gpu: &GpuArgs, args: &ProfileArgs) -> anyhow::Result<ExitCode> {
     };
     let configs = prof::configurations(base, &sweeps)?;
     let subject = load_subject(args)?;
+    let mut outputs = Vec::new();
+    outputs.extend(args.csv.iter().map(|p| ("--csv", p.clone())));
+    outputs.extend(args.plot.iter().map(|p| ("--plot", p.clone())));
+    let reads = [("the height field", args.heightfield.as_deref()), ("the plot's font", args.plot_font.as_deref())];
+    let mut inputs = crate::cli::args::inputs(&args.settings.patch, &reads);
+    if let Subject::Scene { scene, .. } = &subject {
+        inputs.extend(scene.files.iter().cloned());
+    }
+    crate::cli::args::check_outputs(&outputs, &inputs)?;
     let frame_samples = subject.frame_samples(args.settings.samples)?;
     for config in &configs {
         subject.check_frame_keys(config)?;

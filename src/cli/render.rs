@@ -168,6 +168,15 @@ fn frame_setup(scene: &Scene, args: &RenderArgs, f: u32) -> (crate::scene::camer
 pub fn render(gpu: &GpuArgs, args: &RenderArgs) -> anyhow::Result<std::process::ExitCode> {
     check_args(args)?;
     let scene = args.settings.load_scene(args.scene.as_deref())?;
+    let outputs: Vec<(&str, PathBuf)> = (0..args.frames)
+        .flat_map(|f| {
+            let exr = args.exr.as_ref().map(|e| ("--exr", numbered(e, f, args.frames)));
+            std::iter::once(("--out", numbered(&args.out, f, args.frames))).chain(exr)
+        })
+        .collect();
+    let mut inputs = crate::cli::args::inputs(&args.settings.patch, &[]);
+    inputs.extend(scene.files.iter().cloned());
+    crate::cli::args::check_outputs(&outputs, &inputs)?;
     let width = args.width.unwrap_or(scene.render.width);
     let height = args.height.unwrap_or(scene.render.height);
     let exposure = args.settings.exposure.or(scene.render.exposure_ev);

@@ -62,6 +62,11 @@ pub fn view(gpu: &GpuArgs, args: &ViewArgs) -> anyhow::Result<std::process::Exit
         bail!("no display (neither DISPLAY nor WAYLAND_DISPLAY is set): `diffract view` opens a window; use `diffract render` for headless images");
     }
     let scene = args.settings.load_scene(args.scene.as_deref())?;
+    if let Some(p) = &args.screenshot {
+        let mut inputs = crate::cli::args::inputs(&args.settings.patch, &[]);
+        inputs.extend(scene.files.iter().cloned());
+        crate::cli::args::check_outputs(&[("--screenshot", p.clone())], &inputs)?;
+    }
     // None: measured from the first frame of the prepared materials.
     let exposure_ev = args.settings.exposure.or(scene.render.exposure_ev);
     let options = ViewOptions {

@@ -40,8 +40,9 @@ pub const WHITE_FRACTION: f64 = 0.5;
 pub struct AutoExposure {
     /// The exposure in stops.
     pub ev: f64,
-    /// The luminance metered, linear (Y of a white mirror under the light is 1): the 99.5th percentile (clip), or
-    /// the median (filmic).
+    /// The value metered, linear (a white mirror under the light is 1): the 99.5th percentile of the pixels'
+    /// brightest channel (clip: no more than half a percent of them clip a channel), or the median of their
+    /// luminance (filmic).
     pub luminance: f64,
     /// How many pixels were metered (lit: Y > 0).
     pub lit: usize,
@@ -49,19 +50,30 @@ pub struct AutoExposure {
     pub tone: Tone,
     /// Filmic: the median's exposure was lowered to keep the 99.5th percentile within the curve.
     pub held: bool,
-    /// The pixels metered were the subject's (the objects'), not every lit pixel.
-    pub subject: bool,
+    /// Which pixels were metered.
+    pub metered: Metered,
+}
+
+/// The pixels an exposure was metered on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Metered {
+    /// Every lit pixel (no coverage was given).
+    Lit,
+    /// The objects' pixels (those the objects cover at least half of).
+    Objects,
+    /// No object is in view: the lit pixels, which are the sky's or the background's.
+    Background,
 }
 
 impl AutoExposure {
-    /// Measures linear RGBA (rows of pixels, 4 floats each) for the clip curve; None where no pixel is lit or
-    /// finite.
+    /// Measures linear RGBA (rows of pixels, 4 floats each) for the clip curve, on each lit pixel's brightest
+    /// channel; None where no pixel is lit or finite.
     pub fn of(rgba: &[f32]) -> Option<Self> {
-        Self::of_luminance(rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]])))
+        Self::metered(rgba.chunks_exact(4).map(|p| metered_value(p, Tone::Clip)), Tone::Clip)
     }
 
-    /// Measures pixels' luminances (Y; the profiler's exact reference gives XYZ) for the clip curve; None where
-    /// none is lit.
+    /// Measures pixels' luminances (Y; the profiler's exact reference gives XYZ) by the clip curve's rule; None
+    /// where none is lit.
     pub fn of_luminance(values: impl Iterator<Item = f64>) -> Option<Self> {
         Self::metered(values, Tone::Clip)
     }
@@ -84,16 +96,21 @@ impl AutoExposure {
             }
         };
         let ev = ev.clamp(-AUTO_LIMIT_EV, AUTO_LIMIT_EV);
-        Some(Self { ev, luminance, lit: count, tone, held, subject: false })
+        Some(Self { ev, luminance, lit: count, tone, held, metered: Metered::Lit })
     }
 
     /// One line for the user: the exposure and where it came from.
     pub fn describe(&self) -> String {
-        let pixels = if self.subject { "the objects' pixels'" } else { "the lit pixels'" };
+        let pixels = match self.metered {
+            Metered::Lit => "the lit pixels'",
+            Metered::Objects => "the objects' pixels'",
+            Metered::Background => "the lit pixels'",
+        };
         let how = match (self.tone, self.held) {
-            (Tone::Clip, _) => {
-                format!("the 99.5th percentile of {pixels} luminance, {:.4e}, shown at {AUTO_TARGET}", self.luminance)
-            }
+            (Tone::Clip, _) => format!(
+                "the 99.5th percentile of {pixels} brightest channel, {:.4e}, shown at {AUTO_TARGET}",
+                self.luminance
+            ),
             (Tone::Filmic, false) => {
                 format!("the median of {pixels} luminance, {:.4e}, shown at middle grey {MIDDLE_GREY}", self.luminance)
             }
@@ -103,7 +120,11 @@ impl AutoExposure {
                 self.luminance
             ),
         };
-        format!("exposure {:+.2} EV, measured ({how}; --exposure EV or [render] exposure_ev sets one)", self.ev)
+        let note = match self.metered {
+            Metered::Background => "; no object is in view, so they are the sky's or the background's",
+            _ => "",
+        };
+        format!("exposure {:+.2} EV, measured ({how}{note}; --exposure EV or [render] exposure_ev sets one)", self.ev)
     }
 }
 
@@ -112,17 +133,33 @@ impl AutoExposure {
 /// pixel that objects cover (the alpha of the same view drawn without a background: `render::capture`), where the
 /// caller has it; pixels at least half covered are the subject metered.
 pub fn measure(rgba: &[f32], coverage: Option<&[f32]>, what: &str, tone: Tone) -> (f64, String) {
-    let luminances = rgba.chunks_exact(4).map(|p| luminance([p[0], p[1], p[2]]));
+    let values = || rgba.chunks_exact(4).map(|p| metered_value(p, tone));
     let auto = match coverage {
         Some(alpha) => {
-            let subject = luminances.zip(alpha.chunks_exact(4)).filter(|(_, a)| a[3] >= 0.5).map(|(y, _)| y);
-            AutoExposure::metered(subject, tone).map(|a| AutoExposure { subject: true, ..a })
+            let subject = values().zip(alpha.chunks_exact(4)).filter(|(_, a)| a[3] >= 0.5).map(|(y, _)| y);
+            match AutoExposure::metered(subject, tone) {
+                Some(a) => Some(AutoExposure { metered: Metered::Objects, ..a }),
+                // No object in view (a camera looking at the sky): the sky or the background is the picture.
+                None => {
+                    AutoExposure::metered(values(), tone).map(|a| AutoExposure { metered: Metered::Background, ..a })
+                }
+            }
         }
-        None => AutoExposure::metered(luminances, tone),
+        None => AutoExposure::metered(values(), tone),
     };
     match auto {
         Some(auto) => (auto.ev, auto.describe()),
         None => (0.0, format!("warning: nothing in {what} is lit, so no exposure can be measured: 0 EV")),
+    }
+}
+
+/// What a pixel (linear RGBA) is metered by for `tone`: clip meters its brightest channel, so that the frame it
+/// exposes clips no channel but in its brightest half percent (a saturated blue metered by its luminance would
+/// clip its blue everywhere); the filmic curve meters its luminance, which it rolls off.
+fn metered_value(p: &[f32], tone: Tone) -> f64 {
+    match tone {
+        Tone::Clip => f64::from(p[0].max(p[1]).max(p[2])),
+        Tone::Filmic => luminance([p[0], p[1], p[2]]),
     }
 }
 
@@ -232,5 +269,28 @@ mod tests {
         let mut spot = frame(&[0.0; 90]);
         spot.extend(frame(&[0.5; 10]));
         assert!(verdict(&spot, 8.0, Tone::Clip).unwrap().contains("mostly white"));
+    }
+
+    #[test]
+    fn a_frame_without_objects_is_metered_on_its_sky_and_clip_clips_no_colour() {
+        // A camera that sees no object (looking up): the coverage is empty, and the sky it shows is the picture.
+        let sky = frame(&[0.2; 100]);
+        let nothing = vec![0.0f32; sky.len()];
+        for tone in Tone::ALL {
+            let (ev, line) = measure(&sky, Some(&nothing), "the first frame", tone);
+            assert!(ev.is_finite() && line.contains("no object is in view"), "{tone:?}: {ev} {line}");
+            assert!(verdict(&sky, ev, tone).is_none(), "{tone:?}: {ev}");
+        }
+        // Nothing lit at all is still nothing.
+        let black = frame(&[0.0; 100]);
+        assert!(measure(&black, Some(&nothing), "the first frame", Tone::Filmic)
+            .1
+            .contains("nothing in the first frame"));
+        // A saturated blue frame: clip's meter and its verdict agree (metered by luminance, its blue clipped
+        // everywhere and the verdict called it mostly white).
+        let blue: Vec<f32> = (0..100).flat_map(|_| [0.0, 0.0, 0.3, 1.0]).collect();
+        let (ev, line) = measure(&blue, None, "the map", Tone::Clip);
+        assert!(verdict(&blue, ev, Tone::Clip).is_none(), "{ev}: {line}");
+        assert!((ev - (AUTO_TARGET / 0.3).log2()).abs() < 1e-6 && line.contains("brightest channel"), "{ev} {line}");
     }
 }

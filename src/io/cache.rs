@@ -15,7 +15,19 @@ use std::path::{Path, PathBuf};
 /// The default cache folder (see the module documentation); None where caching is off or there is no home.
 pub fn default_dir() -> Option<PathBuf> {
     if let Some(v) = std::env::var_os("DIFFRACT_CACHE") {
-        return (!(v.is_empty() || v == "off")).then(|| PathBuf::from(v));
+        let dir = PathBuf::from(&v);
+        // A file, a device (`/dev/null`) or a pipe is no folder to cache in: said once, and nothing is cached.
+        if dir.exists() && !dir.is_dir() {
+            static SAID: std::sync::Once = std::sync::Once::new();
+            SAID.call_once(|| {
+                log::warn!(
+                    "DIFFRACT_CACHE={} is not a folder: nothing is cached (name a folder, or off)",
+                    dir.display()
+                )
+            });
+            return None;
+        }
+        return (!(v.is_empty() || v == "off")).then_some(dir);
     }
     std::env::var_os("XDG_CACHE_HOME")
         .filter(|v| !v.is_empty())

@@ -131,6 +131,25 @@ pub(crate) fn check_path(path: &Path, extension: &str) -> Result<()> {
     Ok(())
 }
 
+/// Refuses, before any work, an output that is one of the run's inputs: the same file as one it reads (its device
+/// and inode, whatever the names: `./`, `..`, a hard link, a symlink). Writing it would replace what the run reads
+/// (a map written over its own height field). `outputs` and `inputs` are (what it is, the path given).
+pub(crate) fn check_not_inputs(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let identity = |path: &Path| std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()));
+    for &(flag, output) in outputs {
+        // An output that does not exist yet cannot be a file the run reads.
+        let Some(id) = identity(output) else { continue };
+        if let Some((what, input)) = inputs.iter().find(|(_, input)| identity(input) == Some(id)) {
+            return Err(Error::output(
+                output,
+                format!("{flag} is {what} {}, which this run reads: name another file", input.display()),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Writes `bytes` to `path` through a temporary file in the same folder, flushed to disk, then renamed over
 /// it: a full disk or a failed write reports the error and leaves an existing file as it was.
 pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {

@@ -22,6 +22,9 @@ pub const MAX_WIDTH: u32 = 16384;
 /// The brightest texel a map may hold, in its units: far beyond any sky (the sun at noon is 1.6·10⁹ cd/m²), and far
 /// enough below f32's 3.4·10³⁸ that the sums over a map's texels and their products with the BRDF stay finite.
 pub const MAX_RADIANCE: f32 = 1e20;
+/// The largest turn a map takes, degrees (either way; any turn is one of ±180°, but f32 trigonometry of larger
+/// angles loses the map).
+pub const MAX_ROTATION_DEG: f64 = 1e6;
 /// The widest map a scene may load from a file (8192×4096 texels: 384 MiB of f32 RGB, 512 MiB as the GPU's
 /// RGBA).
 pub const MAX_FILE_WIDTH: u32 = 8192;
@@ -121,6 +124,32 @@ impl EnvironmentMap {
         Ok(())
     }
 
+    /// Refuses an `intensity` and a `rotation_deg` the map cannot take, in the words of `[light]`'s keys (the same
+    /// limits for a scene's map and `map --environment`): an intensity that is not positive and finite, or that
+    /// would take the brightest texel beyond [`MAX_RADIANCE`]; a rotation beyond ±[`MAX_ROTATION_DEG`].
+    pub fn check_scale(&self, intensity: f64, rotation_deg: f64) -> std::result::Result<(), String> {
+        let number = crate::error::number;
+        if !(intensity.is_finite() && intensity > 0.0) {
+            return Err(format!("the environment's intensity {} must be a positive, finite factor", number(intensity)));
+        }
+        let brightest = self.rgb.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
+        if f64::from(brightest) * intensity > f64::from(MAX_RADIANCE) {
+            return Err(format!(
+                "the environment's intensity {}: the map's brightest texel ({brightest:.3e}) times it is {:.1e}, beyond \
+                 {MAX_RADIANCE:.0e}",
+                number(intensity),
+                f64::from(brightest) * intensity
+            ));
+        }
+        if !(rotation_deg.is_finite() && rotation_deg.abs() <= MAX_ROTATION_DEG) {
+            return Err(format!(
+                "the environment's rotation {}° must be an angle within ±{MAX_ROTATION_DEG:e}°",
+                number(rotation_deg)
+            ));
+        }
+        Ok(())
+    }
+
     /// Every texel a finite, non-negative radiance no brighter than [`MAX_RADIANCE`].
     fn check_texels(&self) -> std::result::Result<(), String> {
         let bad = |c: f32| !(c.is_finite() && c >= 0.0);
@@ -175,10 +204,13 @@ impl EnvironmentMap {
 
     /// The clear sky `sky` without its sun as a `width`×`width/2` map over a ground of `ground_albedo` (0–1).
     pub fn of_sky(sky: &Sky, width: u32, ground_albedo: f64) -> Result<Self> {
-        if width < 8 || width % 2 != 0 || width > MAX_WIDTH {
+        // No wider than a scene loads: a sky made to be loaded again says the same limit `gen sky --width` does.
+        if width < 8 || width % 2 != 0 || width > MAX_FILE_WIDTH {
             return Err(Error::setting(
                 "width",
-                format!("an environment map's width must be even and between 8 and {MAX_WIDTH} texels, got {width}"),
+                format!(
+                    "an environment map's width must be even and between 8 and {MAX_FILE_WIDTH} texels, got {width}"
+                ),
             ));
         }
         if !(ground_albedo.is_finite() && (0.0..=1.0).contains(&ground_albedo)) {

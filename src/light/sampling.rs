@@ -161,28 +161,7 @@ impl EnvLight {
     /// `map` times `intensity`, turned by `rotation_deg`, box-averaged down to [`MAX_LIGHTING_WIDTH`]; refused where
     /// it gives no light.
     pub fn new(map: &EnvironmentMap, intensity: f64, rotation_deg: f64) -> Result<Self> {
-        if !(intensity.is_finite() && intensity >= 0.0 && rotation_deg.is_finite()) {
-            return Err(Error::setting(
-                "env_intensity",
-                format!(
-                    "an environment's intensity must be a finite number ≥ 0 and its rotation finite, got {} and {}°",
-                    crate::error::number(intensity),
-                    crate::error::number(rotation_deg)
-                ),
-            ));
-        }
-        let brightest = map.rgb.iter().flatten().fold(0.0f32, |m, &c| m.max(c));
-        if f64::from(brightest) * intensity > f64::from(crate::light::environment::MAX_RADIANCE) {
-            return Err(Error::setting(
-                "env_intensity",
-                format!(
-                    "the environment's brightest texel ({brightest:.3e}) times its intensity {} is {:.1e}, beyond {:.0e}",
-                    crate::error::number(intensity),
-                    f64::from(brightest) * intensity,
-                    crate::light::environment::MAX_RADIANCE
-                ),
-            ));
-        }
+        map.check_scale(intensity, rotation_deg).map_err(|e| Error::setting("env_intensity", e))?;
         let mut map = std::borrow::Cow::Borrowed(map);
         while map.width > MAX_LIGHTING_WIDTH {
             map = std::borrow::Cow::Owned(halve(&map));

@@ -331,10 +331,11 @@ pub fn moments_by(hf: &HeightField, settings: &Settings, quadrature: &Quadrature
     // A timed line whether or not the bar was drawn (a log gets no bar): the step is seconds long.
     log::info!(
         target: crate::io::LOG_PLAIN,
-        "the environment's moments: {} band tables in {:.1} s, {MOMENT_GRID}² views in {:.1} s (cached for later runs)",
+        "the environment's moments: {} band tables in {:.1} s, {MOMENT_GRID}² views in {:.1} s{}",
         tables.len(),
         baked.as_secs_f64(),
-        (start.elapsed() - baked).as_secs_f64()
+        (start.elapsed() - baked).as_secs_f64(),
+        if dir.is_some() { " (cached for later runs)" } else { " (no cache: computed again next run)" }
     );
     if let Some(dir) = dir.as_deref() {
         // A cache that cannot be written costs time, not correctness.

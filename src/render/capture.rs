@@ -158,8 +158,9 @@ impl SceneCapture {
     /// The exposure for `tone` metered from `frame` (this capture's frame of `view`), with the line that says what
     /// was chosen. The filmic curve's meter reads the pixels that show objects: found by drawing `view` once more
     /// with nothing behind the objects, whose alpha is then each pixel's coverage
-    /// ([`SceneView::without_background`]). Clip's reads every lit pixel, as it always has: with the subject alone,
-    /// its 99.5th percentile of luminance at 0.9 clipped a channel of most of a grating's saturated colours.
+    /// ([`SceneView::without_background`]); where no object is in view, the sky or the background it shows.
+    /// Clip's reads every lit pixel's brightest channel (with the subject alone, its 99.5th percentile of
+    /// luminance at 0.9 clipped a channel of most of a grating's saturated colours).
     pub fn meter(
         &mut self,
         ctx: &Context,

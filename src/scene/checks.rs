@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use toml::Spanned;
 
 use crate::error::Result;
@@ -31,56 +31,61 @@ pub const DEFAULT_SAMPLES: u32 = 4;
 
 /// The largest coordinate, scale or angle a scene may give (world units are arbitrary, but f32 transforms of
 /// larger values lose the mesh or overflow).
-pub(crate) const MAX_COORDINATE: f32 = 1e6;
+pub(crate) const MAX_COORDINATE: f64 = 1e6;
+
+/// The largest value of a linear colour or a light's level a scene may give (a pigment's or the background's
+/// channel, `ambient`): far beyond any use (a uniform sky is 10⁻⁵ of the sun), far enough below f32's 3.4·10³⁸
+/// that a frame's products stay finite at any exposure the frame is metered to.
+pub(crate) const MAX_LEVEL: f64 = 1e6;
 
 /// Three finite numbers of at most [`MAX_COORDINATE`] in magnitude.
-pub(super) fn check_coords(loc: &Locator<'_>, span: std::ops::Range<usize>, what: &str, v: &[f32; 3]) -> Result<()> {
+pub(super) fn check_coords(loc: &Locator<'_>, span: std::ops::Range<usize>, what: &str, v: &[f64; 3]) -> Result<Vec3> {
     if v.iter().all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE) {
-        return Ok(());
+        return Ok(DVec3::from(*v).as_vec3());
     }
-    Err(loc.at(span, format!("{what} = {v:?}: expected three finite numbers within ±{MAX_COORDINATE:e}")))
+    Err(loc.at(span, format!("{what} = {}: expected three finite numbers within ±{MAX_COORDINATE:e}", triple(v))))
 }
 
-trait Get3 {
-    fn get3(&self) -> [f32; 3];
+/// Three numbers as the user wrote them (not as f32 would hold them: 1e308 is not `inf`).
+pub(super) fn triple(v: &[f64; 3]) -> String {
+    format!("[{}]", v.map(crate::error::number).join(", "))
+}
+
+/// A non-negative, finite number of at most `max` (a linear colour's channel, a light's radiance), or the line that
+/// says what is expected of `what`.
+pub(super) fn amount(value: f64, max: f64, what: &str) -> std::result::Result<f32, String> {
+    match value.is_finite() && (0.0..=max).contains(&value) {
+        true => Ok(value as f32),
+        false => {
+            Err(format!("{what} = {}: expected a non-negative number of at most {max:e}", crate::error::number(value)))
+        }
+    }
 }
 
 /// The `[camera]` table, checked: finite coordinates, an up vector off the line of sight, a field of view inside
 /// (0°, 180°) and a usable depth range.
 pub(super) fn camera(loc: &Locator<'_>, c: &CameraDef) -> Result<Camera> {
     let cam_span = c.position.span();
-    check_coords(loc, cam_span.clone(), "[camera] position", c.position.get_ref())?;
-    check_coords(loc, cam_span.clone(), "[camera] target", &c.target)?;
-    check_coords(loc, cam_span.clone(), "[camera] up", &c.up)?;
-    let forward = Vec3::from(c.target) - Vec3::from(*c.position.get_ref());
-    if forward.length() > 0.0 && forward.normalize().cross(Vec3::from(c.up)).length() < 1e-6 {
+    let position = check_coords(loc, cam_span.clone(), "[camera] position", c.position.get_ref())?;
+    let target = check_coords(loc, cam_span.clone(), "[camera] target", &c.target)?;
+    let up = check_coords(loc, cam_span.clone(), "[camera] up", &c.up)?;
+    let forward = target - position;
+    if forward.length() > 0.0 && forward.normalize().cross(up).length() < 1e-6 {
         return Err(loc.at(cam_span.clone(), "[camera] up is parallel to the line of sight (or zero)"));
     }
-    if c.position.get3() == c.target {
+    if position == target {
         return Err(loc.at(c.position.span(), "the camera position equals its target"));
     }
     let fov = *c.fov_y_deg.get_ref();
     if !(fov > 0.0 && fov < 180.0) {
+        let fov = crate::error::number(fov);
         return Err(loc
             .at(c.fov_y_deg.span(), format!("fov_y_deg = {fov}: expected a field of view between 0 and 180 degrees")));
     }
-    if !(c.near > 0.0 && c.far > c.near && c.far.is_finite() && c.far / c.near <= 1e7) {
-        return Err(loc.whole("the camera needs 0 < near < far, finite, with far/near at most 1e7"));
+    if !(c.near > 0.0 && c.far > c.near && c.far <= MAX_COORDINATE && c.far / c.near <= 1e7) {
+        return Err(loc.whole("the camera needs 0 < near < far ≤ 1e6, with far/near at most 1e7"));
     }
-    Ok(Camera {
-        position: Vec3::from(*c.position.get_ref()),
-        target: Vec3::from(c.target),
-        up: Vec3::from(c.up),
-        fov_y_deg: fov,
-        near: c.near,
-        far: c.far,
-    })
-}
-
-impl Get3 for Spanned<[f32; 3]> {
-    fn get3(&self) -> [f32; 3] {
-        *self.get_ref()
-    }
+    Ok(Camera { position, target, up, fov_y_deg: fov as f32, near: c.near as f32, far: c.far as f32 })
 }
 
 /// The `[render]` table with its defaults, checked.
@@ -89,7 +94,7 @@ pub(super) fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<Render
         width: r.width.unwrap_or(512),
         height: r.height.unwrap_or(512),
         exposure_ev: r.exposure_ev,
-        background: r.background.unwrap_or([0.0; 3]),
+        background: [0.0; 3],
         samples: r.samples.unwrap_or(DEFAULT_SAMPLES),
     };
     if !(render.samples.is_power_of_two() && render.samples <= 64) {
@@ -99,9 +104,14 @@ pub(super) fn render_settings(loc: &Locator<'_>, r: &RenderDef) -> Result<Render
     if render.exposure_ev.is_some_and(|ev| !ev.is_finite() || ev.abs() > max) {
         return Err(loc.whole(format!("[render] exposure_ev must be a number of stops within ±{max}")));
     }
-    if render.background.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-        return Err(loc.whole("[render] background is a linear RGB colour: three non-negative numbers"));
+    let background = r.background.unwrap_or([0.0; 3]);
+    if background.iter().any(|&c| amount(c, MAX_LEVEL, "").is_err()) {
+        return Err(loc.whole(format!(
+            "[render] background = {}: a linear RGB colour, three non-negative numbers of at most {MAX_LEVEL:e}",
+            triple(&background)
+        )));
     }
+    let render = RenderSettings { background: background.map(|c| c as f32), ..render };
     if render.width == 0 || render.height == 0 || render.width > 16384 || render.height > 16384 {
         return Err(loc.whole("[render] width and height must lie in 1..=16384"));
     }
@@ -121,10 +131,11 @@ pub(super) struct Light {
 pub(super) fn light(loc: &Locator<'_>, base: &Path, def: &LightDef) -> Result<Light> {
     let direction = match &def.direction {
         Some(d) => Some(
-            Vec3::from(*d.get_ref())
+            DVec3::from(*d.get_ref())
                 .try_normalize()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| loc.at(d.span(), "the light direction must be a finite, non-zero vector"))?,
+                .ok_or_else(|| loc.at(d.span(), "the light direction must be a finite, non-zero vector"))?
+                .as_vec3(),
         ),
         None => None,
     };
@@ -274,20 +285,15 @@ fn map_light(
     (file, span): (&str, std::ops::Range<usize>),
     direction: Option<Vec3>,
 ) -> Result<(MapLight, Vec3)> {
-    let number = |v: &Option<Spanned<f64>>, default: f64, what: &str, ok: &dyn Fn(f64) -> bool| {
-        let x = v.as_ref().map_or(default, |v| *v.get_ref());
-        if ok(x) {
-            Ok(x)
-        } else {
-            Err(loc.at(v.as_ref().map_or(span.clone(), |v| v.span()), what.to_string()))
-        }
-    };
-    let rotation_deg = number(&light.rotation_deg, 0.0, "rotation_deg must be a finite angle", &|x| x.is_finite())?;
-    let intensity =
-        number(&light.intensity, 1.0, "intensity must be a positive, finite factor", &|x| x.is_finite() && x > 0.0)?;
+    let rotation_deg = light.rotation_deg.as_ref().map_or(0.0, |v| *v.get_ref());
+    let intensity = light.intensity.as_ref().map_or(1.0, |v| *v.get_ref());
     let direction_span = light.direction.as_ref().map_or(span.clone(), |d| d.span());
     let path = base.join(file);
     let loaded = crate::light::environment::EnvironmentMap::load(&path).map_err(|e| loc.at(span.clone(), e))?;
+    if let Err(e) = loaded.check_scale(intensity, rotation_deg) {
+        let key = if e.contains("intensity") { &light.intensity } else { &light.rotation_deg };
+        return Err(loc.at(key.as_ref().map_or(span, |k| k.span()), e));
+    }
     let search = crate::light::sun::find(&loaded);
     let (map, sun, light_dir, sun_texels) = match (search.sun, search.rest) {
         (Some(found), Some(rest)) => {

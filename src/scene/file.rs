@@ -57,24 +57,24 @@ pub(super) struct SceneFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct CameraDef {
-    pub(super) position: Spanned<[f32; 3]>,
-    pub(super) target: [f32; 3],
-    pub(super) fov_y_deg: Spanned<f32>,
+    pub(super) position: Spanned<[f64; 3]>,
+    pub(super) target: [f64; 3],
+    pub(super) fov_y_deg: Spanned<f64>,
     #[serde(default = "default_up")]
-    pub(super) up: [f32; 3],
+    pub(super) up: [f64; 3],
     #[serde(default = "default_near")]
-    pub(super) near: f32,
+    pub(super) near: f64,
     #[serde(default = "default_far")]
-    pub(super) far: f32,
+    pub(super) far: f64,
 }
 
-pub(super) fn default_up() -> [f32; 3] {
+pub(super) fn default_up() -> [f64; 3] {
     [0.0, 1.0, 0.0]
 }
-pub(super) fn default_near() -> f32 {
+pub(super) fn default_near() -> f64 {
     0.01
 }
-pub(super) fn default_far() -> f32 {
+pub(super) fn default_far() -> f64 {
     1000.0
 }
 
@@ -82,11 +82,11 @@ pub(super) fn default_far() -> f32 {
 #[serde(deny_unknown_fields)]
 pub(super) struct LightDef {
     /// Towards the sun; optional under a map that holds its sun (the map's is taken) or to light by the map alone.
-    pub(super) direction: Option<Spanned<[f32; 3]>>,
+    pub(super) direction: Option<Spanned<[f64; 3]>>,
     pub(super) illuminant: Option<Spanned<String>>,
     /// Radiance of a uniform sky, relative to the sun seen in a mirror (a clear sky is ~1e-5 of that).
     #[serde(default)]
-    pub(super) ambient: Option<Spanned<f32>>,
+    pub(super) ambient: Option<Spanned<f64>>,
     /// "sky" (the default, unless `ambient` is given): the clear-sky model around the light's sun; "FILE.exr" or
     /// "FILE.hdr": an HDR map of the sky around it; "none": no environment (the sun alone, relative units).
     pub(super) environment: Option<Spanned<String>>,
@@ -109,13 +109,13 @@ pub(super) struct ObjectDef {
     /// The snake's skin pattern (shape = "snake" only).
     pub(super) pattern: Option<crate::scene::mesh::snake::Pattern>,
     /// How high the snake's scales are domed, relative to their half-width (shape = "snake" only).
-    pub(super) scale_dome: Option<Spanned<f32>>,
+    pub(super) scale_dome: Option<Spanned<f64>>,
     pub(super) material: Spanned<String>,
     #[serde(default)]
-    pub(super) translate: [f32; 3],
+    pub(super) translate: [f64; 3],
     #[serde(default)]
-    pub(super) rotate_deg: [f32; 3],
-    pub(super) scale: Option<Spanned<f32>>,
+    pub(super) rotate_deg: [f64; 3],
+    pub(super) scale: Option<Spanned<f64>>,
 }
 
 /// `tile = 10` or `tile = [10, 4]`.
@@ -145,10 +145,10 @@ pub(super) struct MaterialDef {
     pub(super) settings: SettingsPatch,
     /// Rotation of the patch about the normal, from the mesh tangent towards the bitangent.
     #[serde(default)]
-    pub(super) orientation_deg: f32,
+    pub(super) orientation_deg: f64,
     /// Linear RGB albedo of the skin's pigment under the grating.
     #[serde(default)]
-    pub(super) pigment: [f32; 3],
+    pub(super) pigment: [f64; 3],
 }
 
 #[derive(Deserialize, Default)]
@@ -158,7 +158,7 @@ pub(super) struct RenderDef {
     pub(super) height: Option<u32>,
     pub(super) exposure_ev: Option<f64>,
     /// Linear RGB behind the objects.
-    pub(super) background: Option<[f32; 3]>,
+    pub(super) background: Option<[f64; 3]>,
     /// Samples per pixel (multisample anti-aliasing; 1: none).
     pub(super) samples: Option<u32>,
 }

@@ -145,9 +145,9 @@ impl Environment {
                 crate::error::number(m.intensity),
                 crate::error::number(m.rotation_deg),
                 match m.sun {
-                    MapSun::Found(_) => "its own sun is the light",
-                    MapSun::Model => "the sun is [light] direction's",
-                    MapSun::Alone => "no sun",
+                    MapSun::Found(_) => "its own sun is the light; the frame in units of that sun's radiance",
+                    MapSun::Model => "the sun is [light] direction's; the frame in units of its radiance",
+                    MapSun::Alone => "no sun; the frame in the map's own units",
                 }
             ),
         };

@@ -12,7 +12,7 @@ pub mod mesh;
 mod objects;
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
@@ -52,6 +52,9 @@ pub struct Scene {
     pub objects: Vec<SceneObject>,
     pub materials: Vec<SceneMaterial>,
     pub render: RenderSettings,
+    /// The files the scene was read from, each with what it is: the scene file itself (where it was loaded from a
+    /// file), its height fields, meshes, environment map and measured illuminant — what no output of a run may be.
+    pub files: Vec<(String, PathBuf)>,
 }
 
 impl Scene {
@@ -60,7 +63,9 @@ impl Scene {
         let bytes = crate::io::input::read(path, crate::io::input::MAX_SCENE_BYTES, "scene")?;
         let text = String::from_utf8(bytes).map_err(|_| Error::input(path, "is not UTF-8 text (a TOML scene)"))?;
         let base = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        Self::parse(&text, &path.display().to_string(), base)
+        let mut scene = Self::parse(&text, &path.display().to_string(), base)?;
+        scene.files.insert(0, ("the scene".to_string(), path.to_path_buf()));
+        Ok(scene)
     }
 
     /// Material `m`'s settings under `overrides` (the command line's, a profile configuration's): under the sky a
@@ -113,18 +118,18 @@ impl Scene {
             objects.push(objects::object(&loc, base, def, &index)?);
         }
         let render = checks::render_settings(&loc, &file.render)?;
-        let ambient = file.light.ambient.as_ref().map_or(0.0, |a| *a.get_ref());
-        if !(ambient.is_finite() && ambient >= 0.0) {
-            return Err(loc.whole("[light] ambient must be a non-negative number"));
-        }
+        let ambient = file.light.ambient.as_ref().map_or(Ok(0.0), |a| {
+            checks::amount(*a.get_ref(), checks::MAX_LEVEL, "[light] ambient").map_err(|e| loc.at(a.span(), e))
+        })?;
         let grounded = objects.iter().any(|o| !o.casts_shadow);
         let alone = matches!(&environment, Some(Environment::Map(m)) if m.sun == MapSun::Alone);
         // Without a sun there is nothing to cast a shadow.
         let shadows = file.light.shadows.unwrap_or(grounded) && !alone;
         let environment_behind = environment.is_some() && file.render.background.is_none();
-        if let (Some(env), Some(bg)) = (&environment, file.render.background) {
-            checks::background_units_warning(env, light_dir, bg);
+        if let (Some(env), Some(_)) = (&environment, file.render.background) {
+            checks::background_units_warning(env, light_dir, render.background);
         }
+        let files = read_files(&file, base, environment.as_ref(), illuminant);
         Ok(Self {
             name: name.to_string(),
             camera,
@@ -137,8 +142,38 @@ impl Scene {
             objects,
             materials,
             render,
+            files,
         })
     }
+}
+
+/// The files a scene names that it read: its height fields and meshes, its environment map, its illuminant's SPD
+/// (a built-in file, in no folder, is none of them).
+fn read_files(
+    file: &SceneFile,
+    base: &Path,
+    environment: Option<&Environment>,
+    illuminant: Illuminant,
+) -> Vec<(String, PathBuf)> {
+    let mut files: Vec<(String, PathBuf)> = Vec::new();
+    for (name, def) in &file.material {
+        if let Some(path) = &def.get_ref().heightfield {
+            files.push((format!("[material.{name}]'s height field"), base.join(path.get_ref())));
+        }
+    }
+    for def in &file.objects {
+        if let Some(path) = &def.get_ref().mesh {
+            files.push(("an object's mesh".to_string(), base.join(path.get_ref())));
+        }
+    }
+    if let Some(Environment::Map(map)) = environment {
+        files.push(("the environment map".to_string(), map.path.clone()));
+    }
+    if illuminant.name.to_ascii_lowercase().ends_with(".csv") {
+        files.push(("the illuminant's SPD".to_string(), PathBuf::from(illuminant.name)));
+    }
+    files.retain(|(_, path)| path.is_file());
+    files
 }
 
 impl Scene {
@@ -288,7 +323,7 @@ tile = [2, 3]
         refused("environment = \"missing.hdr\"", "missing.hdr");
         refused("environment = \"sky\"\nrotation_deg = 10.0", "belong to environment = \"FILE.exr\"");
         refused("environment = \"around.exr\"\nturbidity = 3.0", "turbidity belongs");
-        refused("environment = \"around.exr\"\nintensity = -1.0", "intensity must be");
+        refused("environment = \"around.exr\"\nintensity = -1.0", "must be a positive, finite factor");
         refused("environment = \"around.exr\"\nambient = 0.1", "both light the pigment");
         refused("environment = \"around.png\"", "expected \"sky\"");
         std::fs::remove_dir_all(&dir).unwrap();

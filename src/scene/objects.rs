@@ -13,7 +13,7 @@ use crate::physics::formats::png::PngScale;
 use crate::physics::generate::{generate, PatchKind, PatchSpec};
 use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
-use crate::scene::checks::{check_coords, MAX_COORDINATE};
+use crate::scene::checks::{amount, check_coords, triple, MAX_COORDINATE, MAX_LEVEL};
 use crate::scene::file::{built_in, Locator, MaterialDef, ObjectDef, TileDef};
 use crate::scene::mesh::shapes::Shape;
 use crate::scene::mesh::{obj, Mesh};
@@ -66,40 +66,7 @@ pub(super) fn material(
             "has no heightfield or generate (a matte material: pigment only), so its patch keys mean nothing".into(),
         ));
     }
-    let hf =
-        match (&d.heightfield, d.generate) {
-            (Some(path), None) => {
-                let file = base.join(path.get_ref());
-                let png = match (d.pixel_size_um, d.height_um) {
-                    (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
-                    (None, None) => None,
-                    _ => return Err(at("pixel_size_um and height_um go together".into())),
-                };
-                match (built_in(&file), png) {
-                    (Some(bytes), Some(scale)) => crate::physics::formats::png::from_bytes(&file, bytes, scale)
-                        .map_err(|e| loc.at(path.span(), e))?,
-                    (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
-                    (None, _) if !file.exists() => {
-                        return Err(loc.at(
-                            path.span(),
-                            format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
-                        ))
-                    }
-                    (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
-                }
-            }
-            (None, Some(kind)) => {
-                let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
-                spec.period_um = d.period_um.unwrap_or(spec.period_um);
-                spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
-                spec.seed = d.seed.unwrap_or(1);
-                generate(&spec).map_err(|e| at(e.to_string()))?
-            }
-            (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
-            // Matte: a flat patch the renderer never draws (the smallest the preparation accepts).
-            (None, None) => generate(&PatchSpec::new(PatchKind::Flat, MATTE_PATCH_UM, MATTE_PIXEL_UM))
-                .map_err(|e| at(e.to_string()))?,
-        };
+    let hf = patch(loc, base, d, &at)?;
     let hf = match (d.tile, d.extend_um) {
         (Some(_), Some(_)) => {
             return Err(at("give tile (repeat the patch) or extend_um (grow it without a period), not both".into()))
@@ -109,24 +76,73 @@ pub(super) fn material(
         (Some(TileDef::Both(n)), None) => hf.tiled(n as usize, n as usize).map_err(|e| at(e.to_string()))?,
         (Some(TileDef::Each([x, y])), None) => hf.tiled(x as usize, y as usize).map_err(|e| at(e.to_string()))?,
     };
-    if !f64::from(d.orientation_deg).is_finite() {
-        return Err(at(format!("orientation_deg = {}: expected a finite number", d.orientation_deg)));
+    if !(d.orientation_deg.is_finite() && d.orientation_deg.abs() <= MAX_COORDINATE) {
+        let deg = crate::error::number(d.orientation_deg);
+        return Err(at(format!("orientation_deg = {deg}: expected a finite angle within ±{MAX_COORDINATE:e}")));
     }
     d.settings.check().map_err(at)?;
     let mut patch = d.settings;
     // A scene that states its table tolerance means it: a table that cannot reach it is refused.
     patch.strict_table |= patch.table_tolerance.is_some();
     let settings = patch.apply(Settings { approach: DEFAULT_APPROACH, illuminant, ..Settings::default() });
-    if d.pigment.iter().any(|c| !(c.is_finite() && *c >= 0.0)) {
-        return Err(at("pigment is a linear RGB albedo: three non-negative numbers".into()));
+    if d.pigment.iter().any(|&c| amount(c, MAX_LEVEL, "").is_err()) {
+        return Err(at(format!(
+            "pigment = {}: a linear RGB albedo, three non-negative numbers of at most {MAX_LEVEL:e}",
+            triple(&d.pigment)
+        )));
     }
     Ok(SceneMaterial {
         name: name.to_string(),
         heightfield: hf,
         settings,
-        orientation_deg: d.orientation_deg,
-        pigment: d.pigment,
+        orientation_deg: d.orientation_deg as f32,
+        pigment: d.pigment.map(|c| c as f32),
         matte,
+    })
+}
+
+/// A material's patch as its table gives it: a height field file (a PNG with its scale, a GSF; the built-in scene's
+/// from the binary), a generated one, or, for a matte material, the small flat patch nothing draws.
+fn patch(
+    loc: &Locator<'_>,
+    base: &Path,
+    d: &MaterialDef,
+    at: &dyn Fn(String) -> crate::error::Error,
+) -> Result<HeightField> {
+    Ok(match (&d.heightfield, d.generate) {
+        (Some(path), None) => {
+            let file = base.join(path.get_ref());
+            let png = match (d.pixel_size_um, d.height_um) {
+                (Some(pixel_size_um), Some(height_um)) => Some(PngScale { pixel_size_um, height_um }),
+                (None, None) => None,
+                _ => return Err(at("pixel_size_um and height_um go together".into())),
+            };
+            match (built_in(&file), png) {
+                (Some(bytes), Some(scale)) => {
+                    crate::physics::formats::png::from_bytes(&file, bytes, scale).map_err(|e| loc.at(path.span(), e))?
+                }
+                (Some(_), None) => return Err(at("a PNG height field needs pixel_size_um and height_um".into())),
+                (None, _) if !file.exists() => {
+                    return Err(loc.at(
+                        path.span(),
+                        format!("heightfield {:?}: no such file ({})", path.get_ref(), file.display()),
+                    ))
+                }
+                (None, png) => crate::physics::formats::load(&file, png).map_err(|e| loc.at(path.span(), e))?,
+            }
+        }
+        (None, Some(kind)) => {
+            let mut spec = PatchSpec::new(kind, d.size_um.unwrap_or(13.0), d.pixel_size_um.unwrap_or(0.065));
+            spec.period_um = d.period_um.unwrap_or(spec.period_um);
+            spec.depth_um = d.height_um.unwrap_or(spec.depth_um);
+            spec.seed = d.seed.unwrap_or(1);
+            generate(&spec).map_err(|e| at(e.to_string()))?
+        }
+        (Some(_), Some(_)) => return Err(at("give either heightfield or generate, not both".into())),
+        // Matte: a flat patch the renderer never draws (the smallest the preparation accepts).
+        (None, None) => {
+            generate(&PatchSpec::new(PatchKind::Flat, MATTE_PATCH_UM, MATTE_PIXEL_UM)).map_err(|e| at(e.to_string()))?
+        }
     })
 }
 
@@ -147,10 +163,10 @@ pub(super) fn object(
             use crate::scene::mesh::snake::{snake, SnakeSpec, MAX_SCALE_DOME};
             let defaults = SnakeSpec::default();
             let scale_dome = match &d.scale_dome {
-                Some(dome) if !(0.0..=MAX_SCALE_DOME).contains(dome.get_ref()) => {
+                Some(dome) if !(0.0..=f64::from(MAX_SCALE_DOME)).contains(dome.get_ref()) => {
                     return Err(loc.at(dome.span(), format!("scale_dome must be between 0 (flat) and {MAX_SCALE_DOME}")))
                 }
-                Some(dome) => *dome.get_ref(),
+                Some(dome) => *dome.get_ref() as f32,
                 None => defaults.scale_dome,
             };
             snake(&SnakeSpec { pattern: d.pattern.unwrap_or_default(), scale_dome, ..defaults })
@@ -169,20 +185,20 @@ pub(super) fn object(
             format!("no [material.{}] in the scene (it has: {})", d.material.get_ref(), known.join(", ")),
         )
     })?;
-    let scale = d.scale.as_ref().map(|s| *s.get_ref()).unwrap_or(1.0);
+    let scale = d.scale.as_ref().map_or(1.0, |s| *s.get_ref());
     if !(scale.is_finite() && scale > 0.0 && scale <= MAX_COORDINATE) {
         return Err(loc.at(
             d.scale.as_ref().map(|s| s.span()).unwrap_or(span),
             format!("scale must be positive and at most {MAX_COORDINATE:e}"),
         ));
     }
-    check_coords(loc, span.clone(), "translate", &d.translate)?;
-    check_coords(loc, span.clone(), "rotate_deg", &d.rotate_deg)?;
-    let [rx, ry, rz] = d.rotate_deg.map(f32::to_radians);
+    let translate = check_coords(loc, span.clone(), "translate", &d.translate)?;
+    let rotate = check_coords(loc, span.clone(), "rotate_deg", &d.rotate_deg)?;
+    let [rx, ry, rz] = rotate.to_array().map(f32::to_radians);
     let model = Mat4::from_scale_rotation_translation(
-        Vec3::splat(scale),
+        Vec3::splat(scale as f32),
         Quat::from_euler(EulerRot::XYZ, rx, ry, rz),
-        Vec3::from(d.translate),
+        translate,
     );
     Ok(SceneObject { mesh, model, material, casts_shadow: d.shape != Some(Shape::Ground) })
 }

@@ -22,6 +22,9 @@ const FONT_CANDIDATES: [&str; 5] = [
     "/Library/Fonts/Arial.ttf",
 ];
 
+/// The largest font file read (a TrueType font with every script is a few tens of MiB).
+const MAX_FONT_BYTES: u64 = 64 << 20;
+
 /// The font registered with plotters (once per process).
 static FONT: OnceLock<std::result::Result<PathBuf, String>> = OnceLock::new();
 
@@ -36,7 +39,9 @@ pub fn register_font(explicit: Option<&Path>) -> Result<()> {
                     .to_string()
             })?,
         };
-        let bytes = std::fs::read(&path).map_err(|e| format!("cannot read the font {}: {e}", path.display()))?;
+        // A font file is read like every user file: a regular file, bounded (a FIFO would block, /dev/zero never
+        // end).
+        let bytes = crate::io::input::read(&path, MAX_FONT_BYTES, "font").map_err(|e| e.to_string())?;
         // plotters keeps fonts for the life of the process.
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
