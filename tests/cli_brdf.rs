@@ -120,6 +120,82 @@ fn flat_png_is_a_mirror() {
     }
 }
 
+/// The first order's width in direction cosines (the power's standard deviation along u) of a blazed grating (2.5 µm
+/// period, 40 µm wide) at 550 nm under a light `radius_deg` in angular radius, from a `brdf` cut through it.
+fn blazed_first_order_width(file: &str, radius_deg: &str) -> f64 {
+    let o = diffract(&[
+        "brdf",
+        "--heightfield",
+        file,
+        "--light-theta",
+        "0",
+        "--light-radius-deg",
+        radius_deg,
+        "--view-theta",
+        "8:17.5:0.01",
+        "--view-phi",
+        "180",
+        "--lambda",
+        "550",
+    ]);
+    let rows = csv(&o);
+    let (mut m0, mut m1, mut m2) = (0.0, 0.0, 0.0);
+    for pair in rows.windows(2) {
+        let du = (pair[1]["u"] - pair[0]["u"]).abs();
+        let (p, u) = ((pair[0]["power"] + pair[1]["power"]) / 2.0, (pair[0]["u"] + pair[1]["u"]) / 2.0);
+        (m0, m1, m2) = (m0 + p * du, m1 + p * u * du, m2 + p * u * u * du);
+    }
+    let mean = m1 / m0;
+    assert!((mean.abs() - 0.22).abs() < 1e-3, "the first order lies at |u| = λ/d = 0.22, not {mean}");
+    (m2 / m0 - mean * mean).sqrt()
+}
+
+#[test]
+fn a_lamps_first_order_is_wider_than_the_suns_by_the_ratio_of_their_radii() {
+    let (n, period, dx) = (800, 50, 0.05);
+    let path = scratch("blazed.gsf");
+    let heights = (0..2 * n).map(|i| 0.25 * ((i % n) % period) as f64 / period as f64).collect();
+    gsf::write(&path, &HeightField::new(n, 2, dx, dx, heights).unwrap(), "blazed grating").unwrap();
+    let file = path.to_str().unwrap();
+    let sun_deg = diffract::physics::sky::sun_angular_radius().to_degrees();
+    let sun = blazed_first_order_width(file, &sun_deg.to_string());
+    let lamp = blazed_first_order_width(file, "1");
+    // model.md §1.13: the coherence length scales as 1/α, so the lobe (a single line under the window) as α.
+    let (ratio, predicted) = (lamp / sun, 1.0 / sun_deg);
+    eprintln!("first order σ_u: sun {sun:.5}, 1° lamp {lamp:.5}: ratio {ratio:.3} (predicted {predicted:.3})");
+    assert!((ratio / predicted - 1.0).abs() < 0.1, "ratio {ratio} against {predicted}");
+    let both = diffract(&[
+        "brdf",
+        "--heightfield",
+        file,
+        "--light-theta",
+        "0",
+        "--view",
+        "0,0",
+        "--lambda",
+        "550",
+        "--light-radius-deg",
+        "1",
+        "--coherence-um",
+        "30",
+    ]);
+    assert_one_line_error(&both, "not both");
+    let huge = diffract(&[
+        "brdf",
+        "--heightfield",
+        file,
+        "--light-theta",
+        "0",
+        "--view",
+        "0,0",
+        "--lambda",
+        "550",
+        "--light-radius-deg",
+        "40",
+    ]);
+    assert_one_line_error(&huge, "--light-radius-deg: a light 40° in angular radius");
+}
+
 fn brdf_on(file: &str, extra: &[&str]) -> Output {
     let mut args = vec!["brdf", "--heightfield", file, "--light-theta", "0", "--view", "0,0", "--lambda", "500"];
     args.extend_from_slice(extra);

@@ -111,6 +111,10 @@ pub struct LightArgs {
     /// Light azimuth φ_i in degrees
     #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
+    /// The light's angular radius in degrees (the sun's is 0.267°): its coherence length follows, 65 µm × 0.267°/DEG
+    /// (docs/model.md §1.13), where --coherence-um would set it directly
+    #[arg(value_parser = parse::finite, long, value_name = "DEG")]
+    pub light_radius_deg: Option<f64>,
 }
 
 /// Settings that replace every material's own in a scene (`render`, `view`, `profile`; a profiled BRDF map's

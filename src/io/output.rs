@@ -134,7 +134,7 @@ pub(crate) fn check_path(path: &Path, extension: &str) -> Result<()> {
 /// Refuses, before any work, an output that is one of the run's inputs: the same file as one it reads (its device
 /// and inode, whatever the names: `./`, `..`, a hard link, a symlink). Writing it would replace what the run reads
 /// (a map written over its own height field). `outputs` and `inputs` are (what it is, the path given).
-pub(crate) fn check_not_inputs(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<()> {
+pub fn check_not_inputs(outputs: &[(&str, &Path)], inputs: &[(&str, &Path)]) -> Result<()> {
     use std::os::unix::fs::MetadataExt;
     let identity = |path: &Path| std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()));
     for &(flag, output) in outputs {
