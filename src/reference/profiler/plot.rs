@@ -41,7 +41,8 @@ pub fn register_font(explicit: Option<&Path>) -> Result<()> {
         };
         // A font file is read like every user file: a regular file, bounded (a FIFO would block, /dev/zero never
         // end).
-        let bytes = crate::io::input::read(&path, MAX_FONT_BYTES, "font").map_err(|e| e.to_string())?;
+        let bytes = crate::io::input::read(&path, MAX_FONT_BYTES, "font")
+            .map_err(|e| format!("the plot's font (--plot-font): {e}"))?;
         // plotters keeps fonts for the life of the process.
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
