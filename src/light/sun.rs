@@ -19,8 +19,10 @@ pub const MIN_CAP_DEG: f64 = 2.5;
 pub const MAX_CAP_DEG: f64 = 12.0;
 /// How much wider each cap tried is than the one before.
 const CAP_STEP: f64 = 1.5;
-/// A wider cap is taken where it adds more than this share to the sun's light (its ring still held some of it).
-const CAP_GROWTH: f64 = 0.005;
+/// A wider cap is taken where it adds more than this share to the sun's light (its ring still held some of it):
+/// a disc the cap cut adds tens of percent; a photographed sun's aureole, a few (at 0.5 % the Polyhaven map's
+/// sun grew from 1.6° to 3.1° across, 74 % to 78 % of the light, and moved 0.07°).
+const CAP_GROWTH: f64 = 0.05;
 
 /// A sun found in a map, in the map's own frame (before any turn) and units.
 #[derive(Clone, Copy, Debug, PartialEq)]

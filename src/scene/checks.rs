@@ -134,8 +134,10 @@ pub(super) fn light(loc: &Locator<'_>, base: &Path, def: &LightDef) -> Result<Li
             DVec3::from(*d.get_ref())
                 .try_normalize()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| loc.at(d.span(), "the light direction must be a finite, non-zero vector"))?
-                .as_vec3(),
+                .ok_or_else(|| loc.at(d.span(), "the light direction must be a finite, non-zero vector"))
+                // Normalised in f32 where f32 holds it (the light's bits, hence the shadow map's texel grid and
+                // the golden images, as they were), in f64 where it would overflow.
+                .map(|unit| DVec3::from(*d.get_ref()).as_vec3().try_normalize().unwrap_or(unit.as_vec3()))?,
         ),
         None => None,
     };
