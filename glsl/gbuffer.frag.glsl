@@ -7,7 +7,8 @@
 #include "shadow.glsl"
 
 // 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, the sun's
-// visible share: shadow.glsl); 4: (the patch's x axis in the world, its handedness: y = w·(normal × x)).
+// visible share: shadow.glsl); 4: (the patch's x axis in the world, its handedness: y = w·(normal × x)); 5: (the
+// point in the world, 1: where the lamps are seen from).
 layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
@@ -16,6 +17,7 @@ layout(location = 2) in vec3 world_normal;
 layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
 layout(location = 5) in vec4 patch_axis;
+layout(location = 7) in vec3 world_position;
 layout(location = 0) out vec4 out_color;
 
 void main() {
@@ -30,7 +32,9 @@ void main() {
         out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
     } else if (PART == 3u) {
         out_color = vec4(normalize(world_normal), sun_visibility(shadow_coord));
-    } else {
+    } else if (PART == 4u) {
         out_color = patch_axis;
+    } else {
+        out_color = vec4(world_position, 1.0);
     }
 }

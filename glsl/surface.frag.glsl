@@ -27,17 +27,27 @@ layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
 layout(location = 5) in vec4 patch_axis;
 layout(location = 6) in vec3 sky_diffracted_at_vertex;
+layout(location = 7) in vec3 world_position;
 layout(location = 0) out vec4 out_color;
 
 void main() {
     SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
-                                    sky_diffracted_at_vertex);
+                                    sky_diffracted_at_vertex, world_position);
     vec4 steps = vec4(0.0);
 #ifdef BAKED
     // Derivatives, so in uniform control flow (before the shading's branches).
     steps = pixel_steps(-normalize(patch_light).xy - normalize(patch_view).xy);
 #endif
     vec3 rgb = surface_colour(s, steps);
+    // The lamps' count is uniform, so each lamp's derivatives too are taken in uniform control flow.
+    for (uint k = 0u; k < lamp_count(); k++) {
+        vec4 lamp = lamp_at(s, k);
+        vec4 lamp_steps = vec4(0.0);
+#ifdef BAKED
+        lamp_steps = pixel_steps(-lamp.xy - normalize(patch_view).xy);
+#endif
+        rgb += lamp_colour(s, lamp, lamp_steps);
+    }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();
 }

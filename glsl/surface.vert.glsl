@@ -23,6 +23,8 @@ layout(location = 5) out vec4 patch_axis;
 // The environment's light diffracted towards the view at this vertex (sky_diffraction.glsl's `sky_diffracted`) in
 // the variant built with SKY_DIFFRACTION_AT_VERTEX (`surface_sky.vert`); zero in the others.
 layout(location = 6) out vec3 sky_diffracted_at_vertex;
+// The point in the world (where the lamps are seen from: lamps.glsl).
+layout(location = 7) out vec3 world_position;
 
 #ifdef SKY_DIFFRACTION_AT_VERTEX
 #include "brdf.glsl"
@@ -58,6 +60,7 @@ void main() {
     vec3 v = frame.camera_pos.xyz - p.xyz;
     patch_view = vec3(dot(v, t), dot(v, b), dot(v, n));
     world_normal = n;
+    world_position = p.xyz;
     patch_axis = vec4(t, in_tangent.w < 0.0 ? -1.0 : 1.0);
     tint = in_pigment;
 #ifdef SKY_DIFFRACTION_AT_VERTEX

@@ -13,6 +13,7 @@
 #endif
 #include "surface_frame.glsl"
 #include "pigment.glsl"
+#include "lamps.glsl"
 #include "map_view.glsl"
 #include "sky_diffraction.glsl" // and panorama.glsl
 #include "twin_push.glsl"
@@ -61,6 +62,8 @@ void main() {
     }
     case TWIN_R2: result.xy = r2(floatBitsToUint(a.x), floatBitsToUint(a.yz)); break;
     case TWIN_TENT: result.x = tent(a.x); break;
+    case TWIN_SPOT_FACTOR: result.x = spot_factor(a.x, a.y, a.z); break;
+    case TWIN_LAMP_LIGHT: result = lamp_light(uint(a.w), a.xyz); break;
 #ifdef BAKED
     case TWIN_TABLE_LOD: result.x = table_lod(a.x); break;
     case TWIN_TABLE_SEGMENT: {

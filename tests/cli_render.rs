@@ -357,3 +357,50 @@ fn a_frame_of_sky_alone_is_metered_on_the_sky() {
         }
     }
 }
+
+/// A frame lit by a lamp alone is in cd/m², and its EXR says so (OpenEXR's whiteLuminance: the luminance of RGB
+/// (1, 1, 1), here 1 cd/m²): a white-0.5 matte ground 1 m under a 2 cd lamp reads 0.5·2/π cd/m² at the lamp's foot
+/// (the frame's middle pixel, seen from straight above). A frame beside the sun says the sun's luminance; one under
+/// the sun alone says it is relative and carries no whiteLuminance.
+#[test]
+fn a_lamp_lit_frame_is_in_candela_per_square_metre_and_its_exr_says_so() {
+    let head = "[camera]\nposition = [0.0, 3.0, 0.0]\ntarget = [0.0, 0.0, 0.0]\nup = [0.0, 0.0, -1.0]\n\
+                fov_y_deg = 40.0\n\n[[object]]\nshape = \"ground\"\nmaterial = \"white\"\n\n[material.white]\n\
+                pigment = [0.5, 0.5, 0.5]\n";
+    let lamp = "\n[[lamp]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity_cd = 2.0\nradius_m = 0.001\n";
+    let header = |light: &str, with_lamp: bool| {
+        let scene = scratch(&format!("lamp-{}-{with_lamp}.toml", light.len()));
+        std::fs::write(&scene, format!("{head}\n[light]\n{light}\n{}", if with_lamp { lamp } else { "" })).unwrap();
+        let (png, exr) = (scene.with_extension("png"), scene.with_extension("exr"));
+        let o = diffract(&[
+            "render",
+            s(&scene),
+            "--width",
+            "33",
+            "--height",
+            "33",
+            "--samples",
+            "1",
+            "--out",
+            s(&png),
+            "--exr",
+            s(&exr),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let meta = exr::meta::MetaData::read_from_file(&exr, false).unwrap();
+        let layer = &meta.headers[0].own_attributes;
+        let comment = layer.comments.as_ref().map(|c| c.to_string()).unwrap_or_default();
+        let middle = image::open(&exr).unwrap().into_rgb32f().get_pixel(16, 16).0;
+        (layer.white_luminance, comment, middle)
+    };
+    let (white, comment, middle) = header("environment = \"none\"", true);
+    assert_eq!(white, Some(1.0));
+    assert!(comment.contains("(1, 1, 1) is 1 cd/m² (lamps alone)"), "{comment}");
+    let luminance = 0.2126 * middle[0] + 0.7152 * middle[1] + 0.0722 * middle[2];
+    let expected = 0.5 * 2.0 / std::f32::consts::PI;
+    assert!((luminance / expected - 1.0).abs() < 0.01, "{luminance} cd/m² against {expected}");
+    let (white, comment, _) = header("environment = \"none\"\ndirection = [0.0, 1.0, 1.0]", true);
+    assert!(white.is_some_and(|l| l > 1e8) && comment.contains("the sun's luminance"), "{white:?} {comment}");
+    let (white, comment, _) = header("environment = \"none\"\ndirection = [0.0, 1.0, 1.0]", false);
+    assert!(white.is_none() && comment.contains("relative"), "{white:?} {comment}");
+}

@@ -59,6 +59,23 @@ vec2 table_uv(mat3 l, mat3 v, vec3 b) {
     return -normalize(l * b).xy - normalize(v * b).xy;
 }
 
+// A triangle's surface inputs at barycentrics `b`, from its three vertices' outputs `o`: what the rasteriser would
+// have interpolated, and the point in the world (the interpolated clip position taken back through the camera).
+SurfaceInputs inputs_at(vec4 o[3][VERTEX_OUTPUT_VEC4S], vec3 b) {
+    vec4 at[VERTEX_OUTPUT_VEC4S];
+    for (uint k = 0u; k < VERTEX_OUTPUT_VEC4S; k++) {
+        at[k] = b.x * o[0][k] + b.y * o[1][k] + b.z * o[2][k];
+    }
+    vec4 point = frame.inverse_view_proj * at[0];
+    return SurfaceInputs(at[1].xyz, at[2].xyz, at[3].xyz, vec3(at[1].w, at[2].w, at[3].w), at[4].xyz,
+                         vec4(at[5].xyz, at[4].w), at[6].xyz, point.xyz / point.w);
+}
+
+// The (u, v) lamp k's light is read at for a surface point.
+vec2 lamp_table_uv(SurfaceInputs s, uint k) {
+    return -lamp_at(s, k).xy - normalize(s.patch_view).xy;
+}
+
 // The ids of the `n` samples of `pixel` (id), and a bit for each that sees the drawn object.
 uint object_samples(ivec2 pixel, int n, out uint id[VISIBILITY_MAX_SAMPLES]) {
     uint samples = 0u;
@@ -99,12 +116,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     }
     vec4 c0 = o[0][0], c1 = o[1][0], c2 = o[2][0];
     vec3 b = barycentrics(c0, c1, c2, ndc);
-    vec4 at[VERTEX_OUTPUT_VEC4S];
-    for (uint k = 1u; k < VERTEX_OUTPUT_VEC4S; k++) {
-        at[k] = b.x * o[0][k] + b.y * o[1][k] + b.z * o[2][k];
-    }
-    SurfaceInputs inputs = SurfaceInputs(at[1].xyz, at[2].xyz, at[3].xyz, vec3(at[1].w, at[2].w, at[3].w),
-                                         at[4].xyz, vec4(at[5].xyz, at[4].w), at[6].xyz);
+    SurfaceInputs inputs = inputs_at(o, b);
     vec4 steps = vec4(0.0);
 #ifdef BAKED
     // The footprint: how far (u, v) moves to the next pixel across and down, on the triangle's plane (the forward
@@ -117,5 +129,18 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     vec2 down = table_uv(light, view, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))) - uv;
     steps = footprint_steps(across, down);
 #endif
-    return float(bitCount(same)) / float(n) * surface_colour(inputs, steps);
+    vec3 rgb = surface_colour(inputs, steps);
+    for (uint k = 0u; k < lamp_count(); k++) {
+        vec4 lamp = lamp_at(inputs, k);
+        vec4 lamp_steps = vec4(0.0);
+#ifdef BAKED
+        // The lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane.
+        vec2 lamp_uv = lamp_table_uv(inputs, k);
+        vec2 lamp_across = lamp_table_uv(inputs_at(o, barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0))), k);
+        vec2 lamp_down = lamp_table_uv(inputs_at(o, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))), k);
+        lamp_steps = footprint_steps(lamp_across - lamp_uv, lamp_down - lamp_uv);
+#endif
+        rgb += lamp_colour(inputs, lamp, lamp_steps);
+    }
+    return float(bitCount(same)) / float(n) * rgb;
 }

@@ -269,6 +269,9 @@ fn prepare(
     if let Some(environment) = &scene.environment {
         errln!("{}", environment.describe());
     }
+    if !scene.lamps.is_empty() {
+        errln!("{}", crate::light::lamp::describe(&scene.lamps, scene.sun));
+    }
     for (m, material) in scene.materials.iter().zip(&materials) {
         if m.matte {
             errln!("material {:?}: matte (its pigment only: no grating, no skin)", m.name);
@@ -318,7 +321,8 @@ fn render_frames(
             &crate::display::tone::to_rgba8(linear, ev, args.tone),
         )?;
         if let Some(exr) = &args.exr {
-            crate::io::output::write_exr_rgb(&numbered(exr, f, args.frames), width, height, linear)?;
+            let units = scene.frame_units(view.light_dir);
+            crate::io::output::write_exr_rgb_in(&numbered(exr, f, args.frames), width, height, linear, &units)?;
         }
         times.extend(frame.times);
         bar.detail(png.display().to_string());

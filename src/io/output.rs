@@ -179,8 +179,21 @@ pub fn write_png_gray16(path: &Path, width: u32, height: u32, grey: Vec<u16>) ->
     write_file(path, &encode(path, img.into(), image::ImageFormat::Png)?)
 }
 
+/// What a frame's values mean, written into its EXR: OpenEXR's standard `whiteLuminance` (the luminance in cd/m²
+/// of RGB (1, 1, 1)) where the frame is in physical units, and a line that says so (its `comments`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameUnits {
+    pub white_luminance: Option<f64>,
+    pub comment: String,
+}
+
 /// Writes linear RGB (from RGBA float pixels, top row first) as an OpenEXR file with 32-bit float R, G, B.
 pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Result<()> {
+    write_exr_rgb_in(path, width, height, rgba, &FrameUnits::default())
+}
+
+/// [`write_exr_rgb`], saying the frame's `units` in its header.
+pub fn write_exr_rgb_in(path: &Path, width: u32, height: u32, rgba: &[f32], units: &FrameUnits) -> Result<()> {
     check_exr_path(path)?;
     use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage};
     let (w, h) = (width as usize, height as usize);
@@ -193,7 +206,10 @@ pub fn write_exr_rgb(path: &Path, width: u32, height: u32, rgba: &[f32]) -> Resu
         let i = 4 * (y * w + x);
         (rgba[i], rgba[i + 1], rgba[i + 2])
     });
-    let image = Image::from_encoded_channels((w, h), Encoding::SMALL_LOSSLESS, channels);
+    let mut image = Image::from_encoded_channels((w, h), Encoding::SMALL_LOSSLESS, channels);
+    let attributes = &mut image.layer_data.attributes;
+    attributes.white_luminance = units.white_luminance.map(|l| l as f32);
+    attributes.comments = (!units.comment.is_empty()).then(|| exr::prelude::Text::from(units.comment.as_str()));
     let mut bytes = std::io::Cursor::new(Vec::new());
     image.write().to_buffered(&mut bytes).map_err(|e| Error::output(path, e))?;
     write_file(path, &bytes.into_inner())

@@ -15,6 +15,7 @@ use std::time::Instant;
 use glam::DVec3;
 
 use crate::error::{Error, Result};
+use crate::gpu::interface::MAX_LAMPS;
 use crate::io::cache::KeyHash;
 use crate::io::progress::Progress;
 use crate::physics::coherence::CoherenceWindow;
@@ -39,21 +40,34 @@ pub const CHECK_STEP_NM: f64 = 0.5;
 const CHECK_PIXELS: usize = 64;
 /// Bumped whenever the reference's definition or its cache format changes: cached images of other versions are
 /// recomputed. (2: XYZ stored only for the pixels that count; 3: a pixel's diffraction weighted by the sun's
-/// visible share; 4: exact Fresnel, not Schlick's.)
-const CACHE_VERSION: u32 = 4;
+/// visible share; 4: exact Fresnel, not Schlick's; 5: the lamps' diffraction.)
+const CACHE_VERSION: u32 = 5;
 /// The seed of the random pixels a sampled reference keeps (fixed: a profile repeats, and its reference caches).
 pub const SAMPLE_SEED: u64 = 0x5eed_d1ff_7ac7;
 
 /// One pixel to evaluate: patch-frame unit directions to the light and to the viewer, the material seen, the
-/// weight of its diffraction (the share of the sun no shadow hides; 0 for a matte material), and light that does
-/// not diffract (a scene's pigment term, XYZ) added as it is.
+/// weight of its diffraction (the share of the sun no shadow hides; 0 for a matte material), the lamps' directions
+/// and weights, and light that does not diffract (a scene's pigment term, XYZ) added as it is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelQuery {
     pub omega_i: DVec3,
     pub omega_r: DVec3,
     pub material: usize,
     pub diffracted: f64,
+    /// Each lamp's patch-frame unit direction and the weight of its diffraction (its irradiance at normal incidence
+    /// over the sun's, Ω_sun times the frame's unit: `Scene::unit_luminance`); zero weight for no lamp.
+    pub lamps: [(DVec3, f64); MAX_LAMPS as usize],
     pub extra_xyz: DVec3,
+}
+
+/// No lamp lights the pixel.
+pub const NO_LAMPS: [(DVec3, f64); MAX_LAMPS as usize] = [(DVec3::ZERO, 0.0); MAX_LAMPS as usize];
+
+impl PixelQuery {
+    /// Each light that diffracts here: (patch-frame direction, weight), the sun's first.
+    pub fn lights(&self) -> impl Iterator<Item = (DVec3, f64)> + '_ {
+        std::iter::once((self.omega_i, self.diffracted)).chain(self.lamps.iter().copied()).filter(|l| l.1 > 0.0)
+    }
 }
 
 /// A material as the reference sees it: its height field, coherence length and the light's spectrum.
@@ -102,6 +116,7 @@ impl ReferenceJob<'_> {
                     omega_r,
                     material: 0,
                     diffracted: 1.0,
+                    lamps: NO_LAMPS,
                     extra_xyz: DVec3::ZERO,
                 })
             })
@@ -156,6 +171,12 @@ impl ReferenceJob<'_> {
                 Some(q) => {
                     h.u64(q.material as u64);
                     h.f64(q.diffracted);
+                    for &(omega_i, weight) in &q.lamps {
+                        h.f64(weight);
+                        h.f64(omega_i.x);
+                        h.f64(omega_i.y);
+                        h.f64(omega_i.z);
+                    }
                     for v in [q.omega_i, q.omega_r, q.extra_xyz] {
                         h.f64(v.x);
                         h.f64(v.y);
@@ -197,12 +218,13 @@ impl ReferenceJob<'_> {
         };
         let (fine_gains, check_gains) = (gains(&fine), gains(&check));
         let pixel = |q: &PixelQuery, samplings: &[Sampling], gains: &[f64]| {
-            let diffraction = if q.diffracted > 0.0 {
-                references[q.material].flss_xyz(q.omega_i, q.omega_r, &samplings[q.material]) * gains[q.material]
-            } else {
-                DVec3::ZERO
-            };
-            diffraction * q.diffracted + q.extra_xyz
+            let (reference, sampling) = (&references[q.material], &samplings[q.material]);
+            let gain = gains[q.material];
+            let diffraction: DVec3 = q
+                .lights()
+                .map(|(omega_i, weight)| reference.flss_xyz(omega_i, q.omega_r, sampling) * gain * weight)
+                .sum();
+            diffraction + q.extra_xyz
         };
         let xyz = evaluate_rows(self, |q| pixel(q, &fine, &fine_gains));
         let quadrature = quadrature_check(self, |q| pixel(q, &check, &check_gains), &xyz);
@@ -237,7 +259,7 @@ impl ReferenceJob<'_> {
             .iter()
             .flatten()
             .filter(|q| q.material == i)
-            .map(|q| (q.omega_i.z + q.omega_r.z).abs())
+            .flat_map(|q| q.lights().map(move |(omega_i, _)| (omega_i.z + q.omega_r.z).abs()))
             .fold(0.0, f64::max);
         exact_reference(m.heightfield, m.coherence_um, w_max)
     }

@@ -41,10 +41,12 @@ pub enum Twin {
     TableLod,
     TableSegment,
     BakedXyz,
+    SpotFactor,
+    LampLight,
 }
 
 impl Twin {
-    pub const ALL: [Twin; 23] = [
+    pub const ALL: [Twin; 25] = [
         Twin::FresnelReflectance,
         Twin::FresnelRatio,
         Twin::GainFactor,
@@ -68,6 +70,8 @@ impl Twin {
         Twin::TableLod,
         Twin::TableSegment,
         Twin::BakedXyz,
+        Twin::SpotFactor,
+        Twin::LampLight,
     ];
 
     /// The GLSL function (its include under `glsl/include/`) and its Rust twin (under the crate's root).
@@ -98,6 +102,8 @@ impl Twin {
             Twin::TableLod => ("baked.glsl: table_lod", "physics::baked::BakedTable::lod"),
             Twin::TableSegment => ("baked.glsl: table_segment", "physics::baked::Grid::segment_of"),
             Twin::BakedXyz => ("baked.glsl: baked_xyz", "physics::baked::BakedTable::xyz_filtered"),
+            Twin::SpotFactor => ("lamps.glsl: spot_factor", "light::lamp::spot_factor"),
+            Twin::LampLight => ("lamps.glsl: lamp_light", "light::lamp::Lamp::light_at"),
         }
     }
 
@@ -127,6 +133,8 @@ impl Twin {
             Twin::TableLod => gi::TWIN_TABLE_LOD,
             Twin::TableSegment => gi::TWIN_TABLE_SEGMENT,
             Twin::BakedXyz => gi::TWIN_BAKED_XYZ,
+            Twin::SpotFactor => gi::TWIN_SPOT_FACTOR,
+            Twin::LampLight => gi::TWIN_LAMP_LIGHT,
         }
     }
 

@@ -64,7 +64,9 @@ fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments:
 }
 
 /// What each material of `scene` must serve when drawn at `width`×`height` from each of `views` (camera, world
-/// direction towards the light): the (u, v, w) and footprints its pixels see, from a G-buffer of every view.
+/// direction towards the light): the (u, v, w) and footprints its pixels see, from a G-buffer of every view. Under
+/// lamps, whose light reaches each pixel from its own direction, a material seen lit serves the whole hemisphere at
+/// its pixels' footprint.
 pub fn scene_reaches(
     ctx: &Context,
     scene: &Scene,
@@ -78,7 +80,17 @@ pub fn scene_reaches(
             Ok(GBuffer::draw(ctx, scene, (camera, *light), (width, height), false)?.reaches(scene.materials.len()))
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok(merge_reaches(&frames, scene.materials.len()))
+    let reaches = merge_reaches(&frames, scene.materials.len());
+    Ok(match scene.lamps.is_empty() {
+        true => reaches,
+        false => reaches
+            .into_iter()
+            .map(|r| match r {
+                Reach::Seen { footprint, .. } => Reach::Hemisphere { footprint },
+                other => other,
+            })
+            .collect(),
+    })
 }
 
 /// The renderer's view of `scene`'s materials (from [`prepare_materials`], in the same order).

@@ -25,8 +25,9 @@ use crate::scene::camera::Camera;
 use crate::scene::Scene;
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
-/// (world normal, the sun's visible share), (the patch's x axis in the world, its handedness).
-const PARTS: u32 = 5;
+/// (world normal, the sun's visible share), (the patch's x axis in the world, its handedness), (the point in the
+/// world).
+const PARTS: u32 = 6;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
 /// seen at a glance, which would size a table for nothing else).
 const FOOTPRINT_PERCENTILE: f64 = 0.05;
@@ -53,6 +54,9 @@ pub struct Seen {
     /// The patch frame in the world (columns x, y, z: d = frame·ω), where the G-buffer was drawn `with_normals`
     /// (zero otherwise): how the environment is seen from the patch.
     pub frame: glam::DMat3,
+    /// The point in the world, where the G-buffer was drawn `with_normals` (zero otherwise): where the lamps are
+    /// seen from.
+    pub position: DVec3,
 }
 
 /// A frame's G-buffer: rows top first, None where no surface is seen.
@@ -88,7 +92,8 @@ impl Parts {
 
 impl GBuffer {
     /// Draws `scene` from `camera` under `light_dir` (world, towards the light) at `width`×`height`; the world
-    /// normals and patch frames too (a fourth and a fifth pass, for the exact reference's sky terms) `with_normals`.
+    /// normals, patch frames and points too (a fourth, fifth and sixth pass, for the exact reference's sky and lamp
+    /// terms) `with_normals`.
     pub fn draw(
         ctx: &Context,
         scene: &Scene,
@@ -100,14 +105,14 @@ impl GBuffer {
         let count = if with_normals {
             PARTS
         } else if scene.shadows {
-            PARTS - 1
-        } else {
             PARTS - 2
+        } else {
+            PARTS - 3
         };
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), count, &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
-        let [light, view, skin, normals, axes] = drawn?;
+        let [light, view, skin, normals, axes, points] = drawn?;
         let vec = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
         let pixels = light
             .chunks(4)
@@ -127,11 +132,15 @@ impl GBuffer {
                     sun_visible: normals.get(4 * i + 3).map_or(1.0, |&v| f64::from(v)),
                     frame: match (normals.get(4 * i..4 * i + 3), axes.get(4 * i..4 * i + 4)) {
                         (Some(n), Some(a)) => {
-                            let (z, x) = (vec(n).normalize_or_zero(), vec(a).normalize_or_zero());
+                            // As the surface pass has it (surface_shade.glsl's `patch_direction`): the axis made
+                            // orthogonal to the interpolated normal.
+                            let z = vec(n).normalize_or_zero();
+                            let x = (vec(a) - z * z.dot(vec(a))).normalize_or_zero();
                             glam::DMat3::from_cols(x, z.cross(x) * f64::from(a[3]), z)
                         }
                         _ => glam::DMat3::ZERO,
                     },
+                    position: points.get(4 * i..4 * i + 3).map_or(DVec3::ZERO, vec),
                 })
             })
             .collect();
@@ -216,6 +225,7 @@ impl GBuffer {
             sky_sh,
             sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
+            lamps: crate::light::lamp::LampUniforms::new(&scene.lamps, scene.unit_luminance(light_dir)),
         };
         let mut all = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {

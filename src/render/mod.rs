@@ -121,6 +121,8 @@ pub struct SceneView {
     /// The environment whose light the objects reflect (its specular reflection; None: no environment).
     pub lighting: Option<crate::scene::Environment>,
     pub background: [f32; 4],
+    /// The lamps, in the frame's units (`light::lamp::LampUniforms`).
+    pub lamps: crate::light::lamp::LampUniforms,
 }
 
 impl SceneView {
@@ -143,6 +145,7 @@ impl SceneView {
             behind: scene.environment.clone().filter(|_| scene.environment_behind),
             lighting: scene.environment.clone(),
             background: [r, g, b, 1.0],
+            lamps: crate::light::lamp::LampUniforms::new(&scene.lamps, scene.unit_luminance(light_dir)),
         }
     }
 

@@ -179,6 +179,8 @@ pub struct ObjectView<'a> {
     pub sky_quadratic: [[f32; 4]; 10],
     /// Where the sun's shadow map lies (`SurfaceUniforms::shadow_view_proj` and `shadow`).
     pub shadow: ShadowUniforms,
+    /// The lamps (`SurfaceUniforms::lamps`).
+    pub lamps: crate::light::lamp::LampUniforms,
 }
 
 impl ObjectView<'_> {
@@ -189,8 +191,9 @@ impl ObjectView<'_> {
         let normal = Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
         let [cos, sin] = orientation;
         let [r, g, b] = pigment;
+        let view_proj = self.camera.view_projection(self.aspect);
         SurfaceUniforms {
-            view_proj: self.camera.view_projection(self.aspect).to_cols_array_2d(),
+            view_proj: view_proj.to_cols_array_2d(),
             model: model.to_cols_array_2d(),
             normal_matrix: normal.to_cols_array_2d(),
             camera_pos: self.camera.position.extend(1.0).to_array(),
@@ -202,6 +205,9 @@ impl ObjectView<'_> {
             shadow: self.shadow.lookup,
             shadow_penumbra: self.shadow.penumbra,
             sky_quadratic: self.sky_quadratic,
+            inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
+            lamp_count: self.lamps.count,
+            lamps: self.lamps.lamps,
         }
     }
 }
@@ -359,6 +365,7 @@ impl SceneGpu {
             sky_sh: view.sky_sh,
             sky_quadratic: crate::light::prefilter::sky_quadratic(&view.sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), self.shadow.size()),
+            lamps: view.lamps,
         };
         let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(&view.models) {

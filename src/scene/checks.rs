@@ -124,11 +124,14 @@ pub(super) struct Light {
     /// World-space unit vector towards the light.
     pub light_dir: Vec3,
     pub illuminant: Illuminant,
+    /// Whether a sun lights the scene (not where a map or the lamps light it alone).
+    pub sun: bool,
 }
 
 /// The `[light]` table, checked: a finite, non-zero direction, the environment ([`environment`]) and the
-/// spectrum ([`illuminant`]).
-pub(super) fn light(loc: &Locator<'_>, base: &Path, def: &LightDef) -> Result<Light> {
+/// spectrum ([`illuminant`]); `lamps`: whether the scene has lamps (which may light it alone, and put it in physical
+/// units).
+pub(super) fn light(loc: &Locator<'_>, base: &Path, def: &LightDef, lamps: bool) -> Result<Light> {
     let direction = match &def.direction {
         Some(d) => Some(
             DVec3::from(*d.get_ref())
@@ -141,19 +144,26 @@ pub(super) fn light(loc: &Locator<'_>, base: &Path, def: &LightDef) -> Result<Li
         ),
         None => None,
     };
-    let (environment, light_dir) = environment(loc, base, def, direction)?;
-    let illuminant = illuminant(loc, base, def, environment.as_ref(), light_dir)?;
-    Ok(Light { environment, light_dir, illuminant })
+    let lamps_alone = lamps && direction.is_none() && environment_kind(loc, def)?.is_none();
+    let (environment, light_dir) = match lamps_alone {
+        true => (None, Vec3::Y),
+        false => environment(loc, base, def, direction)?,
+    };
+    let alone = matches!(&environment, Some(Environment::Map(m)) if m.sun == MapSun::Alone);
+    let sun = !(lamps_alone || alone);
+    let illuminant = illuminant(loc, base, def, (environment.as_ref(), lamps, sun), light_dir)?;
+    Ok(Light { environment, light_dir, illuminant, sun })
 }
 
 /// `[light] illuminant`, or the light's own where it names none: a map's sun's colour (upsampled from its RGB), the
-/// sky model's sun at the light's elevation under an environment, else D65. Under an environment the frame is in
-/// physical units: the diffraction in its true ratio to the sky-lit pigment.
+/// sky model's sun at the light's elevation under an environment or beside lamps, else D65. Under an environment
+/// or lamps the frame is in physical units: the diffraction in its true ratio to the sky-lit pigment, the lamps in
+/// theirs to the sun.
 fn illuminant(
     loc: &Locator<'_>,
     base: &Path,
     def: &LightDef,
-    environment: Option<&Environment>,
+    (environment, lamps, sun_lit): (Option<&Environment>, bool, bool),
     light_dir: Vec3,
 ) -> Result<Illuminant> {
     let direction_span = def.direction.as_ref().map_or(0..0, |d| d.span());
@@ -178,10 +188,10 @@ fn illuminant(
         (Some(ill), _) => Illuminant::parse(ill.get_ref(), base).map_err(|e| loc.at(ill.span(), e))?,
         // Under an environment the sun is the sky model's (none lights a map alone: its colour is unused).
         (None, Some(MapSun::Alone)) => Illuminant::d65(),
-        (None, _) if environment.is_some() => sun(direction_span)?,
+        (None, _) if environment.is_some() || (lamps && sun_lit) => sun(direction_span)?,
         (None, _) => Illuminant::d65(),
     };
-    Ok(if environment.is_some() { illuminant.physical() } else { illuminant })
+    Ok(if environment.is_some() || lamps { illuminant.physical() } else { illuminant })
 }
 
 /// `[light] environment`, `turbidity`, `rotation_deg` and `intensity`: the sky, a map, or none; refused where the
@@ -198,7 +208,8 @@ fn environment(
         direction.ok_or_else(|| {
             loc.whole(
                 "[light] direction is missing: the direction towards the sun (it may be left out only under \
-                 environment = \"FILE.exr\", whose map then gives the sun, or lights the scene alone)",
+                 environment = \"FILE.exr\", whose map then gives the sun, or lights the scene alone, and under \
+                 environment = \"none\" with [[lamp]]s, which then light it alone)",
             )
         })
     };

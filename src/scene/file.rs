@@ -52,6 +52,27 @@ pub(super) struct SceneFile {
     pub(super) material: BTreeMap<String, Spanned<MaterialDef>>,
     #[serde(default)]
     pub(super) render: RenderDef,
+    #[serde(default, rename = "lamp")]
+    pub(super) lamps: Vec<Spanned<LampDef>>,
+}
+
+/// A `[[lamp]]`: a point or spot light (`light::lamp`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct LampDef {
+    /// "point" or "spot".
+    pub(super) kind: Spanned<String>,
+    /// Where it is, world units (metres).
+    pub(super) position: Spanned<[f64; 3]>,
+    /// Its luminous intensity, cd (a spot's along its axis).
+    pub(super) intensity_cd: Spanned<f64>,
+    /// The emitting disc's radius, m (default 0.01).
+    pub(super) radius_m: Option<Spanned<f64>>,
+    /// A spot's axis, from the lamp.
+    pub(super) direction: Option<Spanned<[f64; 3]>>,
+    /// A spot's half-angle and its edge's width, degrees.
+    pub(super) cone_deg: Option<Spanned<f64>>,
+    pub(super) soft_deg: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]

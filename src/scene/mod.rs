@@ -7,6 +7,7 @@
 pub mod camera;
 mod checks;
 mod file;
+mod lamps;
 mod light;
 pub mod mesh;
 mod objects;
@@ -52,6 +53,10 @@ pub struct Scene {
     pub objects: Vec<SceneObject>,
     pub materials: Vec<SceneMaterial>,
     pub render: RenderSettings,
+    /// The lamps (`[[lamp]]`), in world units of metres: with any, the frame is in physical units.
+    pub lamps: Vec<crate::light::lamp::Lamp>,
+    /// Whether a sun lights the scene: not where a map without one or the lamps light it alone.
+    pub sun: bool,
     /// The files the scene was read from, each with what it is: the scene file itself (where it was loaded from a
     /// file), its height fields, meshes, environment map and measured illuminant — what no output of a run may be.
     pub files: Vec<(String, PathBuf)>,
@@ -72,19 +77,57 @@ impl Scene {
     /// light the overrides name is in physical units too.
     pub fn material_settings(&self, m: &SceneMaterial, overrides: &crate::material::SettingsPatch) -> Settings {
         let mut s = overrides.apply(m.settings);
-        if self.environment.is_some() {
+        if self.environment.is_some() || !self.lamps.is_empty() {
             s.illuminant = s.illuminant.physical();
         }
         s
     }
 
-    /// How much of the directional sun lights the scene: 1, or 0 where a map without a sun lights it alone
-    /// (`SurfaceUniforms::light_dir`'s w).
+    /// How much of the directional sun lights the scene: 1, or 0 where a map without a sun or the lamps light it
+    /// alone (`SurfaceUniforms::light_dir`'s w).
     pub fn sun_strength(&self) -> f32 {
-        match &self.environment {
-            Some(Environment::Map(m)) if m.sun == MapSun::Alone => 0.0,
-            _ => 1.0,
+        if self.sun {
+            1.0
+        } else {
+            0.0
         }
+    }
+
+    /// The frame's unit of luminance for the sun towards `light_dir`, cd/m²: the sun's own where it is in physical
+    /// units (under an environment, or beside lamps: the sky model's sun), 1 where the lamps light the scene alone
+    /// or the sun is below the horizon (the frame in cd/m²), the map's own units under a map alone. What a lamp's
+    /// candela are divided by (`light::lamp::LampUniforms`).
+    pub fn unit_luminance(&self, light_dir: Vec3) -> f64 {
+        if !self.sun {
+            return 1.0;
+        }
+        let sun = match &self.environment {
+            Some(env) => env.sun_luminance(light_dir),
+            None => crate::physics::sky::Sky::new(crate::physics::illuminant::SUN_TURBIDITY, light_dir.as_dvec3())
+                .ok()
+                .map(|s| s.sun_xyz().y),
+        };
+        sun.filter(|l| *l > 0.0 && l.is_finite()).unwrap_or(1.0)
+    }
+
+    /// What a frame of the scene under the sun towards `light_dir` holds (its EXR says so): in physical units
+    /// (under an environment or lamps) the luminance of RGB (1, 1, 1) in cd/m² — the sun's luminance, or 1 where
+    /// lamps light the scene alone —; a map's own units under a map alone; else the thesis's relative units.
+    pub fn frame_units(&self, light_dir: Vec3) -> crate::io::output::FrameUnits {
+        let map_alone = !self.sun && self.lamps.is_empty();
+        let (white_luminance, comment) = if map_alone {
+            (None, "linear sRGB in the environment map's own units (no sun)".to_string())
+        } else if self.environment.is_some() || !self.lamps.is_empty() {
+            let unit = self.unit_luminance(light_dir);
+            let what = match self.sun {
+                true => "the sun's luminance",
+                false => "1 cd/m² (lamps alone)",
+            };
+            (Some(unit), format!("linear sRGB, physical: (1, 1, 1) is {what}, {unit:.6e} cd/m²"))
+        } else {
+            (None, "linear sRGB, relative: the sun's glint in a flat mirror of reflectance 1 is 1".to_string())
+        };
+        crate::io::output::FrameUnits { white_luminance, comment }
     }
 
     /// The built-in default scene.
@@ -103,7 +146,9 @@ impl Scene {
             }
         })?;
         let camera = checks::camera(&loc, &file.camera)?;
-        let checks::Light { environment, light_dir, illuminant } = checks::light(&loc, base, &file.light)?;
+        let lamps = lamps::lamps(&loc, &file.lamps)?;
+        let checks::Light { environment, light_dir, illuminant, sun } =
+            checks::light(&loc, base, &file.light, !lamps.is_empty())?;
         let mut materials = Vec::new();
         let mut index = BTreeMap::new();
         for (mat_name, def) in &file.material {
@@ -122,12 +167,14 @@ impl Scene {
             checks::amount(*a.get_ref(), checks::MAX_LEVEL, "[light] ambient").map_err(|e| loc.at(a.span(), e))
         })?;
         let grounded = objects.iter().any(|o| !o.casts_shadow);
-        let alone = matches!(&environment, Some(Environment::Map(m)) if m.sun == MapSun::Alone);
-        // Without a sun there is nothing to cast a shadow.
-        let shadows = file.light.shadows.unwrap_or(grounded) && !alone;
+        // Without a sun there is nothing to cast a shadow (lamps cast none yet).
+        let shadows = file.light.shadows.unwrap_or(grounded) && sun;
         let environment_behind = environment.is_some() && file.render.background.is_none();
         if let (Some(env), Some(_)) = (&environment, file.render.background) {
             checks::background_units_warning(env, light_dir, render.background);
+        }
+        if !lamps.is_empty() {
+            log::warn!("the scene's lamps cast no shadows yet: each lights every surface that faces it");
         }
         let files = read_files(&file, base, environment.as_ref(), illuminant);
         Ok(Self {
@@ -142,6 +189,8 @@ impl Scene {
             objects,
             materials,
             render,
+            lamps,
+            sun,
             files,
         })
     }

@@ -7,6 +7,7 @@ mod env_map;
 mod environment;
 mod golden;
 mod harness;
+mod lamps;
 mod scenes;
 mod shadow;
 mod surface;

@@ -44,6 +44,7 @@ fn scene(tangent_deg: f32, handedness: f32) -> (Mesh, SceneView) {
         behind: None,
         lighting: None,
         background: [0.0, 0.0, 0.0, 1.0],
+        lamps: diffract::light::lamp::LampUniforms::NONE,
     };
     (mesh, view)
 }

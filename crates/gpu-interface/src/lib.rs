@@ -276,6 +276,9 @@ shared! {
     pub const VERTEX_OUTPUT_VEC4S: u32 = 7;
     /// The most samples per pixel the visibility buffer's shading pass reads.
     pub const VISIBILITY_MAX_SAMPLES: u32 = 8;
+    /// The most lamps a scene holds (`SurfaceUniforms::lamps`, `light::lamp`), and the vec4s each takes there.
+    pub const MAX_LAMPS: u32 = 8;
+    pub const LAMP_VEC4S: u32 = 3;
     /// The moments' grid per axis and texture layers (`light::prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
     pub const MOMENT_GRID: u32 = 32;
     pub const MOMENT_LAYERS: u32 = 23;
@@ -314,6 +317,8 @@ shared! {
     pub const TWIN_TABLE_LOD: u32 = 20;
     pub const TWIN_TABLE_SEGMENT: u32 = 21;
     pub const TWIN_BAKED_XYZ: u32 = 22;
+    pub const TWIN_SPOT_FACTOR: u32 = 23;
+    pub const TWIN_LAMP_LIGHT: u32 = 24;
 
     section "Workgroup sizes.";
     /// Invocations per workgroup of every compute shader (`local_size_x`); dispatches divide by it.
@@ -494,8 +499,17 @@ gpu_struct! {
         /// The environment's radiance to l = 2 as a quadratic form of the world direction (`light::prefilter::Quadratic`:
         /// c₀, c, Q), in units of the sun's radiance; `sky_quadratic[0].w` 1 where the material diffracts it.
         pub sky_quadratic: [[f32; 4]; 10],
+        /// Clip space → world (`view_proj` inverted): where the visibility buffer's shading finds a pixel's point.
+        pub inverse_view_proj: [[f32; 4]; 4],
+        /// The number of lamps, 0, 0, 0.
+        pub lamp_count: [f32; 4],
+        /// The lamps (`light::lamp::LampUniforms`), LAMP_VEC4S each: (position (world), intensity over the
+        /// frame's unit of luminance, m²), (a spot's axis from the lamp, its cone's half-angle in degrees; a point
+        /// lamp's cone 360), (the edge's width in degrees, the disc's radius squared (m²), 0, 0).
+        pub lamps: [[f32; 4]; 24],
     }
 }
+const _: () = assert!(MAX_LAMPS * LAMP_VEC4S == 24, "SurfaceUniforms::lamps holds MAX_LAMPS lamps");
 
 gpu_struct! {
     /// The preview pass's per-frame uniforms (`frame`, read through `glsl/include/preview_frame.glsl`).

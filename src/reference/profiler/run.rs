@@ -285,6 +285,18 @@ fn normal_turn(ctx: &Context, scene: &Scene, fine: (u32, u32), samples: u32) -> 
     Ok(Some((median, crate::io::stats::percentile(&mut turns, 0.9))))
 }
 
+/// Each lamp of `scene` as a pixel that shows `seen` sees it: its patch-frame direction and the weight of its light
+/// (its irradiance at normal incidence over Ω_sun times the frame's unit luminance `unit`: what the sun's is 1 of),
+/// as glsl/include/lamps.glsl and surface_shade.glsl's `lamp_colour` have them.
+fn lamp_lights(scene: &Scene, seen: &Seen, unit: f64) -> [(DVec3, f64); crate::gpu::interface::MAX_LAMPS as usize] {
+    let mut out = crate::reference::exact_image::NO_LAMPS;
+    for (lamp, slot) in scene.lamps.iter().zip(&mut out) {
+        let (l, irradiance) = lamp.light_at(seen.position);
+        *slot = (seen.frame.transpose() * l, irradiance / unit / optics::SUN_SOLID_ANGLE);
+    }
+    out
+}
+
 /// What each pixel of `scene` at `size` asks of the exact reference: the directions come from the GPU's
 /// rasteriser (the same triangles, the same fragments as the frames); everything after them (the BRDF, the
 /// pigment term) is evaluated on the CPU.
@@ -298,6 +310,7 @@ fn scene_pixels(
     let whites: Vec<DVec3> = lights.iter().map(|&(_, illuminant)| spectrum::white_rgb(illuminant)).collect();
     let gbuffer = GBuffer::draw(ctx, scene, (&scene.camera, scene.light_dir), size, true)?;
     let ambient = f64::from(scene.ambient);
+    let unit = scene.unit_luminance(scene.light_dir);
     // The environment's irradiance, as the shaders have it (the same nine coefficients, in f32).
     let sky = crate::physics::sh::Irradiance {
         coefficients: scene
@@ -345,12 +358,19 @@ fn scene_pixels(
                 };
                 m.radiance(omega_r, &quadratic, frame, mirror)
             });
+            let lamps = lamp_lights(scene, seen.as_ref()?, unit);
+            let lamps_rgb: DVec3 = lamps
+                .iter()
+                .filter(|l| l.1 > 0.0)
+                .map(|&(l, weight)| optics::pigment_rgb(l, omega_r, 0.0, albedo, 0.0, optics::Lit::OPEN) * weight)
+                .sum();
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
                 + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), true)
-                + sky_diffraction;
+                + sky_diffraction
+                + lamps_rgb * whites[material];
             let diffracted = sun_visible;
             let extra_xyz = crate::physics::colour::linear_srgb_to_xyz(extra_rgb);
-            Some(PixelQuery { omega_i, omega_r, material, diffracted, extra_xyz })
+            Some(PixelQuery { omega_i, omega_r, material, diffracted, lamps, extra_xyz })
         })
         .collect())
 }

@@ -436,3 +436,55 @@ fn the_table_of_twins_in_architecture_md_is_the_list_here() {
     let rows = table.lines().filter(|l| l.starts_with("| `") && l.contains(".glsl: ")).count();
     assert!(rows >= Twin::ALL.len(), "{rows} rows");
 }
+
+#[test]
+fn the_lamps_are_their_twins() {
+    use crate::light::lamp::{spot_factor, Lamp, Spot};
+    // Across the edge, inside, beyond, a hard edge and a point lamp's 360° cone.
+    let cases: Vec<[f32; 3]> = (0..=60)
+        .map(|k| [k as f32, 30.0, 10.0])
+        .chain([[29.0, 30.0, 0.0], [31.0, 30.0, 0.0], [180.0, 360.0, 0.0], [0.0, 90.0, 90.0]])
+        .collect();
+    let points: Vec<Point> = cases.iter().map(|c| point(&[[c[0], c[1], c[2], 0.0]])).collect();
+    let cpu: Vec<[f64; 4]> =
+        cases.iter().map(|c| [spot_factor(c[0].into(), c[1].into(), c[2].into()), 0.0, 0.0, 0.0]).collect();
+    assert_close("spot_factor", &gpu(Twin::SpotFactor, &points, Resources::default()), &cpu, 1, 1e-5);
+    // A point lamp and a spot, seen from points near and far, inside the beam, on its edge and outside it.
+    let spot = Spot { direction: DVec3::new(0.3, -1.0, 0.2).normalize(), cone_deg: 35.0, soft_deg: 12.0 };
+    let lamps = [
+        Lamp { position: DVec3::new(0.5, 2.0, -1.0), intensity_cd: 80.0, radius_m: 0.02, spot: None },
+        Lamp { position: DVec3::new(-1.0, 1.5, 0.5), intensity_cd: 250.0, radius_m: 0.1, spot: Some(spot) },
+    ];
+    let unit = 3.0;
+    let uniforms = crate::light::lamp::LampUniforms::new(&lamps, unit);
+    let frame = SurfaceUniforms { lamp_count: uniforms.count, lamps: uniforms.lamps, ..bytemuck::Zeroable::zeroed() };
+    let (mut points, mut cpu, mut beams) = (Vec::new(), Vec::new(), Vec::new());
+    // The spot's beam swept from its axis across its edge, besides directions all round.
+    let side = spot.direction.any_orthonormal_vector();
+    let beam = (0..=40).map(|deg| DMat3::from_axis_angle(side, f64::from(deg).to_radians()) * spot.direction);
+    for (k, lamp) in lamps.iter().enumerate() {
+        let sweep: Vec<DVec3> = if k == 1 { beam.clone().collect() } else { Vec::new() };
+        for p in directions(40, 11 + k as u64).into_iter().chain(sweep) {
+            let at = lamp.position + p * (0.01 + 3.0 * (p.x * 0.5 + 0.5));
+            let given = point(&[v4(at, k as f64)]);
+            let (l, e) = lamp.light_at(d3(given[0]));
+            let full = lamp.intensity_cd / ((lamp.position - d3(given[0])).length_squared() + lamp.radius_m.powi(2));
+            points.push(given);
+            cpu.push([l.x, l.y, l.z, e / unit]);
+            beams.push(full / unit);
+        }
+    }
+    let resources = Resources { frame: Some(&frame), ..Resources::default() };
+    let gpu = gpu(Twin::LampLight, &points, resources);
+    assert_close("lamp_light's direction", &gpu, &cpu, 3, 1e-5);
+    // The irradiance to 1e-5 of itself where the beam is full; on a spot's edge the smoothstep's slope (1/8 per
+    // degree at most here) turns the GPU's acos (llvmpipe's, good to about 1e-4 rad) into up to 1e-3 of the beam's
+    // full irradiance there.
+    for (i, ((g, c), full)) in gpu.iter().zip(&cpu).zip(&beams).enumerate() {
+        let off = (f64::from(g[3]) - c[3]).abs();
+        assert!(off <= 1e-5 * c[3] + 1e-3 * full, "lamp_light, point {i}: GPU {} vs CPU {} (full {full})", g[3], c[3]);
+    }
+    assert!(gpu.iter().zip(&cpu).any(|(g, c)| g[3] == 0.0 && c[3] == 0.0), "some points lie outside the beam");
+    let lit = cpu[40..].iter().filter(|c| c[3] > 0.0).count();
+    assert!(lit >= 20, "and some inside it: {lit} of 81");
+}

@@ -1,0 +1,30 @@
+// Lamps (`light::lamp`, their twin: the same names): point and spot lights in `frame.lamps`, LAMP_VEC4S each
+// (`light::lamp::LampUniforms`): (position, intensity over the frame's unit of luminance), (a spot's axis,
+// its cone's half-angle in degrees: 360 for a point lamp), (its edge's width in degrees, the disc's radius²).
+// Requires surface_frame.glsl.
+
+// The share of a spot's intensity at `angle_deg` from its axis: 1 inside cone − soft, 0 beyond the cone, a
+// smoothstep between (`lamp::spot_factor`).
+float spot_factor(float angle_deg, float cone_deg, float soft_deg) {
+    float t = clamp((cone_deg - angle_deg) / max(soft_deg, 1e-6), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// How many lamps the scene has (a uniform: loops over them stay in uniform control flow).
+uint lamp_count() {
+    return uint(frame.lamp_count.x);
+}
+
+// Lamp k seen from the world point `p`: the unit vector towards it (xyz) and its irradiance at normal incidence
+// there per unit of the frame's luminance (w, in sr, as the sun's Ω_sun is): I/(d² + r²), the inverse-square law
+// made finite at the disc (exact on the axis of a disc of radius r; `Lamp::illuminance`).
+vec4 lamp_light(uint k, vec3 p) {
+    vec4 at = frame.lamps[LAMP_VEC4S * k];
+    vec4 beam = frame.lamps[LAMP_VEC4S * k + 1u];
+    vec4 disc = frame.lamps[LAMP_VEC4S * k + 2u];
+    vec3 to_lamp = at.xyz - p;
+    float d2 = dot(to_lamp, to_lamp);
+    vec3 l = to_lamp * inversesqrt(max(d2, 1e-30));
+    float angle_deg = degrees(acos(clamp(dot(-l, beam.xyz), -1.0, 1.0)));
+    return vec4(l, at.w * spot_factor(angle_deg, beam.w, disc.x) / (d2 + disc.y));
+}
