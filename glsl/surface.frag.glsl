@@ -46,7 +46,7 @@ void main() {
 #ifdef BAKED
         lamp_steps = pixel_steps(-lamp.xy - normalize(patch_view).xy);
 #endif
-        rgb += lamp_colour(s, lamp, lamp_steps);
+        rgb += lamp_colour(s, k, lamp, lamp_steps);
     }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();

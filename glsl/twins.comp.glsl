@@ -14,6 +14,7 @@
 #include "surface_frame.glsl"
 #include "pigment.glsl"
 #include "lamps.glsl"
+#include "footprint.glsl"
 #include "map_view.glsl"
 #include "sky_diffraction.glsl" // and panorama.glsl
 #include "twin_push.glsl"
@@ -64,6 +65,9 @@ void main() {
     case TWIN_TENT: result.x = tent(a.x); break;
     case TWIN_SPOT_FACTOR: result.x = spot_factor(a.x, a.y, a.z); break;
     case TWIN_LAMP_LIGHT: result = lamp_light(uint(a.w), a.xyz); break;
+    case TWIN_LAMP_COHERENCE: result.x = lamp_coherence_um(uint(a.w), a.xyz); break;
+    case TWIN_WIDENING_VARIANCE: result.x = widening_variance(a.x, a.y); break;
+    case TWIN_WIDEN_STEPS: result = widen_steps(a, b.x); break;
 #ifdef BAKED
     case TWIN_TABLE_LOD: result.x = table_lod(a.x); break;
     case TWIN_TABLE_SEGMENT: {

@@ -286,6 +286,28 @@ fn lamps_are_profiled_against_a_reference_that_has_them() {
     }
 }
 
+/// A lamp 3° across (9 cm at 1.75 m, 11× the sun's angle) shortens the light's coherence to 5.9 µm where the
+/// material's is sunlight's default, so the reference spreads each lobe by the lamp's width (model.md §3.13): the
+/// baked read widens with it, FLSS keeps the material's window. Measured here: baked 3.9, FLSS 8.0 mean ΔE00 (0.48×);
+/// with the widening taken out of the shader, baked 5.7 (0.72×).
+#[test]
+fn a_wide_lamps_lobes_are_widened_by_the_baked_read() {
+    let patch = common::place::assets().join("patches/blazed-1.6um.gsf");
+    let scene = scratch("wide-lamp.toml");
+    let text = format!(
+        "[camera]\nposition = [0.0, 1.6, 2.4]\ntarget = [0.0, 0.0, 0.0]\nfov_y_deg = 40.0\n\n[light]\n\
+         environment = \"none\"\n\n[[lamp]]\nkind = \"point\"\nposition = [0.0, 0.9, -1.5]\nintensity_cd = 100.0\n\
+         radius_m = 0.09\n\n[[object]]\nshape = \"disk\"\nmaterial = \"blazed\"\nrotate_deg = [-90.0, 0.0, 0.0]\n\n\
+         [material.blazed]\nheightfield = {:?}\ntile = [2, 2]\npigment = [0.05, 0.05, 0.05]\n",
+        patch.display().to_string()
+    );
+    std::fs::write(&scene, text).unwrap();
+    let flags = ["--reference-pixels", "150", "--reference-samples", "1"];
+    let table = profile_scene_with(s(&scene), (64, 48), 1, "baked,flss", "wide-lamp.csv", &flags);
+    let (baked, flss) = (number(&table.rows[0], "mean_de2000"), number(&table.rows[1], "mean_de2000"));
+    assert!(baked < 0.6 * flss, "baked {baked} against FLSS {flss}: the lamp's lobes are not widened");
+}
+
 /// The snake draws its scales front first, so that without a depth pre-pass its hidden layers (the scales overlap
 /// ~2.4 deep where they are seen) still fail the depth test before they are shaded: at one sample it shades each
 /// covered pixel about once (1.035 at 800² from the earlier view), where drawn tail first it shaded ~2.4 times.

@@ -1,6 +1,7 @@
 // Lamps (`light::lamp`, their twin: the same names): point and spot lights in `frame.lamps`, LAMP_VEC4S each
 // (`light::lamp::LampUniforms`): (position, intensity over the frame's unit of luminance), (a spot's axis,
-// its cone's half-angle in degrees: 360 for a point lamp), (its edge's width in degrees, the disc's radius²).
+// its cone's half-angle in degrees: 360 for a point lamp), (its edge's width in degrees, the disc's radius², the
+// coherence length times the angular radius that gives it, the disc's radius).
 // Requires surface_frame.glsl.
 
 // The share of a spot's intensity at `angle_deg` from its axis: 1 inside cone − soft, 0 beyond the cone, a
@@ -18,6 +19,13 @@ uint lamp_count() {
 // Lamp k seen from the world point `p`: the unit vector towards it (xyz) and its irradiance at normal incidence
 // there per unit of the frame's luminance (w, in sr, as the sun's Ω_sun is): I/(d² + r²), the inverse-square law
 // made finite at the disc (exact on the axis of a disc of radius r; `Lamp::illuminance`).
+// The coherence length of lamp k's light at the world point `p`, µm: sunlight's 65 µm times the sun's angular
+// radius over the lamp's there, at least 1 µm (`Lamp::coherence_at`; model.md §1.13).
+float lamp_coherence_um(uint k, vec3 p) {
+    vec4 disc = frame.lamps[LAMP_VEC4S * k + 2u];
+    return max(disc.z / atan(disc.w, length(frame.lamps[LAMP_VEC4S * k].xyz - p)), 1.0);
+}
+
 vec4 lamp_light(uint k, vec3 p) {
     vec4 at = frame.lamps[LAMP_VEC4S * k];
     vec4 beam = frame.lamps[LAMP_VEC4S * k + 1u];

@@ -46,16 +46,22 @@ vec4 lamp_at(SurfaceInputs s, uint k) {
     return vec4(patch_direction(s, lamp.xyz), lamp.w);
 }
 
-// What lamp `lamp` (`lamp_at`) adds to the surface point's colour: its diffraction and the pigment it lights, as
-// the sun's, its irradiance in place of the sun's Ω_sun (no shadow yet); `steps`: the pixel's footprint in the
-// lamp's (u, v).
-vec3 lamp_colour(SurfaceInputs s, vec4 lamp, vec4 steps) {
+// What lamp k (`lamp`: `lamp_at`) adds to the surface point's colour: its diffraction and the pigment it lights,
+// as the sun's, its irradiance in place of the sun's Ω_sun (no shadow yet); `steps`: the pixel's footprint in the
+// lamp's (u, v). Where the material's coherence follows the light (params.window.w, its length), the baked read is
+// widened to the lamp's shorter coherence (model.md §3.13); the Taylor approaches keep the material's.
+vec3 lamp_colour(SurfaceInputs s, uint k, vec4 lamp, vec4 steps) {
     vec3 omega_i = lamp.xyz;
     vec3 omega_r = normalize(s.patch_view);
     bool coated = frame.orientation.w < 0.5;
     float share = lamp.w / SUN_SOLID_ANGLE;
     vec3 rgb = vec3(0.0);
     if (coated && omega_i.z > 0.0 && share > 0.0) {
+#ifdef BAKED
+        if (params.window.w > 0.0) {
+            steps = widen_steps(steps, widening_variance(lamp_coherence_um(k, s.world_position), params.window.w));
+        }
+#endif
         rgb = diffraction_rgb(omega_i, omega_r, steps) * (params.light_white.w * share);
     }
     vec3 albedo = frame.pigment.rgb * s.tint;

@@ -140,7 +140,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
         vec2 lamp_down = lamp_table_uv(inputs_at(o, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))), k);
         lamp_steps = footprint_steps(lamp_across - lamp_uv, lamp_down - lamp_uv);
 #endif
-        rgb += lamp_colour(inputs, lamp, lamp_steps);
+        rgb += lamp_colour(inputs, k, lamp, lamp_steps);
     }
     return float(bitCount(same)) / float(n) * rgb;
 }

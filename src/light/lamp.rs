@@ -5,6 +5,51 @@
 
 use glam::DVec3;
 
+use crate::physics::coherence::{DEFAULT_COHERENCE_UM, MIN_COHERENCE_UM};
+use crate::physics::sky::sun_angular_radius;
+
+/// Whether a material of coherence length `coherence_um` takes each light's own (model.md §3.13): one at sunlight's
+/// default does; one set to another length (a structure's own, as the snakes') keeps it under every light.
+pub fn follows_light(coherence_um: f64) -> bool {
+    coherence_um == DEFAULT_COHERENCE_UM
+}
+
+/// The variance in (u, v) that widens a lobe of a material at `material_um` to the lobe of a light of the shorter
+/// coherence `light_um` (µm; 0 where the light's is not shorter): the window's lobe has the per-axis standard
+/// deviation √2·λ/(π·L) in direction cosines at λ (model.md §1.13), so the difference of the two squares at
+/// `WIDENING_LAMBDA_UM`. A normalised blur keeps each lobe's energy, as the window's gain does.
+pub fn widening_variance(light_um: f64, material_um: f64) -> f64 {
+    let lambda = crate::gpu::interface::WIDENING_LAMBDA_UM;
+    let scale = 2.0 * lambda * lambda / (std::f64::consts::PI * std::f64::consts::PI);
+    (scale * (1.0 / (light_um * light_um) - 1.0 / (material_um * material_um))).max(0.0)
+}
+
+/// A pixel's footprint in (u, v) (its two steps, across and down: `footprint_steps` in glsl/include/footprint.glsl)
+/// widened by an isotropic Gaussian of `variance`: the footprint along the principal axes of the pixel's uniform
+/// spread (covariance (a·aᵀ + b·bᵀ)/12) plus the Gaussian's, each step √12 times its standard deviation.
+pub fn widen_steps(steps: [f64; 4], variance: f64) -> [f64; 4] {
+    if variance <= 0.0 {
+        return steps;
+    }
+    let (a, b) = ([steps[0], steps[1]], [steps[2], steps[3]]);
+    let p = a[0] * a[0] + b[0] * b[0] + 12.0 * variance;
+    let q = a[0] * a[1] + b[0] * b[1];
+    let r = a[1] * a[1] + b[1] * b[1] + 12.0 * variance;
+    let (mean, half) = (0.5 * (p + r), (0.25 * (p - r) * (p - r) + q * q).sqrt());
+    let (major, minor) = (mean + half, (mean - half).max(0.0));
+    let e = if q.abs() > 1e-30 {
+        let (x, y) = (major - r, q);
+        let n = (x * x + y * y).sqrt();
+        [x / n, y / n]
+    } else if p >= r {
+        [1.0, 0.0]
+    } else {
+        [0.0, 1.0]
+    };
+    let (s1, s2) = (major.sqrt(), minor.sqrt());
+    [e[0] * s1, e[1] * s1, -e[1] * s2, e[0] * s2]
+}
+
 /// A spot's beam: where it points and how its edge falls off.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spot {
@@ -68,7 +113,13 @@ impl Lamp {
 
     /// Its angular radius seen from `point`, radians.
     pub fn angular_radius_at(&self, point: DVec3) -> f64 {
-        (self.radius_m / (self.position - point).length()).atan()
+        self.radius_m.atan2((self.position - point).length())
+    }
+
+    /// The coherence length its light has at `point`, µm: sunlight's [`DEFAULT_COHERENCE_UM`] times the sun's
+    /// angular radius over its own there (`coherence::of_light`, model.md §1.13), at least [`MIN_COHERENCE_UM`].
+    pub fn coherence_at(&self, point: DVec3) -> f64 {
+        (DEFAULT_COHERENCE_UM * sun_angular_radius() / self.angular_radius_at(point)).max(MIN_COHERENCE_UM)
     }
 }
 
@@ -97,7 +148,13 @@ impl LampUniforms {
             let p = lamp.position;
             out.lamps[stride * k] = [p.x as f32, p.y as f32, p.z as f32, (lamp.intensity_cd / unit_cd_m2) as f32];
             out.lamps[stride * k + 1] = [axis.x as f32, axis.y as f32, axis.z as f32, cone_deg as f32];
-            out.lamps[stride * k + 2] = [soft_deg as f32, (lamp.radius_m * lamp.radius_m) as f32, 0.0, 0.0];
+            let coherence_um_rad = crate::physics::coherence::DEFAULT_COHERENCE_UM * sun_angular_radius();
+            out.lamps[stride * k + 2] = [
+                soft_deg as f32,
+                (lamp.radius_m * lamp.radius_m) as f32,
+                coherence_um_rad as f32,
+                lamp.radius_m as f32,
+            ];
             out.count[0] = (k + 1) as f32;
         }
         out
@@ -129,7 +186,7 @@ pub fn describe(lamps: &[Lamp], sun: bool) -> String {
         false => "alone: the frame in cd/m²",
     };
     format!(
-        "lamps ({units}): {}; each diffracts with the material's coherence length (its size does not set it yet)",
+        "lamps ({units}): {}; their sizes set their coherence where a material keeps the default 65 µm (baked)",
         each.join("; ")
     )
 }

@@ -147,7 +147,12 @@ impl Material {
                 baked.as_ref().map_or(1, |b| b.table.grid.segments as i32),
             ],
             patch_um: [lx as f32, ly as f32, hf.dx_um as f32, hf.dy_um as f32],
-            window: [window.sigma_x as f32, window.sigma_y as f32, sigma_f as f32, 0.0],
+            window: [
+                window.sigma_x as f32,
+                window.sigma_y as f32,
+                sigma_f as f32,
+                if crate::light::lamp::follows_light(s.coherence_um) { s.coherence_um as f32 } else { 0.0 },
+            ],
             spectral: [
                 sampling.lambda_min_nm as f32,
                 sampling.step_nm as f32,

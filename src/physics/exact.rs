@@ -130,7 +130,12 @@ impl Reference {
 
     /// P for wavenumber·w = `kw` (µm⁻¹) at `at`.
     pub fn amplitude(&self, at: Lookup, kw: f64) -> Complex64 {
-        let taps = self.window.taps(at, self.nx, self.ny);
+        self.amplitude_in(&self.window, at, kw)
+    }
+
+    /// [`Self::amplitude`] under `window` instead of the reference's own.
+    fn amplitude_in(&self, window: &CoherenceWindow, at: Lookup, kw: f64) -> Complex64 {
+        let taps = window.taps(at, self.nx, self.ny);
         match &self.terms {
             Some(terms) if self.f32_arithmetic => taylor_sum_f32(terms, &taps, kw),
             Some(terms) => taylor_sum(terms, &taps, kw),
@@ -139,8 +144,13 @@ impl Reference {
     }
 
     fn exact_sum(&self, taps: &[(usize, usize, f64)], kw: f64) -> Complex64 {
+        self.exact_coefficients(taps, kw).iter().zip(taps).map(|(c, t)| c * t.2).sum()
+    }
+
+    /// The DFT coefficients of exp(i·k·w·h) (times 1/(nx·ny)) at the bins of `taps` (their weights unused).
+    fn exact_coefficients(&self, taps: &[(usize, usize, f64)], kw: f64) -> Vec<Complex64> {
         if taps.is_empty() {
-            return Complex64::default();
+            return Vec::new();
         }
         let (nx, ny) = (self.nx, self.ny);
         let mut cols: Vec<usize> = taps.iter().map(|t| t.0).collect();
@@ -165,13 +175,78 @@ impl Reference {
         }
         let norm = 1.0 / (nx * ny) as f64;
         taps.iter()
-            .map(|&(c, r, g)| {
+            .map(|&(c, r, _)| {
                 let ci = cols.binary_search(&c).expect("column collected above");
                 let j = bin(r, hy, ny);
                 let coef: Complex64 = (0..ny).map(|y| rows[y * cols.len() + ci] * ty[(j * y) % ny]).sum();
-                coef * norm * g
+                coef * norm
             })
-            .sum()
+            .collect()
+    }
+
+    /// The spectrum's coefficients (no window) at the bins of `taps`: the Taylor sum Σ_n c_n F_n, or the exact DFT.
+    fn coefficients(&self, taps: &[(usize, usize, f64)], kw: f64) -> Vec<Complex64> {
+        match &self.terms {
+            Some(terms) => taps
+                .iter()
+                .map(|&(x, y, _)| {
+                    let mut c = 1.0;
+                    let mut p = Complex64::default();
+                    for (n, layer) in terms.layers.iter().enumerate() {
+                        if n > 0 {
+                            c *= kw / n as f64;
+                        }
+                        p += layer[y * terms.nx + x] * c;
+                    }
+                    p
+                })
+                .collect(),
+            None => self.exact_coefficients(taps, kw),
+        }
+    }
+
+    /// |P|² at `at` blurred by a Gaussian of standard deviation (`blur_x`, `blur_y`) bins, in closed form: with the
+    /// window's Gaussians g_j of σ bins, ∫ |Σ_j F_j g_j|² ⊛ h = Σ_j Σ_k F_j F_k* · e^(−|j−k|²/4σ²) · p ·
+    /// e^(−|s − (j+k)/2|²/2(σ²/2 + σ_h²)) per axis, p = √((σ²/2)/(σ²/2 + σ_h²)): the coherent intensity of the
+    /// material's window, spread as an incoherent source of the blur's width spreads it.
+    fn blurred_intensity(&self, at: Lookup, kw: f64, blur: (f64, f64)) -> f64 {
+        let (sigma_x, sigma_y) = (self.window.sigma_x, self.window.sigma_y);
+        // Per axis: the bins whose pairs count, and the pairs' weights.
+        let axis = |s: f64, sigma: f64, blur: f64, n: usize| -> (Vec<usize>, Vec<(usize, usize, f64)>) {
+            let spread = (0.5 * sigma * sigma + blur * blur).sqrt();
+            let reach = ((-2.0 * crate::physics::coherence::FULL_WINDOW_CUTOFF.ln()).sqrt() * (spread + sigma))
+                .ceil()
+                .min(n as f64) as i64;
+            let bins: Vec<(usize, f64)> = CoherenceWindow::axis_taps(s, 1.0, reach, n)
+                .map(|t| t.0)
+                .map(|i| (i, i as f64 - (n / 2) as f64))
+                .collect();
+            let p = (0.5 * sigma * sigma).sqrt() / spread;
+            let mut pairs = Vec::new();
+            for (a, &(_, j)) in bins.iter().enumerate() {
+                for (b, &(_, k)) in bins.iter().enumerate() {
+                    let apart = (-(j - k) * (j - k) / (4.0 * sigma * sigma)).exp();
+                    let off = s - 0.5 * (j + k);
+                    let weight = apart * p * (-off * off / (2.0 * spread * spread)).exp();
+                    if weight > crate::physics::coherence::FULL_WINDOW_CUTOFF {
+                        pairs.push((a, b, weight));
+                    }
+                }
+            }
+            (bins.iter().map(|b| b.0).collect(), pairs)
+        };
+        let (xs, px) = axis(at.sx, sigma_x, blur.0, self.nx);
+        let (ys, py) = axis(at.sy, sigma_y, blur.1, self.ny);
+        let taps: Vec<(usize, usize, f64)> = ys.iter().flat_map(|&y| xs.iter().map(move |&x| (x, y, 1.0))).collect();
+        let f = self.coefficients(&taps, kw);
+        let at = |a: usize, b: usize| f[b * xs.len() + a];
+        let mut sum = 0.0;
+        for &(ya, yb, wy) in &py {
+            for &(xa, xb, wx) in &px {
+                sum += (at(xa, ya) * at(xb, yb).conj()).re * wx * wy;
+            }
+        }
+        sum
     }
 
     /// Evaluates every query (in parallel), in order.
@@ -186,10 +261,52 @@ impl Reference {
     /// The colour of one pair of directions by full wavelength sampling (the CPU twin of `diffraction_xyz` in
     /// glsl/include/approaches.glsl for FLSS): XYZ relative to a D65 mirror, times C and the V-groove shadowing.
     pub fn flss_xyz(&self, omega_i: DVec3, omega_r: DVec3, sampling: &crate::physics::spectrum::Sampling) -> DVec3 {
+        self.flss_xyz_in(&self.window, omega_i, omega_r, sampling)
+    }
+
+    fn flss_xyz_in(
+        &self,
+        window: &CoherenceWindow,
+        omega_i: DVec3,
+        omega_r: DVec3,
+        sampling: &crate::physics::spectrum::Sampling,
+    ) -> DVec3 {
         if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
             return DVec3::ZERO;
         }
-        self.spectral_xyz(optics::uvw(omega_i, omega_r), sampling)
+        let uvw = optics::uvw(omega_i, omega_r);
+        crate::physics::spectrum::reflectance_to_xyz(sampling, |lambda_nm| self.intensity_in(window, uvw, lambda_nm))
+            * optics::gain_factor(omega_i, omega_r)
+            * optics::shadow_mask(omega_i, omega_r)
+    }
+
+    /// [`Self::flss_xyz`] with every lobe widened by a Gaussian of `variance` in (u, v), as a lamp's shorter
+    /// coherence widens the baked read (`light::lamp::widening_variance`, model.md §3.13): the intensity of the
+    /// material's window blurred (in closed form: `blurred_intensity`) by that Gaussian in (u, v) at every
+    /// wavelength — the spread an incoherent source of the lamp's width gives, which keeps each lobe's energy.
+    pub fn flss_xyz_widened(
+        &self,
+        omega_i: DVec3,
+        omega_r: DVec3,
+        sampling: &crate::physics::spectrum::Sampling,
+        variance: f64,
+    ) -> DVec3 {
+        if omega_i.z <= 0.0 || omega_r.z <= 0.0 {
+            return DVec3::ZERO;
+        }
+        let uvw = optics::uvw(omega_i, omega_r);
+        let intensity = |lambda_nm: f64| {
+            let lambda_um = lambda_nm * 1e-3;
+            let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
+            if !at.in_band(self.nx, self.ny) {
+                return 0.0;
+            }
+            // The blur in bins: (u, v) → frequency u/λ → bins u·L/λ.
+            let blur = variance.sqrt() / lambda_um;
+            let kw = 2.0 * std::f64::consts::PI / lambda_um * uvw.z;
+            self.blurred_intensity(at, kw, (blur * self.lx_um, blur * self.ly_um))
+        };
+        crate::physics::spectrum::reflectance_to_xyz(sampling, intensity)
             * optics::gain_factor(omega_i, omega_r)
             * optics::shadow_mask(omega_i, omega_r)
     }
@@ -219,12 +336,16 @@ impl Reference {
 
     /// |P(u/λ, v/λ; k·w)|² at one wavelength (nm), 0 outside the band the patch resolves.
     fn intensity(&self, uvw: DVec3, lambda_nm: f64) -> f64 {
+        self.intensity_in(&self.window, uvw, lambda_nm)
+    }
+
+    fn intensity_in(&self, window: &CoherenceWindow, uvw: DVec3, lambda_nm: f64) -> f64 {
         let lambda_um = lambda_nm * 1e-3;
         let at = Lookup::new(uvw.x, uvw.y, lambda_um, self.lx_um, self.ly_um);
         if !at.in_band(self.nx, self.ny) {
             return 0.0;
         }
-        self.amplitude(at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
+        self.amplitude_in(window, at, 2.0 * std::f64::consts::PI / lambda_um * uvw.z).norm_sqr()
     }
 
     /// Σ_λ |P(u/λ, v/λ; k·w)|² weighted into XYZ relative to a D65 mirror, before the gain and the shadowing:
@@ -300,4 +421,46 @@ pub fn window_gain(window: &CoherenceWindow, hf: &HeightField) -> f64 {
             .fold(0.0, f64::max)
     };
     axis(window.sigma_x, window.radius_x, hf.nx) * axis(window.sigma_y, window.radius_y, hf.ny)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small random height field (seeded), wide enough that its spectrum's bins overlap under the window.
+    fn patch() -> HeightField {
+        let mut rng = fastrand::Rng::with_seed(3);
+        let (nx, ny) = (24, 16);
+        HeightField::new(nx, ny, 0.1, 0.1, (0..nx * ny).map(|_| 0.1 * rng.f64()).collect()).unwrap()
+    }
+
+    #[test]
+    fn the_blurred_intensity_is_the_windows_intensity_spread_by_the_gaussian() {
+        let hf = patch();
+        let (lx, ly) = hf.size_um();
+        // σ of about a bin, so neighbouring bins interfere: their cross terms must survive the blur.
+        let window = CoherenceWindow::new(lx, ly, 2.5, None).unwrap();
+        let reference = Reference::new(&hf, window, Method::Exact, None).unwrap();
+        let kw = 9.0;
+        for (sx, sy) in [(0.0, 0.0), (1.3, -0.4), (-2.7, 3.1)] {
+            let at = Lookup { sx, sy };
+            let sharp = reference.amplitude(at, kw).norm_sqr();
+            let unblurred = reference.blurred_intensity(at, kw, (0.0, 0.0));
+            assert!((unblurred - sharp).abs() <= 1e-12 * sharp.max(1e-12), "({sx}, {sy}): {unblurred} vs {sharp}");
+            // Against the blur done by quadrature: |P|² over a fine grid of offsets, weighted by the Gaussian.
+            let (bx, by) = (0.7, 0.4);
+            let (mut sum, mut weights) = (0.0, 0.0);
+            for i in -100..=100 {
+                for j in -100..=100 {
+                    let (dx, dy) = (f64::from(i) * 0.06 * bx, f64::from(j) * 0.06 * by);
+                    let w = (-0.5 * ((dx / bx).powi(2) + (dy / by).powi(2))).exp();
+                    sum += w * reference.amplitude(Lookup { sx: sx + dx, sy: sy + dy }, kw).norm_sqr();
+                    weights += w;
+                }
+            }
+            let blurred = reference.blurred_intensity(at, kw, (bx, by));
+            let quadrature = sum / weights;
+            assert!((blurred / quadrature - 1.0).abs() < 1e-5, "({sx}, {sy}): {blurred} vs {quadrature}");
+        }
+    }
 }

@@ -40,8 +40,8 @@ pub const CHECK_STEP_NM: f64 = 0.5;
 const CHECK_PIXELS: usize = 64;
 /// Bumped whenever the reference's definition or its cache format changes: cached images of other versions are
 /// recomputed. (2: XYZ stored only for the pixels that count; 3: a pixel's diffraction weighted by the sun's
-/// visible share; 4: exact Fresnel, not Schlick's; 5: the lamps' diffraction.)
-const CACHE_VERSION: u32 = 5;
+/// visible share; 4: exact Fresnel, not Schlick's; 5: the lamps' diffraction; 6: widened by their coherence.)
+const CACHE_VERSION: u32 = 6;
 /// The seed of the random pixels a sampled reference keeps (fixed: a profile repeats, and its reference caches).
 pub const SAMPLE_SEED: u64 = 0x5eed_d1ff_7ac7;
 
@@ -54,19 +54,32 @@ pub struct PixelQuery {
     pub omega_r: DVec3,
     pub material: usize,
     pub diffracted: f64,
-    /// Each lamp's patch-frame unit direction and the weight of its diffraction (its irradiance at normal incidence
-    /// over the sun's, Ω_sun times the frame's unit: `Scene::unit_luminance`); zero weight for no lamp.
-    pub lamps: [(DVec3, f64); MAX_LAMPS as usize],
+    /// Each lamp's patch-frame unit direction, the weight of its diffraction (its irradiance at normal incidence
+    /// over the sun's, Ω_sun times the frame's unit: `Scene::unit_luminance`; zero for no lamp) and the widening
+    /// of its lobes by its shorter coherence (0: none).
+    pub lamps: [PixelLamp; MAX_LAMPS as usize],
     pub extra_xyz: DVec3,
 }
 
+/// A lamp as a pixel sees it ([`PixelQuery::lamps`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelLamp {
+    pub omega_i: DVec3,
+    pub weight: f64,
+    /// The variance in (u, v) its shorter coherence widens the lobes by (`light::lamp::widening_variance`; 0: the
+    /// material's own).
+    pub widening: f64,
+}
+
 /// No lamp lights the pixel.
-pub const NO_LAMPS: [(DVec3, f64); MAX_LAMPS as usize] = [(DVec3::ZERO, 0.0); MAX_LAMPS as usize];
+pub const NO_LAMPS: [PixelLamp; MAX_LAMPS as usize] =
+    [PixelLamp { omega_i: DVec3::ZERO, weight: 0.0, widening: 0.0 }; MAX_LAMPS as usize];
 
 impl PixelQuery {
-    /// Each light that diffracts here: (patch-frame direction, weight), the sun's first.
-    pub fn lights(&self) -> impl Iterator<Item = (DVec3, f64)> + '_ {
-        std::iter::once((self.omega_i, self.diffracted)).chain(self.lamps.iter().copied()).filter(|l| l.1 > 0.0)
+    /// Each light that diffracts here, the sun's first (its coherence the material's).
+    pub fn lights(&self) -> impl Iterator<Item = PixelLamp> + '_ {
+        let sun = PixelLamp { omega_i: self.omega_i, weight: self.diffracted, widening: 0.0 };
+        std::iter::once(sun).chain(self.lamps.iter().copied()).filter(|l| l.weight > 0.0)
     }
 }
 
@@ -171,11 +184,12 @@ impl ReferenceJob<'_> {
                 Some(q) => {
                     h.u64(q.material as u64);
                     h.f64(q.diffracted);
-                    for &(omega_i, weight) in &q.lamps {
-                        h.f64(weight);
-                        h.f64(omega_i.x);
-                        h.f64(omega_i.y);
-                        h.f64(omega_i.z);
+                    for lamp in &q.lamps {
+                        h.f64(lamp.weight);
+                        h.f64(lamp.widening);
+                        h.f64(lamp.omega_i.x);
+                        h.f64(lamp.omega_i.y);
+                        h.f64(lamp.omega_i.z);
                     }
                     for v in [q.omega_i, q.omega_r, q.extra_xyz] {
                         h.f64(v.x);
@@ -222,7 +236,10 @@ impl ReferenceJob<'_> {
             let gain = gains[q.material];
             let diffraction: DVec3 = q
                 .lights()
-                .map(|(omega_i, weight)| reference.flss_xyz(omega_i, q.omega_r, sampling) * gain * weight)
+                .map(|light| match light.widening > 0.0 {
+                    true => reference.flss_xyz_widened(light.omega_i, q.omega_r, sampling, light.widening),
+                    false => reference.flss_xyz(light.omega_i, q.omega_r, sampling),
+                } * gain * light.weight)
                 .sum();
             diffraction + q.extra_xyz
         };
@@ -259,7 +276,7 @@ impl ReferenceJob<'_> {
             .iter()
             .flatten()
             .filter(|q| q.material == i)
-            .flat_map(|q| q.lights().map(move |(omega_i, _)| (omega_i.z + q.omega_r.z).abs()))
+            .flat_map(|q| q.lights().map(move |l| (l.omega_i.z + q.omega_r.z).abs()))
             .fold(0.0, f64::max);
         exact_reference(m.heightfield, m.coherence_um, w_max)
     }

@@ -43,10 +43,13 @@ pub enum Twin {
     BakedXyz,
     SpotFactor,
     LampLight,
+    LampCoherence,
+    WideningVariance,
+    WidenSteps,
 }
 
 impl Twin {
-    pub const ALL: [Twin; 25] = [
+    pub const ALL: [Twin; 28] = [
         Twin::FresnelReflectance,
         Twin::FresnelRatio,
         Twin::GainFactor,
@@ -72,6 +75,9 @@ impl Twin {
         Twin::BakedXyz,
         Twin::SpotFactor,
         Twin::LampLight,
+        Twin::LampCoherence,
+        Twin::WideningVariance,
+        Twin::WidenSteps,
     ];
 
     /// The GLSL function (its include under `glsl/include/`) and its Rust twin (under the crate's root).
@@ -104,6 +110,9 @@ impl Twin {
             Twin::BakedXyz => ("baked.glsl: baked_xyz", "physics::baked::BakedTable::xyz_filtered"),
             Twin::SpotFactor => ("lamps.glsl: spot_factor", "light::lamp::spot_factor"),
             Twin::LampLight => ("lamps.glsl: lamp_light", "light::lamp::Lamp::light_at"),
+            Twin::LampCoherence => ("lamps.glsl: lamp_coherence_um", "light::lamp::Lamp::coherence_at"),
+            Twin::WideningVariance => ("footprint.glsl: widening_variance", "light::lamp::widening_variance"),
+            Twin::WidenSteps => ("footprint.glsl: widen_steps", "light::lamp::widen_steps"),
         }
     }
 
@@ -135,6 +144,9 @@ impl Twin {
             Twin::BakedXyz => gi::TWIN_BAKED_XYZ,
             Twin::SpotFactor => gi::TWIN_SPOT_FACTOR,
             Twin::LampLight => gi::TWIN_LAMP_LIGHT,
+            Twin::LampCoherence => gi::TWIN_LAMP_COHERENCE,
+            Twin::WideningVariance => gi::TWIN_WIDENING_VARIANCE,
+            Twin::WidenSteps => gi::TWIN_WIDEN_STEPS,
         }
     }
 

@@ -64,9 +64,8 @@ fn prepare(scene: &Scene, overrides: &SettingsPatch, reaches: &[Reach], moments:
 }
 
 /// What each material of `scene` must serve when drawn at `width`×`height` from each of `views` (camera, world
-/// direction towards the light): the (u, v, w) and footprints its pixels see, from a G-buffer of every view. Under
-/// lamps, whose light reaches each pixel from its own direction, a material seen lit serves the whole hemisphere at
-/// its pixels' footprint.
+/// direction towards the light): the (u, v, w) and footprints its pixels see, from a G-buffer of every view, under
+/// the sun and each lamp (from its own direction at each pixel's point).
 pub fn scene_reaches(
     ctx: &Context,
     scene: &Scene,
@@ -74,23 +73,15 @@ pub fn scene_reaches(
     width: u32,
     height: u32,
 ) -> Result<Vec<Reach>> {
+    let lamps = !scene.lamps.is_empty();
     let frames = views
         .iter()
         .map(|(camera, light)| {
-            Ok(GBuffer::draw(ctx, scene, (camera, *light), (width, height), false)?.reaches(scene.materials.len()))
+            let gbuffer = GBuffer::draw(ctx, scene, (camera, *light), (width, height), lamps)?;
+            Ok(gbuffer.reaches_under(scene.materials.len(), scene.sun || !lamps, &scene.lamps))
         })
         .collect::<Result<Vec<_>>>()?;
-    let reaches = merge_reaches(&frames, scene.materials.len());
-    Ok(match scene.lamps.is_empty() {
-        true => reaches,
-        false => reaches
-            .into_iter()
-            .map(|r| match r {
-                Reach::Seen { footprint, .. } => Reach::Hemisphere { footprint },
-                other => other,
-            })
-            .collect(),
-    })
+    Ok(merge_reaches(&frames, scene.materials.len()))
 }
 
 /// The renderer's view of `scene`'s materials (from [`prepare_materials`], in the same order).

@@ -16,8 +16,10 @@ use crate::gpu::vk::{
     Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
     SpecConstants,
 };
+use crate::light::lamp::{widening_variance, Lamp};
 use crate::material::Reach;
 use crate::physics::baked::Domain;
+use crate::physics::coherence::DEFAULT_COHERENCE_UM;
 use crate::render::scene_gpu::{ObjectView, SurfaceMaterial};
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
 use crate::render::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
@@ -247,18 +249,37 @@ impl GBuffer {
     /// Per material (of `count`): the box of (u, v, w) that its pixels lit from above the surface see, widened by
     /// their median footprint, and their small (5th-percentile) footprint; None for a material no pixel shows lit.
     pub fn reaches(&self, count: usize) -> Vec<Option<(Domain, f64)>> {
+        self.reaches_under(count, true, &[])
+    }
+
+    /// [`Self::reaches`] under the scene's lights: the sun where `sun`, and each of `lamps` from its own direction
+    /// at each pixel's point (the G-buffer drawn `with_normals`) where it lights the pixel, the box widened by 3σ
+    /// of the widest Gaussian a lamp's coherence adds to a read there (`lamp::widening_variance`).
+    pub fn reaches_under(&self, count: usize, sun: bool, lamps: &[Lamp]) -> Vec<Option<(Domain, f64)>> {
         (0..count)
             .map(|m| {
-                let seen: Vec<&Seen> = self
-                    .pixels
-                    .iter()
-                    .flatten()
-                    .filter(|s| s.material == m && s.omega_i.z > 0.0 && s.omega_r.z > 0.0)
-                    .collect();
-                let domain = Domain::bounding(seen.iter().map(|s| -s.omega_i - s.omega_r))?;
-                let mut footprints: Vec<f64> = seen.iter().map(|s| s.footprint).filter(|f| f.is_finite()).collect();
+                let (mut points, mut footprints, mut spread) = (Vec::new(), Vec::new(), 0f64);
+                for s in self.pixels.iter().flatten().filter(|s| s.material == m && s.omega_r.z > 0.0) {
+                    let before = points.len();
+                    if sun && s.omega_i.z > 0.0 {
+                        points.push(-s.omega_i - s.omega_r);
+                    }
+                    for lamp in lamps {
+                        let (l, irradiance) = lamp.light_at(s.position);
+                        let omega_i = s.frame.transpose() * l;
+                        if irradiance > 0.0 && omega_i.z > 0.0 {
+                            points.push(-omega_i - s.omega_r);
+                            let coherence = lamp.coherence_at(s.position);
+                            spread = spread.max(widening_variance(coherence, DEFAULT_COHERENCE_UM).sqrt());
+                        }
+                    }
+                    if points.len() > before && s.footprint.is_finite() {
+                        footprints.push(s.footprint);
+                    }
+                }
+                let domain = Domain::bounding(points)?;
                 let small = crate::io::stats::percentile(&mut footprints, FOOTPRINT_PERCENTILE).max(0.0);
-                let margin = crate::io::stats::percentile(&mut footprints, 0.5).max(0.0);
+                let margin = crate::io::stats::percentile(&mut footprints, 0.5).max(3.0 * spread).max(0.0);
                 Some((domain.widened(margin), small))
             })
             .collect()

@@ -279,6 +279,9 @@ shared! {
     /// The most lamps a scene holds (`SurfaceUniforms::lamps`, `light::lamp`), and the vec4s each takes there.
     pub const MAX_LAMPS: u32 = 8;
     pub const LAMP_VEC4S: u32 = 3;
+    /// The wavelength, µm, at which a lamp's shorter coherence widens the baked table's read (`light::lamp::
+    /// widening_variance`; model.md §3.13): the window's lobes widen with λ, a read of the colour table once.
+    pub const WIDENING_LAMBDA_UM: f64 = 0.55;
     /// The moments' grid per axis and texture layers (`light::prefilter::MOMENT_GRID`, `MOMENT_LAYERS`).
     pub const MOMENT_GRID: u32 = 32;
     pub const MOMENT_LAYERS: u32 = 23;
@@ -319,6 +322,9 @@ shared! {
     pub const TWIN_BAKED_XYZ: u32 = 22;
     pub const TWIN_SPOT_FACTOR: u32 = 23;
     pub const TWIN_LAMP_LIGHT: u32 = 24;
+    pub const TWIN_LAMP_COHERENCE: u32 = 25;
+    pub const TWIN_WIDENING_VARIANCE: u32 = 26;
+    pub const TWIN_WIDEN_STEPS: u32 = 27;
 
     section "Workgroup sizes.";
     /// Invocations per workgroup of every compute shader (`local_size_x`); dispatches divide by it.
@@ -446,7 +452,8 @@ gpu_struct! {
         pub patch_px: [i32; 4],
         /// Lx, Ly, dx, dy in µm.
         pub patch_um: [f32; 4],
-        /// σ_x, σ_y in bins, σ_f in cycles/µm, 0.
+        /// σ_x, σ_y in bins, σ_f in cycles/µm, and the coherence length (µm) where it follows each light (a
+        /// material at sunlight's default: `light::lamp::follows_light`), else 0.
         pub window: [f32; 4],
         /// λ_min nm, Δλ nm, Σ ȳSΔλ of that sampling, ∫ȳS dλ (1 nm).
         pub spectral: [f32; 4],
@@ -505,7 +512,8 @@ gpu_struct! {
         pub lamp_count: [f32; 4],
         /// The lamps (`light::lamp::LampUniforms`), LAMP_VEC4S each: (position (world), intensity over the
         /// frame's unit of luminance, m²), (a spot's axis from the lamp, its cone's half-angle in degrees; a point
-        /// lamp's cone 360), (the edge's width in degrees, the disc's radius squared (m²), 0, 0).
+        /// lamp's cone 360), (the edge's width in degrees, the disc's radius squared (m²), the coherence length times
+        /// the angular radius that gives it (µm·rad: `coherence::of_light`), the disc's radius (m)).
         pub lamps: [[f32; 4]; 24],
     }
 }

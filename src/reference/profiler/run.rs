@@ -10,6 +10,7 @@ use glam::DVec3;
 
 use crate::display::AutoExposure;
 use crate::error::{Error, Result};
+use crate::gpu::interface::MAX_LAMPS;
 use crate::gpu::vk::Context;
 use crate::io::stats::Spread;
 use crate::material::Settings;
@@ -18,7 +19,7 @@ use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
 use crate::physics::{optics, spectrum};
 use crate::reference::exact_image;
-use crate::reference::exact_image::{PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
+use crate::reference::exact_image::{PixelLamp, PixelQuery, ReferenceImage, ReferenceJob, ReferenceMaterial};
 use crate::reference::profiler::{Config, Row, TableSummary, MAX_SIZE};
 use crate::render::capture::{material_inputs, prepare_materials, scene_objects, scene_reaches};
 use crate::render::diffraction::Upload;
@@ -285,14 +286,21 @@ fn normal_turn(ctx: &Context, scene: &Scene, fine: (u32, u32), samples: u32) -> 
     Ok(Some((median, crate::io::stats::percentile(&mut turns, 0.9))))
 }
 
-/// Each lamp of `scene` as a pixel that shows `seen` sees it: its patch-frame direction and the weight of its light
-/// (its irradiance at normal incidence over Ω_sun times the frame's unit luminance `unit`: what the sun's is 1 of),
-/// as glsl/include/lamps.glsl and surface_shade.glsl's `lamp_colour` have them.
-fn lamp_lights(scene: &Scene, seen: &Seen, unit: f64) -> [(DVec3, f64); crate::gpu::interface::MAX_LAMPS as usize] {
+/// Each lamp of `scene` as a pixel that shows `seen` sees it: its patch-frame direction, the weight of its light
+/// (its irradiance at normal incidence over Ω_sun times the frame's unit luminance `unit`: what the sun's is 1 of)
+/// and, where the material's coherence `material_um` follows the light and the lamp's is shorter there, the
+/// widening of its lobes — as glsl/include/lamps.glsl and surface_shade.glsl's `lamp_colour` have them.
+fn lamp_lights(scene: &Scene, seen: &Seen, unit: f64, material_um: f64) -> [PixelLamp; MAX_LAMPS as usize] {
     let mut out = crate::reference::exact_image::NO_LAMPS;
     for (lamp, slot) in scene.lamps.iter().zip(&mut out) {
         let (l, irradiance) = lamp.light_at(seen.position);
-        *slot = (seen.frame.transpose() * l, irradiance / unit / optics::SUN_SOLID_ANGLE);
+        let follows = crate::light::lamp::follows_light(material_um);
+        let widening = crate::light::lamp::widening_variance(lamp.coherence_at(seen.position), material_um);
+        *slot = PixelLamp {
+            omega_i: seen.frame.transpose() * l,
+            weight: irradiance / unit / optics::SUN_SOLID_ANGLE,
+            widening: if follows { widening } else { 0.0 },
+        };
     }
     out
 }
@@ -358,11 +366,11 @@ fn scene_pixels(
                 };
                 m.radiance(omega_r, &quadratic, frame, mirror)
             });
-            let lamps = lamp_lights(scene, seen.as_ref()?, unit);
+            let lamps = lamp_lights(scene, seen.as_ref()?, unit, lights[material].0);
             let lamps_rgb: DVec3 = lamps
                 .iter()
-                .filter(|l| l.1 > 0.0)
-                .map(|&(l, weight)| optics::pigment_rgb(l, omega_r, 0.0, albedo, 0.0, optics::Lit::OPEN) * weight)
+                .filter(|l| l.weight > 0.0)
+                .map(|l| optics::pigment_rgb(l.omega_i, omega_r, 0.0, albedo, 0.0, optics::Lit::OPEN) * l.weight)
                 .sum();
             let extra_rgb = optics::pigment_rgb(omega_i, omega_r, normal_up, albedo, ambient, lit) * whites[material]
                 + optics::pigment_sky_rgb(omega_r, albedo, sky.over_pi(normal), true)

@@ -488,3 +488,50 @@ fn the_lamps_are_their_twins() {
     let lit = cpu[40..].iter().filter(|c| c[3] > 0.0).count();
     assert!(lit >= 20, "and some inside it: {lit} of 81");
 }
+
+#[test]
+fn a_lamps_coherence_and_the_widened_read_are_their_twins() {
+    use crate::light::lamp::{widen_steps, widening_variance, Lamp};
+    // A lamp's coherence from near its disc (clamped at 1 µm) to far beyond it.
+    let lamp = Lamp { position: DVec3::new(0.2, 1.0, -0.4), intensity_cd: 10.0, radius_m: 0.01, spot: None };
+    let uniforms = crate::light::lamp::LampUniforms::new(&[lamp], 1.0);
+    let frame = SurfaceUniforms { lamp_count: uniforms.count, lamps: uniforms.lamps, ..bytemuck::Zeroable::zeroed() };
+    let resources = Resources { frame: Some(&frame), ..Resources::default() };
+    let points: Vec<Point> =
+        [1e-4, 0.003, 0.01, 0.1, 0.5, 1.0, 3.0, 30.0].map(|d| point(&[v4(lamp.position - DVec3::Y * d, 0.0)])).to_vec();
+    let cpu: Vec<[f64; 4]> = points.iter().map(|p| [lamp.coherence_at(d3(p[0])), 0.0, 0.0, 0.0]).collect();
+    // llvmpipe's atan is good to a few 1e-5.
+    assert_close("lamp_coherence_um", &gpu(Twin::LampCoherence, &points, resources), &cpu, 1, 1e-4);
+    assert!(cpu[0][0] == 1.0 && (cpu[5][0] - 65.0 * 0.2666 / 0.5729).abs() < 0.1, "{cpu:?}");
+    // The widening from lamps far shorter than the material's to its own, and none from a longer one.
+    let lengths: Vec<[f32; 2]> = [(1.0, 65.0), (17.3, 65.0), (64.9, 65.0), (65.0, 65.0), (120.0, 65.0), (5.0, 20.0)]
+        .map(|(l, m)| [l as f32, m as f32])
+        .to_vec();
+    let points: Vec<Point> = lengths.iter().map(|l| point(&[[l[0], l[1], 0.0, 0.0]])).collect();
+    let cpu: Vec<[f64; 4]> =
+        lengths.iter().map(|l| [widening_variance(l[0].into(), l[1].into()), 0.0, 0.0, 0.0]).collect();
+    assert_close("widening_variance", &gpu(Twin::WideningVariance, &points, Resources::default()), &cpu, 1, 1e-6);
+    assert!(cpu[3][0] == 0.0 && cpu[4][0] == 0.0 && cpu[1][0] > 0.0);
+    // Steps of every shape (a pixel's, elongated, turned, zero) widened by variances small and large beside them.
+    let mut rng = fastrand::Rng::with_seed(5);
+    let mut cases: Vec<([f32; 4], f32)> =
+        vec![([0.0; 4], 1e-4), ([0.01, 0.0, 0.0, 0.01], 0.0), ([0.02, 0.0, 0.0, 0.0], 1e-5)];
+    for _ in 0..60 {
+        let s = [rng.f32() - 0.5, rng.f32() - 0.5, rng.f32() - 0.5, rng.f32() - 0.5].map(|x| x * 0.1);
+        cases.push((s, 10f32.powf(-7.0 + 5.0 * rng.f32())));
+    }
+    let points: Vec<Point> = cases.iter().map(|(s, v)| point(&[*s, [*v, 0.0, 0.0, 0.0]])).collect();
+    let gpu_steps = gpu(Twin::WidenSteps, &points, Resources::default());
+    for (i, ((s, v), g)) in cases.iter().zip(&gpu_steps).enumerate() {
+        let c = widen_steps(s.map(f64::from), f64::from(*v));
+        // The footprint is its covariance: compare a·aᵀ + b·bᵀ (the axes' signs and order are free).
+        let cov = |x: [f64; 4]| [x[0] * x[0] + x[2] * x[2], x[0] * x[1] + x[2] * x[3], x[1] * x[1] + x[3] * x[3]];
+        let (gc, cc) = (cov(g.map(f64::from)), cov(c));
+        let scale = cc[0].abs().max(cc[2].abs()).max(1e-12);
+        assert!(gc.iter().zip(&cc).all(|(a, b)| (a - b).abs() <= 1e-4 * scale), "point {i}: GPU {gc:?} vs CPU {cc:?}");
+        // And the widening adds 12·v to each of the covariance's two diagonal terms.
+        let trace = |x: [f64; 3]| x[0] + x[2];
+        let before = cov(s.map(f64::from));
+        assert!((trace(cc) - trace(before) - 24.0 * f64::from(*v)).abs() <= 1e-9 + 1e-6 * trace(cc), "point {i}");
+    }
+}
