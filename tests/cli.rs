@@ -266,3 +266,38 @@ fn map_under_an_environment_writes_radiance_and_checks_itself_against_the_exact_
     assert!(image.pixels().all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0)));
     assert!(brightest > 100.0 && brightest < 1e9, "brightest {brightest} cd/m²");
 }
+
+/// `map` under a lamp (issue 59): a lamp 1 cm in radius at 0.5 m subtends atan(0.02) = 1.1458°, which sets the
+/// coherence as --light-radius-deg does (model.md §1.13: 65 µm × 0.267°/1.1458° = 15.12 µm), so the two maps are
+/// the same pixels, and differ from the map under the material's own coherence; a lamp without its distance, of
+/// no size, or beside --coherence-um is one line.
+#[test]
+fn a_map_under_a_lamp_takes_its_coherence_from_its_size() {
+    let patch = place::assets().join("patches/blazed-1.6um.gsf");
+    let run = |name: &str, extra: &[&str]| {
+        let exr = scratch(name);
+        let (p, e, png) = (patch.to_str().unwrap(), exr.to_str().unwrap(), scratch(&format!("{name}.png")));
+        let args = ["map", "--heightfield", p, "--light-theta", "30", "--size", "32", "--exposure", "4"];
+        let o = diffract(&[&args[..], extra, &["--out", png.to_str().unwrap(), "--exr", e]].concat());
+        assert!(o.status.success(), "{}", stderr(&o));
+        (stderr(&o), std::fs::read(&exr).unwrap())
+    };
+    let (note, lamp) = run("lamp.exr", &["--lamp-radius-m", "0.01", "--lamp-distance-m", "0.5"]);
+    assert!(note.contains("note: a light 1.1458° in radius: coherence length 15.1224 µm"), "{note}");
+    let degrees = 0.02f64.atan().to_degrees().to_string();
+    let (_, by_angle) = run("angle.exr", &["--light-radius-deg", &degrees]);
+    let (_, own) = run("own.exr", &[]);
+    assert!(lamp == by_angle, "a lamp's map differs from the map under its angular radius");
+    assert!(lamp != own, "the lamp's size changed nothing");
+    let p = patch.to_str().unwrap();
+    for (extra, says) in [
+        (&["--lamp-radius-m", "0.01"][..], "--lamp-distance-m"),
+        (&["--lamp-radius-m", "0", "--lamp-distance-m", "1"][..], "must be above 0"),
+        (&["--light-radius-deg", "1", "--coherence-um", "30"][..], "not both"),
+    ] {
+        let o = diffract(
+            &[&["map", "--heightfield", p, "--light-theta", "30", "--out", "/tmp/never.png"][..], extra].concat(),
+        );
+        assert_one_line_error(&o, says);
+    }
+}

@@ -117,6 +117,19 @@ pub struct LightArgs {
     pub light_radius_deg: Option<f64>,
 }
 
+/// The coherence length a light of angular radius `radius_deg` gives (model.md §1.13), refused beside an explicit
+/// --coherence-um, with a note that says it: `brdf --light-radius-deg`, `map --light-radius-deg` and
+/// `map --lamp-radius-m/--lamp-distance-m`.
+pub fn coherence_of_light(radius_deg: f64, explicit: Option<f64>, flag: &str) -> anyhow::Result<f64> {
+    if explicit.is_some() {
+        anyhow::bail!("give {flag} (the coherence length follows from it) or --coherence-um, not both");
+    }
+    let coherence =
+        crate::physics::coherence::of_light(radius_deg.to_radians()).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
+    errln!("note: a light {radius_deg:.4}° in radius: coherence length {coherence:.4} µm");
+    Ok(coherence)
+}
+
 /// Settings that replace every material's own in a scene (`render`, `view`, `profile`; a profiled BRDF map's
 /// material starts from the defaults), and the frame's exposure and samples.
 #[derive(Args, Debug, Clone)]

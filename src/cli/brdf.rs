@@ -86,12 +86,8 @@ pub fn brdf(gpu: &crate::cli::GpuArgs, args: &BrdfArgs) -> anyhow::Result<std::p
         .collect();
     let mut acc = args.material.settings("brdf", &BRDF_SETTINGS)?;
     if let Some(radius_deg) = args.light.light_radius_deg {
-        if args.material.patch.coherence_um.is_some() {
-            bail!("give --light-radius-deg (the coherence length follows from it) or --coherence-um, not both");
-        }
-        acc.coherence_um = crate::physics::coherence::of_light(radius_deg.to_radians())
-            .map_err(|e| anyhow::anyhow!("--light-radius-deg: {e}"))?;
-        errln!("note: a light {radius_deg}° in radius: coherence length {:.4} µm", acc.coherence_um);
+        let explicit = args.material.patch.coherence_um;
+        acc.coherence_um = crate::cli::args::coherence_of_light(radius_deg, explicit, "--light-radius-deg")?;
     }
     let method = args.method.unwrap_or(if args.gpu { MethodArg::Taylor } else { MethodArg::Exact });
     let evaluator = match (args.gpu, method) {

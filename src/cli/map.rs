@@ -25,6 +25,17 @@ pub struct MapArgs {
     /// Light azimuth φ_i in degrees
     #[arg(value_parser = parse::finite, long, value_name = "DEG", default_value_t = 0.0)]
     pub light_phi: f64,
+    /// The light's angular radius in degrees (the sun's is 0.267°): its coherence length follows, 65 µm × 0.267°/DEG
+    /// (docs/model.md §1.13), where --coherence-um would set it directly
+    #[arg(value_parser = parse::finite, long, value_name = "DEG", conflicts_with_all = ["environment", "lamp_radius_m"])]
+    pub light_radius_deg: Option<f64>,
+    /// A lamp of this radius, metres, at --lamp-distance-m from the patch in the light's direction: its angular
+    /// radius atan(r/d) sets the coherence as --light-radius-deg does (the map stays a BRDF, in its relative units)
+    #[arg(value_parser = parse::finite, long, value_name = "M", requires = "lamp_distance_m", conflicts_with = "environment")]
+    pub lamp_radius_m: Option<f64>,
+    /// The lamp's distance from the patch, metres (with --lamp-radius-m)
+    #[arg(value_parser = parse::finite, long, value_name = "M", requires = "lamp_radius_m")]
+    pub lamp_distance_m: Option<f64>,
     /// Light the patch by an equirectangular HDR map (.exr or .hdr, linear RGB in cd/m², like `diffract gen sky`
     /// writes) instead of one light: its zenith is the patch normal, azimuth 0 the patch's −y and 90° its +x. The
     /// map is then radiance in the map's units (the baked approach)
@@ -92,11 +103,13 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let hf = args.heightfield.load()?;
     let light = optics::direction(theta, args.light_phi);
     let start = Instant::now();
-    let material = Material::prepare(
-        &hf,
-        args.material.patch.apply(crate::material::Settings::default()),
-        &Reach::Map { light, size: args.size, filtered: args.footprint },
-    )?;
+    let mut settings = args.material.patch.apply(crate::material::Settings::default());
+    if let Some(radius_deg) = light_radius_deg(args)? {
+        let flag = if args.lamp_radius_m.is_some() { "--lamp-radius-m" } else { "--light-radius-deg" };
+        settings.coherence_um =
+            crate::cli::args::coherence_of_light(radius_deg, args.material.patch.coherence_um, flag)?;
+    }
+    let material = Material::prepare(&hf, settings, &Reach::Map { light, size: args.size, filtered: args.footprint })?;
     let prep_ms = start.elapsed().as_secs_f64() * 1e3;
     let ctx = crate::gpu::vk::Context::new(&gpu.context_desc())?;
     let map = map::render_map(&ctx, &material, args.size, light, args.footprint).context("rendering the BRDF map")?;
@@ -159,6 +172,23 @@ fn write_map(args: &MapArgs, map: &map::MapImage) -> anyhow::Result<f64> {
 
 /// The map under the environment in `path` (`light::sampling`): a table for every pair of directions, the GPU's
 /// estimate, and with --env-reference the exact BRDF's at random pixels.
+/// The light's angular radius, degrees, from --light-radius-deg or a lamp's --lamp-radius-m at --lamp-distance-m.
+fn light_radius_deg(args: &MapArgs) -> anyhow::Result<Option<f64>> {
+    match (args.lamp_radius_m, args.lamp_distance_m) {
+        (Some(r), Some(d)) => {
+            if !(r > 0.0 && d > 0.0) {
+                anyhow::bail!(
+                    "--lamp-radius-m and --lamp-distance-m must be above 0, got {} and {} m",
+                    crate::error::number(r),
+                    crate::error::number(d)
+                );
+            }
+            Ok(Some(r.atan2(d).to_degrees()))
+        }
+        _ => Ok(args.light_radius_deg),
+    }
+}
+
 fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
     use crate::light::sampling::EnvLight;
     let settings = environment_settings(args)?;

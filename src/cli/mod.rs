@@ -131,6 +131,8 @@ Examples:
   diffract map --heightfield blaze.gsf --light-theta 0 --out blaze.png --exposure 4
   diffract map --heightfield elaphe.png --pixel-size-um 0.065 --height-um 0.375 --tile 10 \\
                --light-theta 20 --approach nmm --out elaphe-nmm.png --exr elaphe-nmm.exr
+  diffract map --heightfield blaze.gsf --light-theta 45 --lamp-radius-m 0.01 --lamp-distance-m 0.2 \\
+               --out blaze-lamp.png      under a bulb 2 cm across at 20 cm: its size sets the coherence
   diffract gen sky --sun-elevation-deg 50 --out sky.exr
   diffract map --heightfield blaze.gsf --environment sky.exr --out blaze-sky.png \
                --env-samples 1024 --env-reference 32      the map under a sky, checked against the exact BRDF";
