@@ -122,23 +122,27 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     // The footprint: how far (u, v) moves to the next pixel across and down, on the triangle's plane (the forward
     // pass's derivatives, taken fine). Against the exact reference this measures the forward pass's error or less
     // (docs/performance.md); the quad's coarse differences, or central ones, measured up to 8 % more.
+    vec3 b_across = barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0));
+    vec3 b_down = barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y));
     mat3 light = mat3(o[0][1].xyz, o[1][1].xyz, o[2][1].xyz);
     mat3 view = mat3(o[0][2].xyz, o[1][2].xyz, o[2][2].xyz);
     vec2 uv = table_uv(light, view, b);
-    vec2 across = table_uv(light, view, barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0))) - uv;
-    vec2 down = table_uv(light, view, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))) - uv;
-    steps = footprint_steps(across, down);
+    steps = footprint_steps(table_uv(light, view, b_across) - uv, table_uv(light, view, b_down) - uv);
 #endif
     vec3 rgb = surface_colour(inputs, steps);
-    for (uint k = 0u; k < lamp_count(); k++) {
+    uint lamps = lamp_count();
+    if (lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
+#ifdef BAKED
+    // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
+    // (the neighbours' inputs built once for every lamp).
+    SurfaceInputs inputs_across = inputs_at(o, b_across), inputs_down = inputs_at(o, b_down);
+#endif
+    for (uint k = 0u; k < lamps; k++) {
         vec4 lamp = lamp_at(inputs, k);
         vec4 lamp_steps = vec4(0.0);
 #ifdef BAKED
-        // The lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane.
-        vec2 lamp_uv = lamp_table_uv(inputs, k);
-        vec2 lamp_across = lamp_table_uv(inputs_at(o, barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0))), k);
-        vec2 lamp_down = lamp_table_uv(inputs_at(o, barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y))), k);
-        lamp_steps = footprint_steps(lamp_across - lamp_uv, lamp_down - lamp_uv);
+        vec2 lamp_uv = -lamp.xy - normalize(inputs.patch_view).xy;
+        lamp_steps = footprint_steps(lamp_table_uv(inputs_across, k) - lamp_uv, lamp_table_uv(inputs_down, k) - lamp_uv);
 #endif
         rgb += lamp_colour(inputs, k, lamp, lamp_steps);
     }
