@@ -164,35 +164,12 @@ fn a_lamps_first_order_is_wider_than_the_suns_by_the_ratio_of_their_radii() {
     let (ratio, predicted) = (lamp / sun, 1.0 / sun_deg);
     eprintln!("first order σ_u: sun {sun:.5}, 1° lamp {lamp:.5}: ratio {ratio:.3} (predicted {predicted:.3})");
     assert!((ratio / predicted - 1.0).abs() < 0.1, "ratio {ratio} against {predicted}");
-    let both = diffract(&[
-        "brdf",
-        "--heightfield",
-        file,
-        "--light-theta",
-        "0",
-        "--view",
-        "0,0",
-        "--lambda",
-        "550",
-        "--light-radius-deg",
-        "1",
-        "--coherence-um",
-        "30",
-    ]);
-    assert_one_line_error(&both, "not both");
-    let huge = diffract(&[
-        "brdf",
-        "--heightfield",
-        file,
-        "--light-theta",
-        "0",
-        "--view",
-        "0,0",
-        "--lambda",
-        "550",
-        "--light-radius-deg",
-        "40",
-    ]);
+    let at_normal = |extra: &[&str]| {
+        let args = ["brdf", "--heightfield", file, "--light-theta", "0", "--view", "0,0", "--lambda", "550"];
+        diffract(&[&args[..], extra].concat())
+    };
+    assert_one_line_error(&at_normal(&["--light-radius-deg", "1", "--coherence-um", "30"]), "not both");
+    let huge = at_normal(&["--light-radius-deg", "40"]);
     assert_one_line_error(&huge, "--light-radius-deg: a light 40° in angular radius");
 }
 

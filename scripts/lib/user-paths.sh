@@ -40,6 +40,8 @@ check_offscreen_paths() {
     --out "$out/map.png" --exr "$out/map.exr"
   check map-baked "$bin" map --heightfield assets/afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 \
     --tile 10 --light-theta 20 --size 64 --approach baked --out "$out/map-baked.png"
+  check map-lamp "$bin" map --heightfield assets/patches/blazed-1.6um.gsf --light-theta 45 --lamp-radius-m 0.01 \
+    --lamp-distance-m 0.2 --size 64 --approach baked --out "$out/map-lamp.png"
   check brdf-gpu "$bin" brdf --heightfield assets/patches/blazed-1.6um.gsf --light-theta 0 --view-theta 0:40:10 \
     --lambda 450,550 --gpu
   check profile "$bin" profile --width 32 --frames 2 --warmup 1 --no-reference --sweep approach=flss,baked
@@ -50,4 +52,5 @@ check_offscreen_paths() {
 check_viewer_paths() {
   check viewer "$bin" view --width 160 --height 120 --frames 20 --screenshot "$out/view.png"
   check viewer-flss "$bin" view --width 96 --height 64 --frames 3 --approach flss
+  check viewer-lamp "$bin" view assets/scenes/bench.toml --width 96 --height 64 --frames 5 --screenshot "$out/bench.png"
 }
