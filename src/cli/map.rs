@@ -104,8 +104,7 @@ pub fn map(gpu: &GpuArgs, args: &MapArgs) -> anyhow::Result<std::process::ExitCo
     let light = optics::direction(theta, args.light_phi);
     let start = Instant::now();
     let mut settings = args.material.patch.apply(crate::material::Settings::default());
-    if let Some(radius_deg) = light_radius_deg(args)? {
-        let flag = if args.lamp_radius_m.is_some() { "--lamp-radius-m" } else { "--light-radius-deg" };
+    if let Some((radius_deg, flag)) = light_radius_deg(args)? {
         settings.coherence_um =
             crate::cli::args::coherence_of_light(radius_deg, args.material.patch.coherence_um, flag)?;
     }
@@ -170,10 +169,9 @@ fn write_map(args: &MapArgs, map: &map::MapImage) -> anyhow::Result<f64> {
     Ok(exposure)
 }
 
-/// The map under the environment in `path` (`light::sampling`): a table for every pair of directions, the GPU's
-/// estimate, and with --env-reference the exact BRDF's at random pixels.
-/// The light's angular radius, degrees, from --light-radius-deg or a lamp's --lamp-radius-m at --lamp-distance-m.
-fn light_radius_deg(args: &MapArgs) -> anyhow::Result<Option<f64>> {
+/// The light's angular radius, degrees, from --light-radius-deg or a lamp's --lamp-radius-m at --lamp-distance-m,
+/// with the flag that set it.
+fn light_radius_deg(args: &MapArgs) -> anyhow::Result<Option<(f64, &'static str)>> {
     match (args.lamp_radius_m, args.lamp_distance_m) {
         (Some(r), Some(d)) => {
             if !(r > 0.0 && d > 0.0) {
@@ -183,12 +181,14 @@ fn light_radius_deg(args: &MapArgs) -> anyhow::Result<Option<f64>> {
                     crate::error::number(d)
                 );
             }
-            Ok(Some(r.atan2(d).to_degrees()))
+            Ok(Some((r.atan2(d).to_degrees(), "--lamp-radius-m")))
         }
-        _ => Ok(args.light_radius_deg),
+        _ => Ok(args.light_radius_deg.map(|deg| (deg, "--light-radius-deg"))),
     }
 }
 
+/// The map under the environment in `path` (`light::sampling`): a table for every pair of directions, the GPU's
+/// estimate, and with --env-reference the exact BRDF's at random pixels.
 fn environment_map(gpu: &GpuArgs, args: &MapArgs, path: &std::path::Path) -> anyhow::Result<std::process::ExitCode> {
     use crate::light::sampling::EnvLight;
     let settings = environment_settings(args)?;

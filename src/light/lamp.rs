@@ -140,6 +140,8 @@ impl LampUniforms {
     pub fn new(lamps: &[Lamp], unit_cd_m2: f64) -> Self {
         let mut out = Self::NONE;
         let stride = crate::gpu::interface::LAMP_VEC4S as usize;
+        // L·α: a lamp's coherence length at any point is this over its angular radius there (`coherence_at`).
+        let coherence_um_rad = DEFAULT_COHERENCE_UM * sun_angular_radius();
         for (k, lamp) in lamps.iter().take(crate::gpu::interface::MAX_LAMPS as usize).enumerate() {
             let (axis, cone_deg, soft_deg) = match lamp.spot {
                 Some(s) => (s.direction, s.cone_deg, s.soft_deg),
@@ -148,7 +150,6 @@ impl LampUniforms {
             let p = lamp.position;
             out.lamps[stride * k] = [p.x as f32, p.y as f32, p.z as f32, (lamp.intensity_cd / unit_cd_m2) as f32];
             out.lamps[stride * k + 1] = [axis.x as f32, axis.y as f32, axis.z as f32, cone_deg as f32];
-            let coherence_um_rad = crate::physics::coherence::DEFAULT_COHERENCE_UM * sun_angular_radius();
             out.lamps[stride * k + 2] = [
                 soft_deg as f32,
                 (lamp.radius_m * lamp.radius_m) as f32,

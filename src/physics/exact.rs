@@ -187,25 +187,12 @@ impl Reference {
     /// The spectrum's coefficients (no window) at the bins of `taps`: the Taylor sum Σ_n c_n F_n, or the exact DFT.
     fn coefficients(&self, taps: &[(usize, usize, f64)], kw: f64) -> Vec<Complex64> {
         match &self.terms {
-            Some(terms) => taps
-                .iter()
-                .map(|&(x, y, _)| {
-                    let mut c = 1.0;
-                    let mut p = Complex64::default();
-                    for (n, layer) in terms.layers.iter().enumerate() {
-                        if n > 0 {
-                            c *= kw / n as f64;
-                        }
-                        p += layer[y * terms.nx + x] * c;
-                    }
-                    p
-                })
-                .collect(),
+            Some(terms) => taps.iter().map(|&(x, y, _)| taylor_sum(terms, &[(x, y, 1.0)], kw)).collect(),
             None => self.exact_coefficients(taps, kw),
         }
     }
 
-    /// |P|² at `at` blurred by a Gaussian of standard deviation (`blur_x`, `blur_y`) bins, in closed form: with the
+    /// |P|² at `at` blurred by a Gaussian of standard deviation `blur` (x, y) bins, in closed form: with the
     /// window's Gaussians g_j of σ bins, ∫ |Σ_j F_j g_j|² ⊛ h = Σ_j Σ_k F_j F_k* · e^(−|j−k|²/4σ²) · p ·
     /// e^(−|s − (j+k)/2|²/2(σ²/2 + σ_h²)) per axis, p = √((σ²/2)/(σ²/2 + σ_h²)): the coherent intensity of the
     /// material's window, spread as an incoherent source of the blur's width spreads it.

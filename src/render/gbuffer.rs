@@ -61,6 +61,15 @@ pub struct Seen {
     pub position: DVec3,
 }
 
+impl Seen {
+    /// `lamp` as this pixel sees it (the G-buffer drawn `with_normals`): its patch-frame unit direction and its
+    /// illuminance at normal incidence here (`Lamp::light_at`).
+    pub fn lamp(&self, lamp: &Lamp) -> (DVec3, f64) {
+        let (l, irradiance) = lamp.light_at(self.position);
+        (self.frame.transpose() * l, irradiance)
+    }
+}
+
 /// A frame's G-buffer: rows top first, None where no surface is seen.
 pub struct GBuffer {
     pub pixels: Vec<Option<Seen>>,
@@ -265,8 +274,7 @@ impl GBuffer {
                         points.push(-s.omega_i - s.omega_r);
                     }
                     for lamp in lamps {
-                        let (l, irradiance) = lamp.light_at(s.position);
-                        let omega_i = s.frame.transpose() * l;
+                        let (omega_i, irradiance) = s.lamp(lamp);
                         if irradiance > 0.0 && omega_i.z > 0.0 {
                             points.push(-omega_i - s.omega_r);
                             let coherence = lamp.coherence_at(s.position);

@@ -292,14 +292,16 @@ fn normal_turn(ctx: &Context, scene: &Scene, fine: (u32, u32), samples: u32) -> 
 /// widening of its lobes — as glsl/include/lamps.glsl and surface_shade.glsl's `lamp_colour` have them.
 fn lamp_lights(scene: &Scene, seen: &Seen, unit: f64, material_um: f64) -> [PixelLamp; MAX_LAMPS as usize] {
     let mut out = crate::reference::exact_image::NO_LAMPS;
+    let follows = crate::light::lamp::follows_light(material_um);
     for (lamp, slot) in scene.lamps.iter().zip(&mut out) {
-        let (l, irradiance) = lamp.light_at(seen.position);
-        let follows = crate::light::lamp::follows_light(material_um);
-        let widening = crate::light::lamp::widening_variance(lamp.coherence_at(seen.position), material_um);
+        let (omega_i, irradiance) = seen.lamp(lamp);
         *slot = PixelLamp {
-            omega_i: seen.frame.transpose() * l,
+            omega_i,
             weight: irradiance / unit / optics::SUN_SOLID_ANGLE,
-            widening: if follows { widening } else { 0.0 },
+            widening: match follows {
+                true => crate::light::lamp::widening_variance(lamp.coherence_at(seen.position), material_um),
+                false => 0.0,
+            },
         };
     }
     out
