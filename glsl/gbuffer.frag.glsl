@@ -5,6 +5,7 @@
 #include "surface_frame.glsl"
 #include "footprint.glsl"
 #include "shadow.glsl"
+#include "maps.glsl"
 
 // 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, the sun's
 // visible share: shadow.glsl); 4: (the patch's x axis in the world, its handedness: y = w·(normal × x)); 5: (the
@@ -18,22 +19,27 @@ layout(location = 3) in vec3 tint;
 layout(location = 4) in vec3 shadow_coord;
 layout(location = 5) in vec4 patch_axis;
 layout(location = 7) in vec3 world_position;
+layout(location = 8) in vec2 uv;
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec3 omega_i = normalize(patch_light);
-    vec3 omega_r = normalize(patch_view);
+    // The object's maps, as the surface pass applies them: what the exact reference shades is the mapped surface.
+    vec3 light = patch_light, view = patch_view, normal = world_normal, albedo = tint;
+    vec4 axis = patch_axis;
+    if (has_maps()) apply_maps(uv, dFdx(uv), dFdy(uv), world_position, albedo, light, view, normal, axis);
+    vec3 omega_i = normalize(light);
+    vec3 omega_r = normalize(view);
     float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);
     if (PART == 0u) {
         out_color = vec4(omega_i, frame.orientation.z + 1.0);
     } else if (PART == 1u) {
         out_color = vec4(omega_r, footprint);
     } else if (PART == 2u) {
-        out_color = vec4(frame.pigment.rgb * tint, normalize(world_normal).y);
+        out_color = vec4(frame.pigment.rgb * albedo, normalize(normal).y);
     } else if (PART == 3u) {
-        out_color = vec4(normalize(world_normal), sun_visibility(shadow_coord));
+        out_color = vec4(normalize(normal), sun_visibility(shadow_coord));
     } else if (PART == 4u) {
-        out_color = patch_axis;
+        out_color = axis;
     } else {
         out_color = vec4(world_position, 1.0);
     }

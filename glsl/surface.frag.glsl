@@ -28,11 +28,14 @@ layout(location = 4) in vec3 shadow_coord;
 layout(location = 5) in vec4 patch_axis;
 layout(location = 6) in vec3 sky_diffracted_at_vertex;
 layout(location = 7) in vec3 world_position;
+layout(location = 8) in vec2 uv;
 layout(location = 0) out vec4 out_color;
 
 void main() {
     SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
-                                    sky_diffracted_at_vertex, world_position);
+                                    sky_diffracted_at_vertex, world_position, uv);
+    // The maps first, so that the footprint below follows the mapped normal's change across the pixel.
+    if (has_maps()) s = mapped(s, dFdx(uv), dFdy(uv));
     vec4 steps = vec4(0.0);
 #ifdef BAKED
     // Derivatives, so in uniform control flow (before the shading's branches).

@@ -6,7 +6,7 @@
 // camera is the current one (the thesis used object-space positions and a stale camera: §7.2 item 14).
 #include "surface_frame.glsl"
 
-#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment (gpu::shaders::VERTEX_ATTRIBUTES)
+#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment, in_uv (gpu::shaders::VERTEX_ATTRIBUTES)
 
 layout(location = 0) out vec3 patch_light;
 layout(location = 1) out vec3 patch_view;
@@ -25,6 +25,8 @@ layout(location = 5) out vec4 patch_axis;
 layout(location = 6) out vec3 sky_diffracted_at_vertex;
 // The point in the world (where the lamps are seen from: lamps.glsl).
 layout(location = 7) out vec3 world_position;
+// Where the object's maps are read (maps.glsl).
+layout(location = 8) out vec2 uv;
 
 #ifdef SKY_DIFFRACTION_AT_VERTEX
 #include "brdf.glsl"
@@ -63,6 +65,7 @@ void main() {
     world_position = p.xyz;
     patch_axis = vec4(t, in_tangent.w < 0.0 ? -1.0 : 1.0);
     tint = in_pigment;
+    uv = in_uv;
 #ifdef SKY_DIFFRACTION_AT_VERTEX
     sky_diffracted_at_vertex = sky_diffracted(normalize(patch_view), t, b, n);
 #else
@@ -82,7 +85,7 @@ void main() {
     vertex_outputs[base + 2u] = vec4(patch_view, tint.g);
     vertex_outputs[base + 3u] = vec4(world_normal, tint.b);
     vertex_outputs[base + 4u] = vec4(shadow_coord, patch_axis.w);
-    vertex_outputs[base + 5u] = vec4(patch_axis.xyz, 0.0);
-    vertex_outputs[base + 6u] = vec4(sky_diffracted_at_vertex, 0.0);
+    vertex_outputs[base + 5u] = vec4(patch_axis.xyz, uv.x);
+    vertex_outputs[base + 6u] = vec4(sky_diffracted_at_vertex, uv.y);
 #endif
 }

@@ -14,10 +14,19 @@ struct SurfaceInputs {
     vec4 patch_axis;
     vec3 sky_diffracted_at_vertex;
     vec3 world_position;
+    // Where the object's maps are read (maps.glsl).
+    vec2 uv;
 };
 
 #include "pigment.glsl"
 #include "lamps.glsl"
+#include "maps.glsl"
+
+// `s` with the object's maps applied at its uv (`dx`, `dy`: the uv's steps to the next pixel across and down).
+SurfaceInputs mapped(SurfaceInputs s, vec2 dx, vec2 dy) {
+    apply_maps(s.uv, dx, dy, s.world_position, s.tint, s.patch_light, s.patch_view, s.world_normal, s.patch_axis);
+    return s;
+}
 
 // The diffraction of light from `omega_i` towards `omega_r` (patch frame), linear RGB relative to the light's
 // (times `params.light_white.w` in physical units); `steps`: the pixel's footprint in (u, v) (baked only).

@@ -68,7 +68,12 @@ SurfaceInputs inputs_at(vec4 o[3][VERTEX_OUTPUT_VEC4S], vec3 b) {
     }
     vec4 point = frame.inverse_view_proj * at[0];
     return SurfaceInputs(at[1].xyz, at[2].xyz, at[3].xyz, vec3(at[1].w, at[2].w, at[3].w), at[4].xyz,
-                         vec4(at[5].xyz, at[4].w), at[6].xyz, point.xyz / point.w);
+                         vec4(at[5].xyz, at[4].w), at[6].xyz, point.xyz / point.w, vec2(at[5].w, at[6].w));
+}
+
+// The (u, v) the sun's light is read at for a surface point.
+vec2 sun_table_uv(SurfaceInputs s) {
+    return -normalize(s.patch_light).xy - normalize(s.patch_view).xy;
 }
 
 // The (u, v) lamp k's light is read at for a surface point.
@@ -117,25 +122,45 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     vec4 c0 = o[0][0], c1 = o[1][0], c2 = o[2][0];
     vec3 b = barycentrics(c0, c1, c2, ndc);
     SurfaceInputs inputs = inputs_at(o, b);
-    vec4 steps = vec4(0.0);
-#ifdef BAKED
-    // The footprint: how far (u, v) moves to the next pixel across and down, on the triangle's plane (the forward
-    // pass's derivatives, taken fine). Against the exact reference this measures the forward pass's error or less
-    // (docs/performance.md); the quad's coarse differences, or central ones, measured up to 8 % more.
+    // The points of the next pixels across and down on the triangle's plane: the maps' gradients, and the baked
+    // read's footprint (how far (u, v) moves to them: the forward pass's derivatives, taken fine). Against the exact
+    // reference this measures the forward pass's error or less (docs/performance.md); the quad's coarse
+    // differences, or central ones, measured up to 8 % more.
     vec3 b_across = barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0));
     vec3 b_down = barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y));
-    mat3 light = mat3(o[0][1].xyz, o[1][1].xyz, o[2][1].xyz);
-    mat3 view = mat3(o[0][2].xyz, o[1][2].xyz, o[2][2].xyz);
-    vec2 uv = table_uv(light, view, b);
-    steps = footprint_steps(table_uv(light, view, b_across) - uv, table_uv(light, view, b_down) - uv);
+    bool maps = has_maps();
+    SurfaceInputs inputs_across = inputs, inputs_down = inputs;
+    if (maps) {
+        // Each neighbour mapped with the same gradients, so that the footprint follows the mapped normal's change.
+        inputs_across = inputs_at(o, b_across);
+        inputs_down = inputs_at(o, b_down);
+        vec2 dx = inputs_across.uv - inputs.uv, dy = inputs_down.uv - inputs.uv;
+        inputs = mapped(inputs, dx, dy);
+        inputs_across = mapped(inputs_across, dx, dy);
+        inputs_down = mapped(inputs_down, dx, dy);
+    }
+    vec4 steps = vec4(0.0);
+#ifdef BAKED
+    if (maps) {
+        vec2 uv = sun_table_uv(inputs);
+        steps = footprint_steps(sun_table_uv(inputs_across) - uv, sun_table_uv(inputs_down) - uv);
+    } else {
+        mat3 light = mat3(o[0][1].xyz, o[1][1].xyz, o[2][1].xyz);
+        mat3 view = mat3(o[0][2].xyz, o[1][2].xyz, o[2][2].xyz);
+        vec2 uv = table_uv(light, view, b);
+        steps = footprint_steps(table_uv(light, view, b_across) - uv, table_uv(light, view, b_down) - uv);
+    }
 #endif
     vec3 rgb = surface_colour(inputs, steps);
     uint lamps = lamp_count();
     if (lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
 #ifdef BAKED
     // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
-    // (the neighbours' inputs built once for every lamp).
-    SurfaceInputs inputs_across = inputs_at(o, b_across), inputs_down = inputs_at(o, b_down);
+    // (the neighbours' inputs built once for every lamp; mapped above where the object has maps).
+    if (!maps) {
+        inputs_across = inputs_at(o, b_across);
+        inputs_down = inputs_at(o, b_down);
+    }
 #endif
     for (uint k = 0u; k < lamps; k++) {
         vec4 lamp = lamp_at(inputs, k);

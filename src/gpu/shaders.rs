@@ -82,7 +82,8 @@ mod tests {
     /// `Vertex`'s fields.
     #[test]
     fn vertex_attributes_follow_the_vertex_struct() {
-        assert_eq!(VERTEX_ATTRIBUTES.map(|a| a.location), [0, 1, 2, 3]);
+        assert_eq!(VERTEX_ATTRIBUTES.map(|a| a.location), [0, 1, 2, 3, 4]);
+        assert_eq!(VERTEX_ATTRIBUTES[4].offset as usize, std::mem::offset_of!(Vertex, uv));
         assert_eq!(VERTEX_ATTRIBUTES[3].offset as usize, std::mem::offset_of!(Vertex, pigment));
         assert_eq!(VERTEX_ATTRIBUTES[2].format, vk::Format::R32G32B32A32_SFLOAT);
     }

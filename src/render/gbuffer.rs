@@ -79,6 +79,7 @@ pub struct GBuffer {
 #[derive(Default)]
 struct Parts {
     meshes: Vec<MeshBuffers>,
+    maps: Vec<crate::render::maps::MapImages>,
     uniforms: Vec<Buffer>,
     pipelines: Vec<Pipeline>,
     target: Option<OffscreenTarget>,
@@ -90,6 +91,7 @@ impl Parts {
     /// The GPU must be done with everything.
     unsafe fn destroy(self, ctx: &Context) {
         self.meshes.into_iter().for_each(|m| m.destroy(ctx));
+        self.maps.into_iter().for_each(|m| m.destroy(ctx));
         self.uniforms.into_iter().for_each(|b| b.destroy(ctx));
         self.pipelines.into_iter().for_each(|p| p.destroy(ctx));
         if let Some(t) = self.target {
@@ -195,9 +197,11 @@ impl GBuffer {
                 shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), Some([0.0; 4]), None);
-                for (mesh, uniforms) in parts.meshes.iter().zip(&parts.uniforms) {
+                for ((mesh, uniforms), maps) in parts.meshes.iter().zip(&parts.uniforms).zip(&parts.maps) {
                     let [compare, depths] = shadow.writes();
-                    let writes = [DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms), compare, depths];
+                    let [pigment, normal] = maps.writes();
+                    let frame = DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms);
+                    let writes = [frame, compare, depths, pigment, normal];
                     ctx.bind(cmd, pipeline, &writes, &[]);
                     mesh.draw(ctx, cmd);
                 }
@@ -241,11 +245,13 @@ impl GBuffer {
         let mut all = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {
             parts.meshes.push(MeshBuffers::new(ctx, &object.mesh, &format!("object {i}"))?);
+            parts.maps.push(crate::render::maps::MapImages::new(ctx, &object.mesh.maps)?);
             let size = std::mem::size_of::<SurfaceUniforms>() as u64;
             let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
             let mut uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms (g-buffer)"))?;
             let material = &scene.materials[object.material];
-            let u = view.uniforms(object.model, &SurfaceMaterial::of(material), object.material);
+            let u =
+                view.uniforms(object.model, &SurfaceMaterial::of(material), object.material, object.mesh.maps.flags());
             all.push(u);
             let written = uniforms.write(bytemuck::bytes_of(&u));
             parts.uniforms.push(uniforms);

@@ -10,6 +10,7 @@ pub mod env_map;
 pub mod forward;
 pub mod gbuffer;
 pub mod map;
+pub mod maps;
 pub mod offscreen;
 pub mod preview;
 pub mod scene_gpu;

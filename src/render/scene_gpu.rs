@@ -17,6 +17,7 @@ use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Destroy, Guar
 use crate::material::Material;
 use crate::render::background::{BackgroundPass, Panorama};
 use crate::render::diffraction::{counting_constants, PatchResources};
+use crate::render::maps::MapImages;
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
 use crate::render::{MeshBuffers, SceneView};
 use crate::scene::camera::Camera;
@@ -136,9 +137,10 @@ impl MaterialGpu {
     }
 }
 
-/// An object on the GPU: its mesh, its uniforms and its material.
+/// An object on the GPU: its mesh, its maps, its uniforms and its material.
 pub(crate) struct ObjectGpu {
     pub mesh: MeshBuffers,
+    pub maps: MapImages,
     pub uniforms: Buffer,
     pub material: usize,
     /// The mesh's own box (object space), which the shadow map is fitted to once placed.
@@ -148,17 +150,19 @@ pub(crate) struct ObjectGpu {
 impl ObjectGpu {
     fn new(ctx: &Context, i: usize, mesh: &Mesh, material: usize) -> Result<Self> {
         let bounds = Aabb::of(&mesh.vertices);
+        let maps = Guard::new(ctx, MapImages::new(ctx, &mesh.maps)?);
         let mesh = Guard::new(ctx, MeshBuffers::new(ctx, mesh, &format!("object {i}"))?);
         let size = std::mem::size_of::<SurfaceUniforms>() as u64;
         let desc = BufferDesc::upload(size, vk::BufferUsageFlags::UNIFORM_BUFFER);
         let uniforms = ctx.create_buffer(desc, &format!("object {i} uniforms"))?;
-        Ok(Self { mesh: mesh.keep(), uniforms, material, bounds })
+        Ok(Self { mesh: mesh.keep(), maps: maps.keep(), uniforms, material, bounds })
     }
 
     /// # Safety
     /// The GPU must be done with it.
     unsafe fn destroy(self, ctx: &Context) {
         self.mesh.destroy(ctx);
+        self.maps.destroy(ctx);
         self.uniforms.destroy(ctx);
     }
 }
@@ -185,8 +189,9 @@ pub struct ObjectView<'a> {
 
 impl ObjectView<'_> {
     /// One object's uniforms: its model matrix, its material's orientation (cos, sin) and pigment, the
-    /// material's index (`orientation.z`, which the G-buffer writes) and whether it is matte.
-    pub fn uniforms(&self, model: Mat4, material: &SurfaceMaterial, index: usize) -> SurfaceUniforms {
+    /// material's index (`orientation.z`, which the G-buffer writes), whether it is matte, and which maps it has
+    /// (`SurfaceMaps::flags`).
+    pub fn uniforms(&self, model: Mat4, material: &SurfaceMaterial, index: usize, maps: [f32; 4]) -> SurfaceUniforms {
         let SurfaceMaterial { orientation, pigment, matte } = *material;
         let normal = Mat4::from_mat3(glam::Mat3::from_mat4(model).inverse().transpose());
         let [cos, sin] = orientation;
@@ -208,6 +213,7 @@ impl ObjectView<'_> {
             inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
             lamp_count: self.lamps.count,
             lamps: self.lamps.lamps,
+            maps,
         }
     }
 }
@@ -370,7 +376,7 @@ impl SceneGpu {
         let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(&view.models) {
             let material = &self.materials[object.material];
-            let mut u = object_view.uniforms(*model, &material.surface, object.material);
+            let mut u = object_view.uniforms(*model, &material.surface, object.material, object.maps.flags);
             // The environment diffracts where the material has its moments, its specular reflection read from the
             // map where the view has one.
             u.sky_quadratic[0][3] = if material.patch.has_moments { 1.0 } else { 0.0 };
@@ -458,6 +464,7 @@ impl SceneGpu {
         writes.extend(patch.writes());
         writes.extend([patch.moments_write(), self.lighting.write()]);
         writes.extend(self.shadow.writes());
+        writes.extend(object.maps.writes());
         writes
     }
 

@@ -170,6 +170,11 @@ pub(super) struct MaterialDef {
     /// Linear RGB albedo of the skin's pigment under the grating.
     #[serde(default)]
     pub(super) pigment: [f64; 3],
+    /// An sRGB PNG whose colour multiplies `pigment`, and a tangent-space normal map (`scene::mesh::maps`).
+    pub(super) pigment_map: Option<Spanned<String>>,
+    pub(super) normal_map: Option<Spanned<String>>,
+    /// Metres one repeat of the maps covers on the ground and planes.
+    pub(super) map_size_m: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize, Default)]

@@ -160,7 +160,7 @@ impl Scene {
         }
         let mut objects = Vec::new();
         for def in &file.objects {
-            objects.push(objects::object(&loc, base, def, &index)?);
+            objects.push(objects::object(&loc, base, def, &index, &materials)?);
         }
         let render = checks::render_settings(&loc, &file.render)?;
         let ambient = file.light.ambient.as_ref().map_or(Ok(0.0), |a| {
@@ -208,6 +208,11 @@ fn read_files(
     for (name, def) in &file.material {
         if let Some(path) = &def.get_ref().heightfield {
             files.push((format!("[material.{name}]'s height field"), base.join(path.get_ref())));
+        }
+        for (what, map) in [("pigment map", &def.get_ref().pigment_map), ("normal map", &def.get_ref().normal_map)] {
+            if let Some(path) = map {
+                files.push((format!("[material.{name}]'s {what}"), base.join(path.get_ref())));
+            }
         }
     }
     for def in &file.objects {

@@ -15,8 +15,10 @@ use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
 use crate::scene::checks::{amount, check_coords, triple, MAX_COORDINATE, MAX_LEVEL};
 use crate::scene::file::{built_in, Locator, MaterialDef, ObjectDef, TileDef};
+use crate::scene::mesh::maps::{MapKind, SurfaceMaps, Texture};
 use crate::scene::mesh::shapes::Shape;
 use crate::scene::mesh::{obj, Mesh};
+use std::sync::Arc;
 
 /// The approach of a material that names none: the baked table (FLSS stays the reference, a material or the
 /// command line can ask for it).
@@ -33,6 +35,10 @@ pub struct SceneMaterial {
     /// Pigment only (a material with neither heightfield nor generate, such as a ground's): a Lambertian albedo
     /// with no grating and no skin over it. `heightfield` is then a small flat patch that nothing draws.
     pub matte: bool,
+    /// Its pigment and normal maps (an object's mesh may bring its own from an MTL: the material's come first).
+    pub maps: SurfaceMaps,
+    /// Metres one repeat of the maps covers on the ground and planes (None: one repeat over the whole shape).
+    pub map_size_m: Option<f64>,
 }
 
 /// An object of a loaded scene.
@@ -91,6 +97,27 @@ pub(super) fn material(
             triple(&d.pigment)
         )));
     }
+    let map = |key: &Option<Spanned<String>>, kind| {
+        key.as_ref()
+            .map(|path| {
+                let file = base.join(path.get_ref());
+                Texture::load(&file, kind).map(Arc::new).map_err(|e| loc.at(path.span(), e))
+            })
+            .transpose()
+    };
+    let maps =
+        SurfaceMaps { pigment: map(&d.pigment_map, MapKind::Pigment)?, normal: map(&d.normal_map, MapKind::Normal)? };
+    let map_size_m = match &d.map_size_m {
+        Some(m) if !(m.get_ref().is_finite() && *m.get_ref() > 0.0 && *m.get_ref() <= MAX_COORDINATE) => {
+            let size = crate::error::number(*m.get_ref());
+            return Err(loc.at(
+                m.span(),
+                format!("map_size_m = {size}: expected metres, positive and at most {MAX_COORDINATE:e}"),
+            ));
+        }
+        Some(_) if maps.is_empty() => return Err(at("has map_size_m but no pigment_map or normal_map".into())),
+        m => m.as_ref().map(|m| *m.get_ref()),
+    };
     Ok(SceneMaterial {
         name: name.to_string(),
         heightfield: hf,
@@ -98,6 +125,8 @@ pub(super) fn material(
         orientation_deg: d.orientation_deg as f32,
         pigment: d.pigment.map(|c| c as f32),
         matte,
+        maps,
+        map_size_m,
     })
 }
 
@@ -151,10 +180,11 @@ pub(super) fn object(
     base: &Path,
     def: &Spanned<ObjectDef>,
     materials: &BTreeMap<String, usize>,
+    loaded: &[SceneMaterial],
 ) -> Result<SceneObject> {
     let span = def.span();
     let d = def.get_ref();
-    let mesh = match (&d.mesh, d.shape) {
+    let mut mesh = match (&d.mesh, d.shape) {
         (Some(path), None) => {
             let file: PathBuf = base.join(path.get_ref());
             obj::load(&file).map_err(|e| loc.at(path.span(), e))?
@@ -186,6 +216,7 @@ pub(super) fn object(
         )
     })?;
     let scale = d.scale.as_ref().map_or(1.0, |s| *s.get_ref());
+    place_maps(&mut mesh, &loaded[material], d.shape, scale).map_err(|e| loc.at(span.clone(), e))?;
     if !(scale.is_finite() && scale > 0.0 && scale <= MAX_COORDINATE) {
         return Err(loc.at(
             d.scale.as_ref().map(|s| s.span()).unwrap_or(span),
@@ -201,4 +232,37 @@ pub(super) fn object(
         translate,
     );
     Ok(SceneObject { mesh, model, material, casts_shadow: d.shape != Some(Shape::Ground) })
+}
+
+/// Gives `mesh` its material's maps (each where the material has one; else what the mesh's MTL brought), turned
+/// row for row where the mesh is an OBJ's (its v runs up the image), and scales a ground's or plane's UVs so that
+/// one repeat covers the material's `map_size_m` at the object's `scale`.
+fn place_maps(
+    mesh: &mut Mesh,
+    material: &SceneMaterial,
+    shape: Option<Shape>,
+    scale: f64,
+) -> std::result::Result<(), String> {
+    if !material.maps.is_empty() {
+        let own = if shape.is_none() { material.maps.flipped() } else { material.maps.clone() };
+        mesh.maps.pigment = own.pigment.or(mesh.maps.pigment.take());
+        mesh.maps.normal = own.normal.or(mesh.maps.normal.take());
+    }
+    let Some(size) = material.map_size_m else { return Ok(()) };
+    let half = match shape {
+        Some(Shape::Ground) => f64::from(crate::scene::mesh::shapes::GROUND_HALF),
+        Some(Shape::Plane) => 1.0,
+        _ => {
+            return Err(format!(
+                "[material.{}] has map_size_m, which is for the ground and planes (a mesh's or shape's own UVs place                  its maps)",
+                material.name
+            ))
+        }
+    };
+    let repeats = (2.0 * half * scale / size) as f32;
+    for v in &mut mesh.vertices {
+        // About the centre (smaller numbers: f32 keeps a map's texels apart over thousands of repeats).
+        v.uv = v.uv.map(|c| (c - 0.5) * repeats);
+    }
+    Ok(())
 }

@@ -8,6 +8,7 @@ mod environment;
 mod golden;
 mod harness;
 mod lamps;
+mod maps;
 mod scenes;
 mod shadow;
 mod surface;

@@ -295,6 +295,11 @@ shared! {
     /// includes it shares with the frames.
     pub const BINDING_TWIN_IN: u32 = 21;
     pub const BINDING_TWIN_OUT: u32 = 22;
+    /// An object's surface maps (`render::maps`, `glsl/include/maps.glsl`): its pigment map (sRGB) and its normal
+    /// map (tangent space, linear), each mip-mapped and read through one repeating, anisotropic sampler; one
+    /// white texel where the object has none.
+    pub const BINDING_PIGMENT_MAP: u32 = 23;
+    pub const BINDING_NORMAL_MAP: u32 = 24;
 
     section "The GLSL functions `twins.comp` evaluates (`TwinPush::function`; `reference::twins::Twin`).";
     pub const TWIN_FRESNEL_REFLECTANCE: u32 = 0;
@@ -515,6 +520,8 @@ gpu_struct! {
         /// lamp's cone 360), (the edge's width in degrees, the disc's radius squared (m²), the coherence length times
         /// the angular radius that gives it (µm·rad: `coherence::of_light`), the disc's radius (m)).
         pub lamps: [[f32; 4]; 24],
+        /// 1 where the object has a pigment map, 1 where it has a normal map (`scene::mesh::maps`), 0, 0.
+        pub maps: [f32; 4],
     }
 }
 const _: () = assert!(MAX_LAMPS * LAMP_VEC4S == 24, "SurfaceUniforms::lamps holds MAX_LAMPS lamps");
@@ -619,6 +626,5 @@ impl Default for Vertex {
     }
 }
 
-/// The vertex shaders' inputs: [`Vertex`]'s fields at locations 0, 1, … (`in_<field>` in the GLSL). The others
-/// (`uv`) stay on the CPU.
-pub const VERTEX_INPUTS: [&str; 4] = ["position", "normal", "tangent", "pigment"];
+/// The vertex shaders' inputs: [`Vertex`]'s fields at locations 0, 1, … (`in_<field>` in the GLSL).
+pub const VERTEX_INPUTS: [&str; 5] = ["position", "normal", "tangent", "pigment", "uv"];

@@ -145,6 +145,8 @@ pub struct Device {
     /// Whether the device can draw a visibility buffer (`render::visibility`): a triangle's index in the fragment
     /// shader (`geometryShader`) and stores from the vertex shader.
     pub visibility_buffer: bool,
+    /// Whether samplers may filter anisotropically (`samplerAnisotropy`; the surface maps ask for it).
+    pub sampler_anisotropy: bool,
 }
 
 impl Device {
@@ -196,7 +198,8 @@ impl Device {
             .pipeline_statistics_query(pipeline_statistics)
             .geometry_shader(visibility_buffer)
             .vertex_pipeline_stores_and_atomics(visibility_buffer)
-            .fragment_stores_and_atomics(features.fragment_stores_and_atomics == vk::TRUE);
+            .fragment_stores_and_atomics(features.fragment_stores_and_atomics == vk::TRUE)
+            .sampler_anisotropy(features.sampler_anisotropy == vk::TRUE);
         let create = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&ext_names)
@@ -217,6 +220,7 @@ impl Device {
             debug_utils,
             pipeline_statistics,
             visibility_buffer,
+            sampler_anisotropy: features.sampler_anisotropy == vk::TRUE,
         })
     }
 

@@ -358,6 +358,18 @@ impl Context {
         Ok(Sampler { raw })
     }
 
+    /// A surface map's sampler: repeating, trilinear, and anisotropic up to `anisotropy` (within the device's
+    /// limit) where the device filters so.
+    pub fn create_map_sampler(&self, name: &str, anisotropy: f32) -> Result<Sampler> {
+        let mut info =
+            vk::SamplerCreateInfo::default().mipmap_mode(vk::SamplerMipmapMode::LINEAR).max_lod(vk::LOD_CLAMP_NONE);
+        if self.device.sampler_anisotropy {
+            let most = anisotropy.min(self.info.limits.max_sampler_anisotropy);
+            info = info.anisotropy_enable(true).max_anisotropy(most);
+        }
+        self.sampler(info, vk::Filter::LINEAR, vk::SamplerAddressMode::REPEAT, name)
+    }
+
     /// A bilinear sampler for an equirectangular map: wrapping around in x (the azimuth), clamped in y.
     pub fn create_panorama_sampler(&self, name: &str) -> Result<Sampler> {
         let info = vk::SamplerCreateInfo::default().address_mode_u(vk::SamplerAddressMode::REPEAT);

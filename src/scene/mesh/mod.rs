@@ -4,8 +4,10 @@
 //! - [`shapes`]: built-in shapes (plane, disk, sphere, cylinder, cube).
 //! - [`snake`]: the procedural snake (domed scales in diagonal rows, head, S-curve, a corn snake's pattern).
 //! - [`obj`]: Wavefront OBJ in and out (tobj), with normals computed when missing and tangents from the UVs,
-//!   else from the mesh's long axis ([`Mesh::compute_tangents`]).
+//!   else from the mesh's long axis ([`Mesh::compute_tangents`]); an MTL's maps.
+//! - [`maps`]: pigment and normal maps, with their mip chains.
 
+pub mod maps;
 pub mod obj;
 pub mod shapes;
 pub mod snake;
@@ -32,6 +34,8 @@ pub struct Mesh {
     /// depth pre-pass (the snake's S-curve can still hide a few, which are shaded and then covered). False for
     /// loaded meshes.
     pub front_first: bool,
+    /// Its pigment and normal maps, read at the vertices' UVs (none by default).
+    pub maps: maps::SurfaceMaps,
 }
 
 impl Mesh {
@@ -64,7 +68,7 @@ impl Mesh {
                 indices.extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
             }
         }
-        Self { vertices, indices, one_sided: true, front_first: true }
+        Self { vertices, indices, one_sided: true, front_first: true, maps: maps::SurfaceMaps::default() }
     }
 }
 
@@ -83,6 +87,7 @@ impl Mesh {
             indices: vec![0, 1, 2, 0, 2, 3],
             one_sided: false,
             front_first: true,
+            maps: maps::SurfaceMaps::default(),
         }
     }
 }

@@ -1,11 +1,13 @@
 //! Wavefront OBJ through `tobj`: every model of the file merged into one mesh, triangulated; normals computed
-//! when the file has none, tangents from the UVs (else the long-axis fallback of [`Mesh::compute_tangents`]).
+//! when the file has none, tangents from the UVs (else the long-axis fallback of [`Mesh::compute_tangents`]); the
+//! maps its MTL names (`map_Kd`, `norm` or `map_Bump`).
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::gpu::interface::Vertex;
+use crate::scene::mesh::maps::{MapKind, SurfaceMaps, Texture};
 use crate::scene::mesh::Mesh;
 
 /// The most vertices a mesh may have (a guard against hostile files; a detailed snake scan has ~10⁵).
@@ -20,11 +22,18 @@ pub fn load(path: &Path) -> Result<Mesh> {
 /// Parses the bytes of an OBJ file (`path` names it in messages).
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
-    // Materials are not used (a scene names its own): a `mtllib` line is not followed.
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |_| Err(tobj::LoadError::OpenFileFailed))
-            .map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
-    let mut mesh = Mesh::default();
+    // A `mtllib` is read beside the file for its maps (a scene names its own material for everything else).
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let (models, materials) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &options, |name| {
+        let bytes = crate::io::input::read(&dir.join(name), MAX_MTL_BYTES, "material library");
+        let bytes = bytes.map_err(|e| {
+            log::warn!("{}: its mtllib {}: {e}; its maps are not read", path.display(), name.display());
+            tobj::LoadError::OpenFileFailed
+        })?;
+        tobj::load_mtl_buf(&mut std::io::Cursor::new(bytes))
+    })
+    .map_err(|e| Error::input(path, format!("not a readable OBJ: {e}")))?;
+    let mut mesh = Mesh { maps: mtl_maps(path, &models, &materials.unwrap_or_default())?, ..Mesh::default() };
     let (mut has_normals, mut has_uvs) = (true, true);
     for model in &models {
         let m = &model.mesh;
@@ -79,6 +88,44 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh> {
     }
     mesh.compute_tangents(has_uvs);
     Ok(mesh)
+}
+
+/// The most bytes an MTL file may take.
+pub const MAX_MTL_BYTES: u64 = 16 << 20;
+
+/// The maps of the MTL materials `models` use (`map_Kd`: the pigment map; `norm`, or `map_Bump`/`bump` as
+/// exporters write a normal map there: the normal map), read beside `path`, rows turned for the OBJ's v (up the
+/// image). One object takes one set: where the models use several, the first is taken and a warning says so.
+fn mtl_maps(path: &Path, models: &[tobj::Model], materials: &[tobj::Material]) -> Result<SurfaceMaps> {
+    let mut used: Vec<(Option<String>, Option<String>)> = Vec::new();
+    for id in models.iter().filter_map(|m| m.mesh.material_id) {
+        let Some(m) = materials.get(id) else { continue };
+        let normal = m.unknown_param.get("norm").cloned().or_else(|| m.normal_texture.clone());
+        let maps = (m.diffuse_texture.clone(), normal);
+        if (maps.0.is_some() || maps.1.is_some()) && !used.contains(&maps) {
+            used.push(maps);
+        }
+    }
+    let Some((pigment, normal)) = used.first() else { return Ok(SurfaceMaps::default()) };
+    if used.len() > 1 {
+        log::warn!("{}: its materials name {} sets of maps; one object takes the first", path.display(), used.len());
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let load = |name: &Option<String>, kind| {
+        name.as_deref()
+            .map(|n| Texture::load(&dir.join(map_file(n)), kind).map(std::sync::Arc::new))
+            .transpose()
+            .map_err(|e| Error::input(path, format!("its MTL's map: {e}")))
+    };
+    Ok(SurfaceMaps { pigment: load(pigment, MapKind::Pigment)?, normal: load(normal, MapKind::Normal)? }.flipped())
+}
+
+/// A map statement's file: the last word where options (`-bm 0.5 file.png`) come first.
+fn map_file(statement: &str) -> &str {
+    match statement.trim() {
+        s if s.starts_with('-') => s.split_whitespace().last().unwrap_or(s),
+        s => s,
+    }
 }
 
 /// Writes `mesh` as OBJ with positions, UVs and normals, and vertex colours (`v x y z r g b`) where a vertex's
