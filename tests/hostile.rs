@@ -42,6 +42,11 @@ fn fixtures() -> &'static Path {
         write("no-faces.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n");
         write("missing-vertex.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
         write("nan-vertex.obj", b"v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        image::RgbImage::from_pixel(4, 4, image::Rgb([128, 128, 40])).save(dir.join("inward.png")).unwrap();
+        image::GrayImage::new(20000, 1).save(dir.join("wide.png")).unwrap();
+        let quad = b"mtllib quad.mtl\nusemtl skin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+        write("mtl-missing-map.obj", quad);
+        write("quad.mtl", b"newmtl skin\nmap_Kd -bm 1.0 nowhere.png\n");
         let env = |name: &str, width: u32, height: u32, bad: Option<f32>| {
             let mut rgba = vec![1.0f32; (width * height * 4) as usize];
             if let Some(b) = bad {
@@ -302,6 +307,39 @@ fn hostile_scenes_and_meshes() {
         ),
         with_scene("scene: NaN vertex", scene("s14.toml", mesh("nan-vertex.obj")), "not finite"),
         with_scene("scene: missing mesh", scene("s15.toml", mesh("nope.obj")), "nope.obj"),
+    ]);
+}
+
+/// Pigment and normal maps: every way a map or its key can be wrong ends in one line naming it.
+#[test]
+fn hostile_surface_maps() {
+    let map = |key: &'static str, file: &'static str| move |s: String| s + &format!("{key} = \"{file}\"\n");
+    run_all(&[
+        with_scene("maps: missing pigment map", scene("m1.toml", map("pigment_map", "nope.png")), "nope.png"),
+        with_scene("maps: text as a PNG", scene("m2.toml", map("normal_map", "text.png")), "not a readable PNG map"),
+        with_scene("maps: a FIFO", scene("m3.toml", map("pigment_map", "fifo.png")), "not a regular file"),
+        with_scene("maps: 20000 texels wide", scene("m4.toml", map("pigment_map", "wide.png")), "not a readable PNG"),
+        with_scene(
+            "maps: a normal into the surface",
+            scene("m5.toml", map("normal_map", "inward.png")),
+            "into the surface",
+        ),
+        with_scene(
+            "maps: map_size_m on a sphere",
+            scene("m6.toml", |s| s + "pigment_map = \"colour.png\"\nmap_size_m = 0.1\n"),
+            "for the ground and planes",
+        ),
+        with_scene("maps: map_size_m without a map", scene("m7.toml", |s| s + "map_size_m = 0.1\n"), "no pigment_map"),
+        with_scene(
+            "maps: map_size_m negative",
+            scene("m8.toml", |s| s + "pigment_map = \"colour.png\"\nmap_size_m = -1.0\n"),
+            "map_size_m",
+        ),
+        with_scene(
+            "maps: an MTL's missing map",
+            scene("m9.toml", |s| s.replace("shape = \"sphere\"", "mesh = \"mtl-missing-map.obj\"")),
+            "nowhere.png",
+        ),
     ]);
 }
 

@@ -254,7 +254,8 @@ fn place_maps(
         Some(Shape::Plane) => 1.0,
         _ => {
             return Err(format!(
-                "[material.{}] has map_size_m, which is for the ground and planes (a mesh's or shape's own UVs place                  its maps)",
+                "[material.{}] has map_size_m, which is for the ground and planes (a mesh's or shape's own UVs place \
+                 its maps)",
                 material.name
             ))
         }

@@ -107,14 +107,17 @@ fn predicted(scene: &Scene, n: DVec3) -> (f64, f64) {
 fn a_normal_map_tilting_ten_degrees_puts_the_glint_where_that_normal_does() {
     let dir = maps_dir("glint");
     // sin 10°, 0, cos 10° encoded as (c + 1)/2: the texel tilts the normal 10.2° towards +u (+x on the ground).
-    let (tilt, flat) = ([150, 128, 253], [128, 128, 255]);
+    let (tilt, flat, down) = ([150, 128, 253], [128, 128, 255], [128, 106, 253]);
     solid_png(&dir, "tilt.png", tilt);
     solid_png(&dir, "flat.png", flat);
+    solid_png(&dir, "down.png", down);
     // The ground's tangent frame: u along +x, n × t along −z, n up.
     let world = |m: DVec3| DVec3::new(m.x, m.z, -m.y);
-    for (map, texel) in [("tilt.png", tilt), ("flat.png", flat)] {
+    for (map, texel) in [("tilt.png", tilt), ("flat.png", flat), ("down.png", down)] {
         let scene = glint_scene(&dir, map);
         let expected = predicted(&scene, world(decoded(texel)));
+        let inside = |c: f64| (8.0..f64::from(SIZE) - 8.0).contains(&c);
+        assert!(inside(expected.0) && inside(expected.1), "{map}: the glint {expected:?} is not in the frame");
         for path in [ShadingPath::Forward, ShadingPath::Visibility] {
             let got = glint_centre(&render(&scene, path));
             let off = (got.0 - expected.0).hypot(got.1 - expected.1);

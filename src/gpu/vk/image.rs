@@ -359,11 +359,13 @@ impl Context {
     }
 
     /// A surface map's sampler: repeating, trilinear, and anisotropic up to `anisotropy` (within the device's
-    /// limit) where the device filters so.
+    /// limit) where the device filters so and is not a CPU: lavapipe's anisotropic reads with explicit gradients
+    /// return stray bright texels in a compute shader (the visibility buffer's edge pass: a dotted line of them
+    /// along a plane's diagonal), where its fragment shaders read the same texels right.
     pub fn create_map_sampler(&self, name: &str, anisotropy: f32) -> Result<Sampler> {
         let mut info =
             vk::SamplerCreateInfo::default().mipmap_mode(vk::SamplerMipmapMode::LINEAR).max_lod(vk::LOD_CLAMP_NONE);
-        if self.device.sampler_anisotropy {
+        if self.device.sampler_anisotropy && self.info.kind != vk::PhysicalDeviceType::CPU {
             let most = anisotropy.min(self.info.limits.max_sampler_anisotropy);
             info = info.anisotropy_enable(true).max_anisotropy(most);
         }

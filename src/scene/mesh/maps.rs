@@ -78,7 +78,9 @@ impl Texture {
         limits.max_image_height = Some(MAX_MAP_EDGE);
         limits.max_alloc = Some(4 * u64::from(MAX_MAP_EDGE) * u64::from(MAX_MAP_EDGE));
         reader.limits(limits);
-        let image = reader.decode().map_err(|e| Error::input(path, format!("not a readable PNG map: {e}")))?;
+        let image = reader.decode().map_err(|e| {
+            Error::input(path, format!("not a readable PNG map (at most {MAX_MAP_EDGE} texels a side): {e}"))
+        })?;
         let rgba = image.to_rgba8();
         let (width, height) = rgba.dimensions();
         let texels: Vec<[u8; 4]> = rgba.pixels().map(|p| [p[0], p[1], p[2], 255]).collect();

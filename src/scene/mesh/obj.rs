@@ -214,6 +214,27 @@ mod tests {
     }
 
     #[test]
+    fn an_mtls_maps_come_with_the_mesh_rows_turned_for_its_v() {
+        let obj = scratch("mtl.obj");
+        let dir = obj.parent().unwrap();
+        // Top row red, bottom row blue (PNG rows run top to bottom).
+        let png = image::RgbImage::from_fn(2, 2, |_, y| image::Rgb(if y == 0 { [255, 0, 0] } else { [0, 0, 255] }));
+        png.save(dir.join("mtl-kd.png")).unwrap();
+        image::RgbImage::from_pixel(2, 2, image::Rgb([128, 128, 255])).save(dir.join("mtl-n.png")).unwrap();
+        std::fs::write(dir.join("mtl.mtl"), "newmtl a\nmap_Kd mtl-kd.png\nnorm -bm 1 mtl-n.png\n").unwrap();
+        let text = "mtllib mtl.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
+        std::fs::write(&obj, text).unwrap();
+        let mesh = load(&obj).unwrap();
+        let pigment = mesh.maps.pigment.expect("map_Kd read");
+        // v = 0 is the image's bottom row in an OBJ: the uploaded rows start there.
+        assert_eq!(pigment.levels[0][0], [0, 0, 255, 255]);
+        assert_eq!(mesh.maps.normal.expect("norm read").levels[0][0], [128, 128, 255, 255]);
+        // Without its MTL the mesh still loads, without maps.
+        std::fs::remove_file(dir.join("mtl.mtl")).unwrap();
+        assert!(load(&obj).unwrap().maps.is_empty());
+    }
+
+    #[test]
     fn missing_normals_and_uvs_are_derived() {
         let p = scratch("tri.obj");
         std::fs::write(&p, "v 0 0 0\nv 4 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
