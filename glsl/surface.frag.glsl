@@ -42,14 +42,17 @@ void main() {
     steps = pixel_steps(-normalize(patch_light).xy - normalize(patch_view).xy);
 #endif
     vec3 rgb = surface_colour(s, steps);
-    // The lamps' count is uniform, so each lamp's derivatives too are taken in uniform control flow.
-    for (uint k = 0u; k < lamp_count(); k++) {
-        vec4 lamp = lamp_at(s, k);
-        vec4 lamp_steps = vec4(0.0);
+    // The lamps' count is uniform, so each lamp's derivatives too are taken in uniform control flow. (A view
+    // without lamps compiles the loop out: LAMPS, a specialization constant, in an `if` that the driver folds.)
+    if (LAMPS != 0u) {
+        for (uint k = 0u; k < lamp_count(); k++) {
+            vec4 lamp = lamp_at(s, k);
+            vec4 lamp_steps = vec4(0.0);
 #ifdef BAKED
-        lamp_steps = pixel_steps(-lamp.xy - normalize(patch_view).xy);
+            lamp_steps = pixel_steps(-lamp.xy - normalize(patch_view).xy);
 #endif
-        rgb += lamp_colour(s, k, lamp, lamp_steps);
+            rgb += lamp_colour(s, k, lamp, lamp_steps);
+        }
     }
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();

@@ -1,32 +1,33 @@
 #!/usr/bin/env bash
-# Renders the BRDF maps of docs/approaches.md: a blazed grating and the two AFM snake patches (tiled to 65 µm), with each
-# approach, at normal incidence, and prints the time each took (`diffract map` reports the GPU time).
-# Usage: scripts/readme-maps.sh [OUT_DIR] [SIZE]   (default docs/images/maps, 256)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-out=${1:-docs/images/maps}
-size=${2:-256}
-afm=assets/afm
-mkdir -p "$out"
-cargo build --release -q
-$d gen patch blazed --out "$out/blazed.gsf" >/dev/null
-# The snakes' orders are about 1 % of the specular peak: they need more exposure than the blazed grating.
-declare -A exposure=([blazed]=3 [elaphe]=8 [xenopeltis]=8)
-declare -A patch=(
-  [blazed]="--heightfield $out/blazed.gsf"
-  [elaphe]="--heightfield $afm/elaphe-100px.png --pixel-size-um 0.065 --height-um 0.375 --tile 10"
-  [xenopeltis]="--heightfield $afm/xenopeltis-100px.png --pixel-size-um 0.065 --height-um 0.44 --tile 10"
-)
-for name in blazed elaphe xenopeltis; do
-  for approach in flss nmm pq gem; do
-    start=$(date +%s%N)
-    # shellcheck disable=SC2086
-    line=$($d map ${patch[$name]} --light-theta 0 --approach "$approach" --size "$size" --exposure "${exposure[$name]}" \
-      --out "$out/$name-$approach.png")
-    end=$(date +%s%N)
-    printf '%s %s wall %d ms: %s\n' "$name" "$approach" $(((end - start) / 1000000)) "$line"
+# The surface maps' picture and speed (docs/usage.md, "Pigment and normal maps"); the commands' output lands in
+# docs/profile/maps.txt:
+#   docs/images/skin-maps.png  assets/scenes/skin-maps.toml at 384×256 (both maps), beside the same scene with the
+#                              pigment map alone and with no map, at the scene's exposure
+#   the cost of maps against no maps at 800² (1 and 4 samples), twice each, alternating: skin-maps.toml against its
+#   copy without maps, and the default scene against a copy whose soil reads a pigment map (5 cm a repeat)
+# Needs ImageMagick (montage) and the DejaVu fonts to compose the picture.
+# Usage: scripts/readme-maps.sh [TAG] [extra diffract options]
+source "$(dirname "$0")/lib/readme.sh"
+log=docs/profile/maps.txt
+: >"$log"
+sed -e "s|\"\.\./|\"$PWD/assets/|" assets/scenes/skin-maps.toml >"$scratch/maps.toml"
+grep -v '^normal_map' "$scratch/maps.toml" >"$scratch/pigment-only.toml"
+grep -v '^normal_map\|^pigment_map\|^map_size_m' "$scratch/maps.toml" >"$scratch/no-maps.toml"
+sed -e "s|\"\.\./|\"$PWD/assets/|" assets/scenes/elaphe-snake.toml >"$scratch/default.toml"
+awk -v map="$PWD/assets/maps/scales-pigment.png" '{print} /^\[material\.soil\]/{print "pigment_map = \"" map "\"\nmap_size_m = 0.05"}' \
+  "$scratch/default.toml" >"$scratch/default-soil-map.toml"
+grep -q '^pigment_map' "$scratch/default-soil-map.toml"
+for s in maps pigment-only no-maps; do
+  run render "$scratch/$s.toml" --out "$scratch/$s.png" "$@"
+done
+montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
+  -label 'pigment and normal maps' "$scratch/maps.png" \
+  -label 'pigment map alone' "$scratch/pigment-only.png" \
+  -label 'no maps' "$scratch/no-maps.png" \
+  -tile 3x1 -geometry +3+3 docs/images/skin-maps.png
+for round in 1 2; do
+  for s in no-maps maps default default-soil-map; do
+    run profile "$scratch/$s.toml" --width 800 --height 800 --frames 10 --warmup 3 --no-reference \
+      --sweep samples=1,4 "$@"
   done
 done
-rm -f "$out/blazed.gsf"
-montage "$out"/blazed-{flss,nmm,pq,gem}.png "$out"/elaphe-{flss,nmm,pq,gem}.png "$out"/xenopeltis-{flss,nmm,pq,gem}.png \
-  -tile 4x3 -geometry +2+2 -background '#202020' "$out/grid.png"

@@ -11,9 +11,12 @@ float spot_factor(float angle_deg, float cone_deg, float soft_deg) {
     return t * t * (3.0 - 2.0 * t);
 }
 
+// 0 in the pipelines of a view without lamps: the loops over them compile out (`render::scene_gpu::ViewSpec`).
+layout(constant_id = SPEC_LAMPS) const uint LAMPS = 1;
+
 // How many lamps the scene has (a uniform: loops over them stay in uniform control flow).
 uint lamp_count() {
-    return uint(frame.lamp_count.x);
+    return LAMPS == 0u ? 0u : uint(frame.lamp_count.x);
 }
 
 // Lamp k seen from the world point `p`: the unit vector towards it (xyz) and its irradiance at normal incidence

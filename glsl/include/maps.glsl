@@ -7,9 +7,12 @@
 layout(set = 0, binding = BINDING_PIGMENT_MAP) uniform sampler2D pigment_map;
 layout(set = 0, binding = BINDING_NORMAL_MAP) uniform sampler2D normal_map;
 
+// 0 in the pipelines of a material none of whose objects has a map: the reads compile out.
+layout(constant_id = SPEC_MAPS) const uint MAPS = 1;
+
 // Whether the object has any map (a uniform: the branch is taken by every pixel alike).
 bool has_maps() {
-    return frame.maps.x + frame.maps.y > 0.0;
+    return MAPS != 0u && frame.maps.x + frame.maps.y > 0.0;
 }
 
 // The maps applied at `uv` (its steps to the next pixel across, `dx`, and down, `dy`): the tint times the pigment

@@ -153,7 +153,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
 #endif
     vec3 rgb = surface_colour(inputs, steps);
     uint lamps = lamp_count();
-    if (lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
+    if (LAMPS == 0u || lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
 #ifdef BAKED
     // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
     // (the neighbours' inputs built once for every lamp; mapped above where the object has maps).

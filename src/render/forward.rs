@@ -18,34 +18,34 @@ use crate::gpu::shaders::VERTEX_ATTRIBUTES;
 use crate::gpu::vk::{
     Blend, Context, DepthTest, DescriptorWrite, Destroy, GraphicsPipelineDesc, Guard, Pipeline, Shader, SpecConstants,
 };
-use crate::render::scene_gpu::{Formats, MaterialGpu, SceneGpu, ShadowVariants, SurfaceVariant};
+use crate::render::scene_gpu::{Formats, MaterialGpu, SceneGpu, SurfaceVariant, ViewSpec, ViewVariants};
 use crate::render::{begin_rendering, end_rendering, pass, Instruments, TargetView, DEPTH_FORMAT};
 
 /// The name the shading pipelines carry (labels).
 pub const NAME: &str = "surface";
 
 /// The forward path's pipelines: the depth pre-pass's (None where every mesh is drawn front first) and each
-/// material's shading pipeline for the current view's shadows.
+/// material's shading pipeline for the current view's [`ViewSpec`].
 pub(crate) struct ForwardPath {
     depth: Option<Pipeline>,
-    shading: ShadowVariants<Vec<Pipeline>>,
+    shading: ViewVariants<Vec<Pipeline>>,
 }
 
 impl ForwardPath {
-    /// The path's pipelines for `scene`, shading a view with or without `shadows`.
-    pub fn new(ctx: &Context, scene: &SceneGpu, shadows: bool) -> Result<Self> {
+    /// The path's pipelines for `scene`, shading a view of `spec`.
+    pub fn new(ctx: &Context, scene: &SceneGpu, spec: ViewSpec) -> Result<Self> {
         let formats = scene.formats;
         let depth = (!formats.front_first).then(|| depth_pipeline(ctx, &formats)).transpose()?;
         let depth = Guard::new(ctx, depth);
         let pre_pass = depth.is_some();
-        let shading = ShadowVariants::new(shadows, |s| shading_pipelines(ctx, scene, s, pre_pass))?;
+        let shading = ViewVariants::new(spec, |s| shading_pipelines(ctx, scene, s, pre_pass))?;
         Ok(Self { depth: depth.keep(), shading })
     }
 
-    /// Makes the pipelines for a view with or without `shadows` current (built the first time).
-    pub fn select(&mut self, ctx: &Context, scene: &SceneGpu, shadows: bool) -> Result<()> {
+    /// Makes the pipelines for a view of `spec` current (built the first time).
+    pub fn select(&mut self, ctx: &Context, scene: &SceneGpu, spec: ViewSpec) -> Result<()> {
         let pre_pass = self.depth.is_some();
-        self.shading.select(shadows, |s| shading_pipelines(ctx, scene, s, pre_pass))
+        self.shading.select(spec, |s| shading_pipelines(ctx, scene, s, pre_pass))
     }
 
     /// Records `scene`'s objects into `target` (in attachment layouts): the depth pre-pass, the shading, the
@@ -127,9 +127,9 @@ fn depth_pipeline(ctx: &Context, formats: &Formats) -> Result<Pipeline> {
     })
 }
 
-/// Each material's shading pipeline for a view with or without `shadows`: after a depth pre-pass it tests
-/// EQUAL, else it tests and writes depth itself.
-fn shading_pipelines(ctx: &Context, scene: &SceneGpu, shadows: bool, pre_pass: bool) -> Result<Vec<Pipeline>> {
+/// Each material's shading pipeline for a view of `spec`: after a depth pre-pass it tests EQUAL, else it tests
+/// and writes depth itself.
+fn shading_pipelines(ctx: &Context, scene: &SceneGpu, spec: ViewSpec, pre_pass: bool) -> Result<Vec<Pipeline>> {
     let formats = scene.formats;
     let mut pipelines = Guard::new(ctx, Vec::with_capacity(scene.materials.len()));
     for material in &scene.materials {
@@ -138,7 +138,7 @@ fn shading_pipelines(ctx: &Context, scene: &SceneGpu, shadows: bool, pre_pass: b
             name: NAME,
             vertex,
             fragment: Some(fragment),
-            specialization: material.specialization(shadows),
+            specialization: material.specialization(spec),
             push_constant_size: 0,
             vertex_stride: std::mem::size_of::<Vertex>() as u32,
             vertex_attributes: &VERTEX_ATTRIBUTES,

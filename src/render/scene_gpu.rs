@@ -1,7 +1,7 @@
 //! A scene's GPU state, which both shading paths read: each material's patch and uniforms, each object's buffers
 //! and uniforms, the sun's shadow map, the environment the surfaces reflect and the one drawn behind them.
 //!
-//! `SceneGpu::update` writes all of it for a view and says whether the view casts shadows; the paths
+//! `SceneGpu::update` writes all of it for a view and says what its pipelines are specialized for; the paths
 //! (`render::forward`, `render::visibility`) build their pipelines from `SceneGpu::formats` and each material's
 //! shader choices, and record draws that read this state. Nothing here records a draw of the objects.
 
@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use crate::error::{Error, Result};
 use crate::gpu::interface::{
     DiffractionParams, SurfaceUniforms, BINDING_ENV_LIGHT, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX,
-    SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
+    SPEC_LAMPS, SPEC_MAPS, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
 use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Destroy, Guard, Image, Sampler, SpecConstants};
 use crate::material::Material;
@@ -102,7 +102,8 @@ pub(crate) struct MaterialGpu {
 }
 
 impl MaterialGpu {
-    fn new(ctx: &Context, input: &MaterialInput<'_>, variant: SurfaceVariant) -> Result<Self> {
+    /// `maps`: whether any of its objects has a map.
+    fn new(ctx: &Context, input: &MaterialInput<'_>, variant: SurfaceVariant, maps: bool) -> Result<Self> {
         let material = input.material;
         let patch = PatchResources::new(ctx, material)?;
         let sky = match material.moments {
@@ -121,13 +122,13 @@ impl MaterialGpu {
             surface: input.surface,
             baked: material.table.is_some(),
             sky_at_vertex: sky == SKY_DIFFRACTION_VERTEX,
-            constants: constants.u32(SPEC_SKY_DIFFRACTION, sky),
+            constants: constants.u32(SPEC_SKY_DIFFRACTION, sky).u32(SPEC_MAPS, u32::from(maps)),
         })
     }
 
-    /// The constants of its pipelines for a view with or without shadows.
-    pub fn specialization(&self, shadows: bool) -> SpecConstants {
-        self.constants.clone().u32(SPEC_SHADOWS, u32::from(shadows))
+    /// The constants of its pipelines for a view of `spec`.
+    pub fn specialization(&self, spec: ViewSpec) -> SpecConstants {
+        self.constants.clone().u32(SPEC_SHADOWS, u32::from(spec.shadows)).u32(SPEC_LAMPS, u32::from(spec.lamps))
     }
 
     /// # Safety
@@ -252,31 +253,40 @@ impl EnvLighting {
     }
 }
 
-/// Pipelines built for the shadows of the view a renderer last drew, and those for the other setting once a view
-/// has needed them (`SPEC_SHADOWS` is a specialization constant: a view that loses its shadow, the sun going
-/// down, draws with other pipelines).
-pub(crate) struct ShadowVariants<T> {
-    current: T,
-    shadows: bool,
-    other: Option<T>,
+/// What a view's pipelines are specialized for (`SPEC_SHADOWS`, `SPEC_LAMPS`): whether it casts the sun's shadows and
+/// whether lamps light it. A frame without lamps runs shaders without their loop (on lavapipe the loop that runs no
+/// lamp still cost the default scene's frame 30 %).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct ViewSpec {
+    pub shadows: bool,
+    pub lamps: bool,
 }
 
-impl<T: Destroy> ShadowVariants<T> {
-    pub fn new(shadows: bool, build: impl FnOnce(bool) -> Result<T>) -> Result<Self> {
-        Ok(Self { current: build(shadows)?, shadows, other: None })
+/// Pipelines built for the [`ViewSpec`] of the view a renderer last drew, and those for the other specs views have
+/// needed since (a view that loses its shadow, the sun going down, draws with other pipelines).
+pub(crate) struct ViewVariants<T> {
+    current: T,
+    spec: ViewSpec,
+    others: Vec<(ViewSpec, T)>,
+}
+
+impl<T: Destroy> ViewVariants<T> {
+    pub fn new(spec: ViewSpec, build: impl FnOnce(ViewSpec) -> Result<T>) -> Result<Self> {
+        Ok(Self { current: build(spec)?, spec, others: Vec::new() })
     }
 
-    /// Makes the pipelines for `shadows` current, building them the first time.
-    pub fn select(&mut self, shadows: bool, build: impl FnOnce(bool) -> Result<T>) -> Result<()> {
-        if shadows == self.shadows {
+    /// Makes the pipelines for `spec` current, building them the first time.
+    pub fn select(&mut self, spec: ViewSpec, build: impl FnOnce(ViewSpec) -> Result<T>) -> Result<()> {
+        if spec == self.spec {
             return Ok(());
         }
-        let next = match self.other.take() {
-            Some(built) => built,
-            None => build(shadows)?,
+        let next = match self.others.iter().position(|(s, _)| *s == spec) {
+            Some(i) => self.others.swap_remove(i).1,
+            None => build(spec)?,
         };
-        self.other = Some(std::mem::replace(&mut self.current, next));
-        self.shadows = shadows;
+        let previous = std::mem::replace(&mut self.current, next);
+        self.others.push((self.spec, previous));
+        self.spec = spec;
         Ok(())
     }
 
@@ -289,7 +299,9 @@ impl<T: Destroy> ShadowVariants<T> {
     /// No pending work may use them.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.current.destroy(ctx);
-        self.other.destroy(ctx);
+        for (_, t) in self.others {
+            t.destroy(ctx);
+        }
     }
 }
 
@@ -328,8 +340,9 @@ impl SceneGpu {
             return Err(Error::Invalid(format!("object {i} names material {m}, which does not exist")));
         }
         let mut gpu_materials = Guard::new(ctx, Vec::with_capacity(materials.len()));
-        for input in materials {
-            gpu_materials.push(MaterialGpu::new(ctx, input, formats.variant)?);
+        for (m, input) in materials.iter().enumerate() {
+            let maps = objects.iter().any(|&(mesh, i)| i == m && !mesh.maps.is_empty());
+            gpu_materials.push(MaterialGpu::new(ctx, input, formats.variant, maps)?);
         }
         let mut gpu_objects = Guard::new(ctx, Vec::with_capacity(objects.len()));
         for (i, &(mesh, material)) in objects.iter().enumerate() {
@@ -353,8 +366,9 @@ impl SceneGpu {
 
     /// Writes every object's uniforms for `view` (its camera, light, sky, placements and shadow casters) at
     /// `aspect`, places the shadow map (made full size the first time a view casts a shadow) and the environment;
-    /// returns whether the view casts shadows. No submitted work may still read any of it.
-    pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<bool> {
+    /// returns what its pipelines are specialized for (whether it casts shadows, whether lamps light it). No
+    /// submitted work may still read any of it.
+    pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<ViewSpec> {
         let frame = self.fit_shadow(ctx, view, aspect)?;
         let mut lit = [0.0; 3];
         if let Some(environment) = &view.lighting {
@@ -386,10 +400,10 @@ impl SceneGpu {
             object.uniforms.write(bytemuck::bytes_of(&u))?;
             all.push(u);
         }
-        let shadows = frame.is_some();
+        let spec = ViewSpec { shadows: frame.is_some(), lamps: view.lamps.count[0] > 0.0 };
         self.shadow.update(frame, &all)?;
         self.update_background(ctx, view, aspect)?;
-        Ok(shadows)
+        Ok(spec)
     }
 
     /// Which objects cast a shadow under `view`, and where the shadow map lies (None: no shadow); the map made

@@ -70,10 +70,10 @@ impl SceneRenderer {
         let visibility = setup.path == ShadingPath::Visibility;
         let mut scene = Guard::new(ctx, SceneGpu::new(ctx, materials, objects, formats, visibility)?);
         let aspect = extent.width as f32 / extent.height as f32;
-        let shadows = scene.update(ctx, first, aspect)?;
+        let spec = scene.update(ctx, first, aspect)?;
         let path = match setup.path {
-            ShadingPath::Forward => Path::Forward(ForwardPath::new(ctx, &scene, shadows)?),
-            ShadingPath::Visibility => Path::Visibility(Box::new(VisibilityPath::new(ctx, &scene, extent, shadows)?)),
+            ShadingPath::Forward => Path::Forward(ForwardPath::new(ctx, &scene, spec)?),
+            ShadingPath::Visibility => Path::Visibility(Box::new(VisibilityPath::new(ctx, &scene, extent, spec)?)),
         };
         Ok(Self { scene: scene.keep(), path })
     }
@@ -87,13 +87,13 @@ impl SceneRenderer {
     }
 
     /// Writes every object's uniforms for `view` (its camera, light, sky, placements and shadow casters) at
-    /// `aspect`, places the shadow map and the environment, and makes the pipelines for the view's shadows
-    /// current; no submitted work may still read any of it.
+    /// `aspect`, places the shadow map and the environment, and makes the pipelines for the view's shadows and
+    /// lamps current; no submitted work may still read any of it.
     pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<()> {
-        let shadows = self.scene.update(ctx, view, aspect)?;
+        let spec = self.scene.update(ctx, view, aspect)?;
         match &mut self.path {
-            Path::Forward(path) => path.select(ctx, &self.scene, shadows),
-            Path::Visibility(path) => path.select(ctx, &self.scene, shadows),
+            Path::Forward(path) => path.select(ctx, &self.scene, spec),
+            Path::Visibility(path) => path.select(ctx, &self.scene, spec),
         }
     }
 

@@ -24,7 +24,7 @@ use crate::gpu::vk::{
     Blend, ComputePipelineDesc, Context, DepthTest, DescriptorWrite, Destroy, GraphicsPipelineDesc, Guard, ImageState,
     MemoryState, Pipeline,
 };
-use crate::render::scene_gpu::{MaterialGpu, SceneGpu, ShadowVariants};
+use crate::render::scene_gpu::{MaterialGpu, SceneGpu, ViewSpec, ViewVariants};
 use crate::render::{end_rendering, pass, Instruments, MeshBuffers, TargetView, DEPTH_FORMAT};
 pub use state::check;
 use state::{VisibilityState, VERTEX_STORAGE_WRITE};
@@ -97,12 +97,12 @@ pub(crate) struct VisibilityPipelines {
 }
 
 impl VisibilityPipelines {
-    /// `material`'s, for a view with or without `shadows`.
-    fn new(ctx: &Context, scene: &SceneGpu, material: &MaterialGpu, shadows: bool) -> Result<Self> {
+    /// `material`'s, for a view of `spec`.
+    fn new(ctx: &Context, scene: &SceneGpu, material: &MaterialGpu, spec: ViewSpec) -> Result<Self> {
         let formats = scene.formats;
         let multisampled = formats.samples != vk::SampleCountFlags::TYPE_1;
         let push_constant_size = std::mem::size_of::<VisibilityPush>() as u32;
-        let specialization = material.specialization(shadows);
+        let specialization = material.specialization(spec);
         let raster = Guard::new(
             ctx,
             ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
@@ -166,11 +166,11 @@ impl VisibilityPipelines {
         Ok(Self { raster: raster.keep(), shade: shade.keep(), edges })
     }
 
-    /// Every material's, for a view with or without `shadows`.
-    fn of_scene(ctx: &Context, scene: &SceneGpu, shadows: bool) -> Result<Vec<Self>> {
+    /// Every material's, for a view of `spec`.
+    fn of_scene(ctx: &Context, scene: &SceneGpu, spec: ViewSpec) -> Result<Vec<Self>> {
         let mut all = Guard::new(ctx, Vec::with_capacity(scene.materials.len()));
         for material in &scene.materials {
-            all.push(Self::new(ctx, scene, material, shadows)?);
+            all.push(Self::new(ctx, scene, material, spec)?);
         }
         Ok(all.keep())
     }
@@ -184,16 +184,16 @@ impl VisibilityPipelines {
     }
 }
 
-/// The path: its state for frames of one size and its pipelines for the current view's shadows.
+/// The path: its state for frames of one size and its pipelines for the current view's [`ViewSpec`].
 pub(crate) struct VisibilityPath {
     state: VisibilityState,
-    pipelines: ShadowVariants<Vec<VisibilityPipelines>>,
+    pipelines: ViewVariants<Vec<VisibilityPipelines>>,
 }
 
 impl VisibilityPath {
-    /// The path for `scene`'s frames of `extent` (and the scene's samples), shading a view with or without
-    /// `shadows`: linear colour only, and not the counting variant.
-    pub fn new(ctx: &Context, scene: &SceneGpu, extent: vk::Extent2D, shadows: bool) -> Result<Self> {
+    /// The path for `scene`'s frames of `extent` (and the scene's samples), shading a view of `spec`: linear colour
+    /// only, and not the counting variant.
+    pub fn new(ctx: &Context, scene: &SceneGpu, extent: vk::Extent2D, spec: ViewSpec) -> Result<Self> {
         let variant = scene.formats.variant;
         if variant.display_output() || variant.counting() {
             return Err(Error::Invalid(
@@ -202,13 +202,13 @@ impl VisibilityPath {
         }
         let meshes: Vec<&MeshBuffers> = scene.objects.iter().map(|o| &o.mesh).collect();
         let state = Guard::new(ctx, VisibilityState::new(ctx, extent, scene.formats.samples, &meshes)?);
-        let pipelines = ShadowVariants::new(shadows, |s| VisibilityPipelines::of_scene(ctx, scene, s))?;
+        let pipelines = ViewVariants::new(spec, |s| VisibilityPipelines::of_scene(ctx, scene, s))?;
         Ok(Self { state: state.keep(), pipelines })
     }
 
-    /// Makes the pipelines for a view with or without `shadows` current (built the first time).
-    pub fn select(&mut self, ctx: &Context, scene: &SceneGpu, shadows: bool) -> Result<()> {
-        self.pipelines.select(shadows, |s| VisibilityPipelines::of_scene(ctx, scene, s))
+    /// Makes the pipelines for a view of `spec` current (built the first time).
+    pub fn select(&mut self, ctx: &Context, scene: &SceneGpu, spec: ViewSpec) -> Result<()> {
+        self.pipelines.select(spec, |s| VisibilityPipelines::of_scene(ctx, scene, s))
     }
 
     /// Records a frame of `scene` into `target`: the raster pass into the ids and the target's depth at the
