@@ -26,7 +26,7 @@ void main() {
     // The object's maps, as the surface pass applies them: what the exact reference shades is the mapped surface.
     vec3 light = patch_light, view = patch_view, normal = world_normal, albedo = tint;
     vec4 axis = patch_axis;
-    if (has_maps()) apply_maps(uv, dFdx(uv), dFdy(uv), world_position, albedo, light, view, normal, axis);
+    if (has_maps()) apply_maps(uv, dFdx(uv), dFdy(uv), true, world_position, albedo, light, view, normal, axis);
     vec3 omega_i = normalize(light);
     vec3 omega_r = normalize(view);
     float footprint = pixel_footprint(-omega_i.xy - omega_r.xy);

@@ -35,7 +35,7 @@ void main() {
     SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
                                     sky_diffracted_at_vertex, world_position, uv);
     // The maps first, so that the footprint below follows the mapped normal's change across the pixel.
-    if (has_maps()) s = mapped(s, dFdx(uv), dFdy(uv));
+    if (has_maps()) s = mapped(s, dFdx(uv), dFdy(uv), true);
     vec4 steps = vec4(0.0);
 #ifdef BAKED
     // Derivatives, so in uniform control flow (before the shading's branches).

@@ -16,12 +16,13 @@ bool has_maps() {
 }
 
 // The maps applied at `uv` (its steps to the next pixel across, `dx`, and down, `dy`): the tint times the pigment
-// map, and the normal (world, `world_normal`) and the patch's x axis (`patch_axis`, its handedness in w) turned to
-// the normal map's, with the sun's (`patch_light`) and the camera's (`patch_view`, from `world_position`) directions
-// in the turned patch frame. The patch frame keeps its rotation about the normal (the material's orientation).
-void apply_maps(vec2 uv, vec2 dx, vec2 dy, vec3 world_position, inout vec3 tint, inout vec3 patch_light,
+// map (where `pigment`), and the normal (world, `world_normal`) and the patch's x axis (`patch_axis`, its handedness in
+// w) turned to the normal map's, with the sun's (`patch_light`) and the camera's (`patch_view`, from
+// `world_position`) directions in the turned patch frame. The patch frame keeps its rotation about the normal (the
+// material's orientation).
+void apply_maps(vec2 uv, vec2 dx, vec2 dy, bool pigment, vec3 world_position, inout vec3 tint, inout vec3 patch_light,
                 inout vec3 patch_view, inout vec3 world_normal, inout vec4 patch_axis) {
-    if (frame.maps.x > 0.0) {
+    if (pigment && frame.maps.x > 0.0) {
         tint *= textureGrad(pigment_map, uv, dx, dy).rgb;
     }
     if (frame.maps.y > 0.0) {

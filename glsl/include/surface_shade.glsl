@@ -22,9 +22,11 @@ struct SurfaceInputs {
 #include "lamps.glsl"
 #include "maps.glsl"
 
-// `s` with the object's maps applied at its uv (`dx`, `dy`: the uv's steps to the next pixel across and down).
-SurfaceInputs mapped(SurfaceInputs s, vec2 dx, vec2 dy) {
-    apply_maps(s.uv, dx, dy, s.world_position, s.tint, s.patch_light, s.patch_view, s.world_normal, s.patch_axis);
+// `s` with the object's maps applied at its uv (`dx`, `dy`: the uv's steps to the next pixel across and down); its
+// normal map alone where not `pigment` (a neighbouring point whose frame only sets a footprint).
+SurfaceInputs mapped(SurfaceInputs s, vec2 dx, vec2 dy, bool pigment) {
+    apply_maps(s.uv, dx, dy, pigment, s.world_position, s.tint, s.patch_light, s.patch_view, s.world_normal,
+               s.patch_axis);
     return s;
 }
 

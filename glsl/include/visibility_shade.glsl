@@ -129,19 +129,23 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     vec3 b_across = barycentrics(c0, c1, c2, ndc + vec2(pixel_step.x, 0.0));
     vec3 b_down = barycentrics(c0, c1, c2, ndc + vec2(0.0, pixel_step.y));
     bool maps = has_maps();
+    // Whether the mapped normal turns the frame, so that the footprint needs the neighbours' mapped frames.
+    bool turned = maps && frame.maps.y > 0.0;
     SurfaceInputs inputs_across = inputs, inputs_down = inputs;
     if (maps) {
-        // Each neighbour mapped with the same gradients, so that the footprint follows the mapped normal's change.
-        inputs_across = inputs_at(o, b_across);
-        inputs_down = inputs_at(o, b_down);
-        vec2 dx = inputs_across.uv - inputs.uv, dy = inputs_down.uv - inputs.uv;
-        inputs = mapped(inputs, dx, dy);
-        inputs_across = mapped(inputs_across, dx, dy);
-        inputs_down = mapped(inputs_down, dx, dy);
+        vec3 us = vec3(o[0][5].w, o[1][5].w, o[2][5].w), vs = vec3(o[0][6].w, o[1][6].w, o[2][6].w);
+        vec2 dx = vec2(dot(b_across, us), dot(b_across, vs)) - inputs.uv;
+        vec2 dy = vec2(dot(b_down, us), dot(b_down, vs)) - inputs.uv;
+        inputs = mapped(inputs, dx, dy, true);
+        if (turned) {
+            // Each neighbour's frame turned with the same gradients: the footprint follows the mapped normal.
+            inputs_across = mapped(inputs_at(o, b_across), dx, dy, false);
+            inputs_down = mapped(inputs_at(o, b_down), dx, dy, false);
+        }
     }
     vec4 steps = vec4(0.0);
 #ifdef BAKED
-    if (maps) {
+    if (turned) {
         vec2 uv = sun_table_uv(inputs);
         steps = footprint_steps(sun_table_uv(inputs_across) - uv, sun_table_uv(inputs_down) - uv);
     } else {
@@ -156,8 +160,8 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     if (LAMPS == 0u || lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
 #ifdef BAKED
     // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
-    // (the neighbours' inputs built once for every lamp; mapped above where the object has maps).
-    if (!maps) {
+    // (the neighbours' inputs built once for every lamp; mapped above where a normal map turns them).
+    if (!turned) {
         inputs_across = inputs_at(o, b_across);
         inputs_down = inputs_at(o, b_down);
     }

@@ -45,6 +45,9 @@ check_offscreen_paths() {
   check brdf-gpu "$bin" brdf --heightfield assets/patches/blazed-1.6um.gsf --light-theta 0 --view-theta 0:40:10 \
     --lambda 450,550 --gpu
   check profile "$bin" profile --width 32 --frames 2 --warmup 1 --no-reference --sweep approach=flss,baked
+  # Maps through the profiler: the counting variant and the G-buffer that feeds the exact reference.
+  check profile-maps "$bin" profile assets/scenes/skin-maps.toml --width 32 --height 24 --frames 2 --warmup 1 \
+    --reference-pixels 20 --reference-samples 1
   check devices "$bin" devices
 }
 
@@ -53,4 +56,6 @@ check_viewer_paths() {
   check viewer "$bin" view --width 160 --height 120 --frames 20 --screenshot "$out/view.png"
   check viewer-flss "$bin" view --width 96 --height 64 --frames 3 --approach flss
   check viewer-lamp "$bin" view assets/scenes/bench.toml --width 96 --height 64 --frames 5 --screenshot "$out/bench.png"
+  check viewer-maps "$bin" view assets/scenes/skin-maps.toml --width 96 --height 64 --frames 3 \
+    --screenshot "$out/skin-maps.png"
 }

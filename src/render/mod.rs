@@ -16,6 +16,7 @@ pub mod preview;
 pub mod scene_gpu;
 pub mod shadow;
 pub mod surface;
+pub(crate) mod variants;
 pub mod visibility;
 #[cfg(feature = "view")]
 pub mod window;

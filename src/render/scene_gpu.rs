@@ -19,6 +19,7 @@ use crate::render::background::{BackgroundPass, Panorama};
 use crate::render::diffraction::{counting_constants, PatchResources};
 use crate::render::maps::MapImages;
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
+pub(crate) use crate::render::variants::{ViewSpec, ViewVariants};
 use crate::render::{MeshBuffers, SceneView};
 use crate::scene::camera::Camera;
 use crate::scene::mesh::Mesh;
@@ -250,58 +251,6 @@ impl EnvLighting {
         self.panorama.destroy(ctx);
         self.sampler.destroy(ctx);
         self.fallback.destroy(ctx);
-    }
-}
-
-/// What a view's pipelines are specialized for (`SPEC_SHADOWS`, `SPEC_LAMPS`): whether it casts the sun's shadows and
-/// whether lamps light it. A frame without lamps runs shaders without their loop (on lavapipe the loop that runs no
-/// lamp still cost the default scene's frame 30 %).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct ViewSpec {
-    pub shadows: bool,
-    pub lamps: bool,
-}
-
-/// Pipelines built for the [`ViewSpec`] of the view a renderer last drew, and those for the other specs views have
-/// needed since (a view that loses its shadow, the sun going down, draws with other pipelines).
-pub(crate) struct ViewVariants<T> {
-    current: T,
-    spec: ViewSpec,
-    others: Vec<(ViewSpec, T)>,
-}
-
-impl<T: Destroy> ViewVariants<T> {
-    pub fn new(spec: ViewSpec, build: impl FnOnce(ViewSpec) -> Result<T>) -> Result<Self> {
-        Ok(Self { current: build(spec)?, spec, others: Vec::new() })
-    }
-
-    /// Makes the pipelines for `spec` current, building them the first time.
-    pub fn select(&mut self, spec: ViewSpec, build: impl FnOnce(ViewSpec) -> Result<T>) -> Result<()> {
-        if spec == self.spec {
-            return Ok(());
-        }
-        let next = match self.others.iter().position(|(s, _)| *s == spec) {
-            Some(i) => self.others.swap_remove(i).1,
-            None => build(spec)?,
-        };
-        let previous = std::mem::replace(&mut self.current, next);
-        self.others.push((self.spec, previous));
-        self.spec = spec;
-        Ok(())
-    }
-
-    /// The pipelines of the view last selected.
-    pub fn current(&self) -> &T {
-        &self.current
-    }
-
-    /// # Safety
-    /// No pending work may use them.
-    pub unsafe fn destroy(self, ctx: &Context) {
-        self.current.destroy(ctx);
-        for (_, t) in self.others {
-            t.destroy(ctx);
-        }
     }
 }
 
