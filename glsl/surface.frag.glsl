@@ -38,8 +38,8 @@ void main() {
     if (has_maps()) s = mapped(s, dFdx(uv), dFdy(uv), true);
     vec4 steps = vec4(0.0);
 #ifdef BAKED
-    // Derivatives, so in uniform control flow (before the shading's branches).
-    steps = pixel_steps(-normalize(patch_light).xy - normalize(patch_view).xy);
+    // Derivatives, so in uniform control flow (before the shading's branches); none for a matte material.
+    if (MATTE == 0u) steps = pixel_steps(-normalize(s.patch_light).xy - normalize(s.patch_view).xy);
 #endif
     vec3 rgb = surface_colour(s, steps);
     // The lamps' count is uniform, so each lamp's derivatives too are taken in uniform control flow. (A view
@@ -49,7 +49,7 @@ void main() {
             vec4 lamp = lamp_at(s, k);
             vec4 lamp_steps = vec4(0.0);
 #ifdef BAKED
-            lamp_steps = pixel_steps(-lamp.xy - normalize(patch_view).xy);
+            if (MATTE == 0u) lamp_steps = pixel_steps(-lamp.xy - normalize(s.patch_view).xy);
 #endif
             rgb += lamp_colour(s, k, lamp, lamp_steps);
         }

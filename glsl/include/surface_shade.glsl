@@ -20,6 +20,14 @@ struct SurfaceInputs {
 
 #include "pigment.glsl"
 #include "lamps.glsl"
+
+// 1 in a matte material's pipelines: no grating, no skin, no footprint (the diffraction compiles out).
+layout(constant_id = SPEC_MATTE) const uint MATTE = 0;
+
+// Whether the material has the skin and its grating (else matte: only its pigment).
+bool coated_material() {
+    return MATTE == 0u && frame.orientation.w < 0.5;
+}
 #include "maps.glsl"
 
 // `s` with the object's maps applied at its uv (`dx`, `dy`: the uv's steps to the next pixel across and down); its
@@ -64,7 +72,7 @@ vec4 lamp_at(SurfaceInputs s, uint k) {
 vec3 lamp_colour(SurfaceInputs s, uint k, vec4 lamp, vec4 steps) {
     vec3 omega_i = lamp.xyz;
     vec3 omega_r = normalize(s.patch_view);
-    bool coated = frame.orientation.w < 0.5;
+    bool coated = coated_material();
     float share = lamp.w / SUN_SOLID_ANGLE;
     vec3 rgb = vec3(0.0);
     if (coated && omega_i.z > 0.0 && share > 0.0) {
@@ -86,7 +94,7 @@ vec3 surface_colour(SurfaceInputs s, vec4 steps) {
     vec3 omega_i = normalize(s.patch_light);
     vec3 omega_r = normalize(s.patch_view);
     // A matte material (a ground) has no grating and no skin: only its pigment.
-    bool coated = frame.orientation.w < 0.5;
+    bool coated = coated_material();
     // The sun's share that no shadow hides (1 where the scene has no shadow map).
     float sun_visible = sun_visibility(s.shadow_coord);
     vec3 rgb = vec3(0.0);

@@ -145,7 +145,9 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     }
     vec4 steps = vec4(0.0);
 #ifdef BAKED
-    if (turned) {
+    if (MATTE != 0u) {
+        // A matte material reads no table.
+    } else if (turned) {
         vec2 uv = sun_table_uv(inputs);
         steps = footprint_steps(sun_table_uv(inputs_across) - uv, sun_table_uv(inputs_down) - uv);
     } else {
@@ -161,7 +163,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
 #ifdef BAKED
     // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
     // (the neighbours' inputs built once for every lamp; mapped above where a normal map turns them).
-    if (!turned) {
+    if (!turned && MATTE == 0u) {
         inputs_across = inputs_at(o, b_across);
         inputs_down = inputs_at(o, b_down);
     }
@@ -170,8 +172,11 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
         vec4 lamp = lamp_at(inputs, k);
         vec4 lamp_steps = vec4(0.0);
 #ifdef BAKED
-        vec2 lamp_uv = -lamp.xy - normalize(inputs.patch_view).xy;
-        lamp_steps = footprint_steps(lamp_table_uv(inputs_across, k) - lamp_uv, lamp_table_uv(inputs_down, k) - lamp_uv);
+        if (MATTE == 0u) {
+            vec2 lamp_uv = -lamp.xy - normalize(inputs.patch_view).xy;
+            lamp_steps =
+                footprint_steps(lamp_table_uv(inputs_across, k) - lamp_uv, lamp_table_uv(inputs_down, k) - lamp_uv);
+        }
 #endif
         rgb += lamp_colour(inputs, k, lamp, lamp_steps);
     }

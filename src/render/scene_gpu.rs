@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use crate::error::{Error, Result};
 use crate::gpu::interface::{
     DiffractionParams, SurfaceUniforms, BINDING_ENV_LIGHT, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX,
-    SPEC_LAMPS, SPEC_MAPS, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
+    SPEC_LAMPS, SPEC_MAPS, SPEC_MATTE, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
 };
 use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Destroy, Guard, Image, Sampler, SpecConstants};
 use crate::material::Material;
@@ -123,7 +123,10 @@ impl MaterialGpu {
             surface: input.surface,
             baked: material.table.is_some(),
             sky_at_vertex: sky == SKY_DIFFRACTION_VERTEX,
-            constants: constants.u32(SPEC_SKY_DIFFRACTION, sky).u32(SPEC_MAPS, u32::from(maps)),
+            constants: constants
+                .u32(SPEC_SKY_DIFFRACTION, sky)
+                .u32(SPEC_MAPS, u32::from(maps))
+                .u32(SPEC_MATTE, u32::from(input.surface.matte)),
         })
     }
 

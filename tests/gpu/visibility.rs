@@ -54,9 +54,13 @@ fn the_visibility_buffer_draws_what_the_forward_pass_draws() {
             // sparkles, at this size a pixel or two per scale) by the footprint's finite difference: the forward
             // pass's derivatives come from the device's 2×2 quads, the visibility buffer's from the triangle's
             // plane at the quad's pixels.
+            // Where a normal map turns the normal through tens of degrees within a few pixels (skin-maps.toml's
+            // scale borders, 77° over three pixels at this size), the two differences part further: 1 in 20 pixels.
+            let maps = scene.objects.iter().any(|o| o.mesh.maps.normal.is_some());
+            let share = if maps { 20 } else { 50 };
             assert!(mean < 1.0, "{name}, {samples} sample(s): mean 8-bit difference {mean}");
             assert!(
-                over(4) * 50 < diffs.len(),
+                over(4) * share < diffs.len(),
                 "{name}, {samples} sample(s): {} of {} pixels differ by more than 4 levels",
                 over(4),
                 diffs.len()

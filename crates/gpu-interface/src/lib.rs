@@ -221,6 +221,9 @@ shared! {
     /// 1: the surface shaders read an object's maps where its uniforms say it has them; 0 compiles the reads out (a
     /// material none of whose objects has a map).
     pub const SPEC_MAPS: u32 = 14;
+    /// 1: the material is matte (pigment only): the surface shaders compile its diffraction, its skin and its
+    /// footprint out (`SurfaceUniforms::orientation`'s w says the same at run time).
+    pub const SPEC_MATTE: u32 = 15;
 
     section "Specialization constants of single shaders.";
     /// Which part of the G-buffer `gbuffer.frag` writes.
