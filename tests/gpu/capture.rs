@@ -40,3 +40,13 @@ pub fn render_scene(scene: &Scene, size: (u32, u32)) -> Vec<f32> {
         capture_views(ctx, scene, &materials, size, one, &[SceneView::of(scene)]).remove(0).linear().unwrap().to_vec()
     })
 }
+
+/// `scene`'s frame at `size`, one sample per pixel, through `path`: linear RGBA.
+pub fn one_sample_frame(scene: &Scene, size: (u32, u32), path: diffract::render::visibility::ShadingPath) -> Vec<f32> {
+    gpu_test(|ctx| {
+        let materials = scene_materials(ctx, scene, size, &SettingsPatch::default());
+        let one = SampleCountFlags::TYPE_1;
+        let mut capture = Owned::new(ctx, SceneCapture::with_path(ctx, scene, &materials, size, one, path).unwrap());
+        capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec()
+    })
+}

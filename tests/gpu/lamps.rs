@@ -2,15 +2,9 @@
 //! (E(θ)/E(0) = cos³θ on a plane 1 m below a lamp) at its candela's absolute level (a white matte surface 1 m under a
 //! 1 cd lamp has radiance 1/π cd/m²), on both shading paths.
 
-use diffract::gpu::vk::Owned;
-use diffract::render::capture::SceneCapture;
 use diffract::render::visibility::ShadingPath;
-use diffract::render::SceneView;
 use diffract::scene::Scene;
 use glam::{DVec3, Vec4};
-
-use crate::capture::scene_materials;
-use crate::harness::gpu_test;
 
 const SIZE: u32 = 96;
 const ALBEDO: f64 = 0.5;
@@ -62,13 +56,7 @@ fn ground_point(scene: &Scene, x: u32, y: u32) -> DVec3 {
 }
 
 fn render(scene: &Scene, path: ShadingPath) -> Vec<f32> {
-    gpu_test(|ctx| {
-        let size = (SIZE, SIZE);
-        let materials = scene_materials(ctx, scene, size, &Default::default());
-        let one = ash::vk::SampleCountFlags::TYPE_1;
-        let mut capture = Owned::new(ctx, SceneCapture::with_path(ctx, scene, &materials, size, one, path).unwrap());
-        capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec()
-    })
+    crate::capture::one_sample_frame(scene, (SIZE, SIZE), path)
 }
 
 #[test]

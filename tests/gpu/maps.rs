@@ -4,15 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
-use diffract::gpu::vk::Owned;
-use diffract::render::capture::SceneCapture;
 use diffract::render::visibility::ShadingPath;
-use diffract::render::SceneView;
 use diffract::scene::Scene;
 use glam::{DVec3, Vec4};
-
-use crate::capture::scene_materials;
-use crate::harness::gpu_test;
 
 const SIZE: u32 = 256;
 
@@ -64,13 +58,7 @@ samples = 1
 }
 
 fn render(scene: &Scene, path: ShadingPath) -> Vec<f32> {
-    gpu_test(|ctx| {
-        let size = (SIZE, SIZE);
-        let materials = scene_materials(ctx, scene, size, &Default::default());
-        let one = ash::vk::SampleCountFlags::TYPE_1;
-        let mut capture = Owned::new(ctx, SceneCapture::with_path(ctx, scene, &materials, size, one, path).unwrap());
-        capture.render(ctx, &SceneView::of(scene)).unwrap().linear().unwrap().to_vec()
-    })
+    crate::capture::one_sample_frame(scene, (SIZE, SIZE), path)
 }
 
 fn luminance(frame: &[f32], i: usize) -> f64 {
