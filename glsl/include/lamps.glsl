@@ -19,9 +19,6 @@ uint lamp_count() {
     return LAMPS == 0u ? 0u : uint(frame.lamp_count.x);
 }
 
-// Lamp k seen from the world point `p`: the unit vector towards it (xyz) and its irradiance at normal incidence
-// there per unit of the frame's luminance (w, in sr, as the sun's Ω_sun is): I/(d² + r²), the inverse-square law
-// made finite at the disc (exact on the axis of a disc of radius r; `Lamp::illuminance`).
 // The coherence length of lamp k's light at the world point `p`, µm: sunlight's 65 µm times the sun's angular
 // radius over the lamp's there, at least 1 µm (`Lamp::coherence_at`; model.md §1.13).
 float lamp_coherence_um(uint k, vec3 p) {
@@ -29,6 +26,15 @@ float lamp_coherence_um(uint k, vec3 p) {
     return max(disc.z / atan(disc.w, length(frame.lamps[LAMP_VEC4S * k].xyz - p)), 1.0);
 }
 
+// The unit vector from the world point `p` towards lamp k (`lamp_light`'s direction alone, the same bits).
+vec3 lamp_direction(uint k, vec3 p) {
+    vec3 to_lamp = frame.lamps[LAMP_VEC4S * k].xyz - p;
+    return to_lamp * inversesqrt(max(dot(to_lamp, to_lamp), 1e-30));
+}
+
+// Lamp k seen from the world point `p`: the unit vector towards it (xyz) and its irradiance at normal incidence
+// there per unit of the frame's luminance (w, in sr, as the sun's Ω_sun is): I/(d² + r²), the inverse-square law
+// made finite at the disc (exact on the axis of a disc of radius r; `Lamp::illuminance`).
 vec4 lamp_light(uint k, vec3 p) {
     vec4 at = frame.lamps[LAMP_VEC4S * k];
     vec4 beam = frame.lamps[LAMP_VEC4S * k + 1u];
@@ -36,6 +42,7 @@ vec4 lamp_light(uint k, vec3 p) {
     vec3 to_lamp = at.xyz - p;
     float d2 = dot(to_lamp, to_lamp);
     vec3 l = to_lamp * inversesqrt(max(d2, 1e-30));
-    float angle_deg = degrees(acos(clamp(dot(-l, beam.xyz), -1.0, 1.0)));
+    // A point lamp (its cone 360°) lights every way: no angle to work out (spot_factor would give 1 at any).
+    float angle_deg = beam.w >= 180.0 ? 0.0 : degrees(acos(clamp(dot(-l, beam.xyz), -1.0, 1.0)));
     return vec4(l, at.w * spot_factor(angle_deg, beam.w, disc.x) / (d2 + disc.y));
 }

@@ -76,9 +76,9 @@ vec2 sun_table_uv(SurfaceInputs s) {
     return -normalize(s.patch_light).xy - normalize(s.patch_view).xy;
 }
 
-// The (u, v) lamp k's light is read at for a surface point.
+// The (u, v) lamp k's light is read at for a surface point (its direction alone: no spot or irradiance).
 vec2 lamp_table_uv(SurfaceInputs s, uint k) {
-    return -lamp_at(s, k).xy - normalize(s.patch_view).xy;
+    return -patch_direction(s, lamp_direction(k, s.world_position)).xy - normalize(s.patch_view).xy;
 }
 
 // The ids of the `n` samples of `pixel` (id), and a bit for each that sees the drawn object.
