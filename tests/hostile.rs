@@ -47,6 +47,9 @@ fn fixtures() -> &'static Path {
         let quad = b"mtllib quad.mtl\nusemtl skin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n";
         write("mtl-missing-map.obj", quad);
         write("quad.mtl", b"newmtl skin\nmap_Kd -bm 1.0 nowhere.png\n");
+        let quad = String::from_utf8_lossy(quad).replace("quad.mtl", "colour.mtl");
+        write("mtl-colour.obj", quad.as_bytes());
+        write("colour.mtl", b"newmtl skin\nmap_Kd colour.png\n");
         let env = |name: &str, width: u32, height: u32, bad: Option<f32>| {
             let mut rgba = vec![1.0f32; (width * height * 4) as usize];
             if let Some(b) = bad {
@@ -335,6 +338,24 @@ fn hostile_surface_maps() {
             scene("m8.toml", |s| s + "pigment_map = \"colour.png\"\nmap_size_m = -1.0\n"),
             "map_size_m",
         ),
+        {
+            let mut c = with_scene(
+                "maps: render --out over an MTL's map",
+                scene("m10.toml", |s| s.replace("shape = \"sphere\"", "mesh = \"mtl-colour.obj\"")),
+                "from its MTL",
+            );
+            c.args[3] = "colour.png".into();
+            c
+        },
+        {
+            let mut c = with_scene(
+                "maps: render --out over the pigment map",
+                scene("m11.toml", map("pigment_map", "colour.png")),
+                "pigment map",
+            );
+            c.args[3] = "colour.png".into();
+            c
+        },
         with_scene(
             "maps: an MTL's missing map",
             scene("m9.toml", |s| s.replace("shape = \"sphere\"", "mesh = \"mtl-missing-map.obj\"")),

@@ -176,7 +176,13 @@ impl Scene {
         if !lamps.is_empty() {
             log::warn!("the scene's lamps cast no shadows yet: each lights every surface that faces it");
         }
-        let files = read_files(&file, base, environment.as_ref(), illuminant);
+        let mut files = read_files(&file, base, environment.as_ref(), illuminant);
+        // The maps an object's OBJ brought from its MTL (the materials' are listed already).
+        for path in objects.iter().flat_map(|o| o.mesh.maps.files()) {
+            if !files.iter().any(|(_, f)| f == path) {
+                files.push(("an object's map (from its MTL)".to_string(), path.to_path_buf()));
+            }
+        }
         Ok(Self {
             name: name.to_string(),
             camera,

@@ -32,6 +32,8 @@ pub struct Texture {
     pub levels: Vec<Vec<[u8; 4]>>,
     /// Where it was read from (for messages).
     pub name: String,
+    /// The file it was read from (None: made in memory).
+    pub path: Option<std::path::PathBuf>,
 }
 
 /// An object's maps (none by default).
@@ -45,6 +47,11 @@ impl SurfaceMaps {
     /// `SurfaceUniforms::maps`: 1 where each map is present.
     pub fn flags(&self) -> [f32; 4] {
         [f32::from(u8::from(self.pigment.is_some())), f32::from(u8::from(self.normal.is_some())), 0.0, 0.0]
+    }
+
+    /// The files the maps were read from.
+    pub fn files(&self) -> impl Iterator<Item = &std::path::Path> {
+        [&self.pigment, &self.normal].into_iter().flatten().filter_map(|t| t.path.as_deref())
     }
 
     pub fn is_empty(&self) -> bool {
@@ -67,7 +74,7 @@ impl Texture {
             MapKind::Normal => "normal map",
         };
         let bytes = crate::io::input::read(path, MAX_MAP_BYTES, what)?;
-        Self::decode(path, &bytes, kind)
+        Ok(Self { path: Some(path.to_path_buf()), ..Self::decode(path, &bytes, kind)? })
     }
 
     /// Decodes a PNG map's bytes (`path` names it in messages).
@@ -109,7 +116,7 @@ impl Texture {
             levels.push(next);
             (w, h) = ((w / 2).max(1), (h / 2).max(1));
         }
-        Self { kind, width, height, levels, name }
+        Self { kind, width, height, levels, name, path: None }
     }
 
     /// Level `l`'s width and height.
