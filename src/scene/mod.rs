@@ -1,5 +1,6 @@
 //! Scene files (TOML): a camera, the sun and what lights the scene around it, objects (OBJ meshes or built-in
-//! shapes) and materials (a height field, measured or generated, with the settings that trade speed for accuracy).
+//! shapes) and materials (a height field, measured or generated, with the settings that trade speed for accuracy,
+//! and pigment and normal maps).
 //! Paths are relative to the scene file; every mistake is refused with the file, the line and what was expected.
 //! docs/usage.md ("The scene file") documents the format, which `file.rs` declares; `checks.rs` makes the camera,
 //! light and image tables values, `objects.rs` the materials and objects, `light.rs` holds what lights a scene.

@@ -1,5 +1,6 @@
 //! A scene's materials and objects: each `[material.NAME]` table made a patch (loaded, generated or matte; tiled
-//! or extended) with its settings, and each `[[object]]` a mesh (a file or a built-in shape) placed in the world.
+//! or extended) with its settings and maps, and each `[[object]]` a mesh (a file or a built-in shape) placed in
+//! the world, carrying its material's maps (or its MTL's).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
