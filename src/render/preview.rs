@@ -11,6 +11,7 @@ use crate::gpu::interface::Vertex;
 use crate::gpu::interface::BINDING_FRAME;
 use crate::gpu::shaders;
 use crate::gpu::shaders::VERTEX_ATTRIBUTES;
+use crate::gpu::vk::VertexAttribute;
 use crate::gpu::vk::{
     Blend, Buffer, BufferDesc, Context, DepthTest, DescriptorWrite, GraphicsPipelineDesc, Guard, Pipeline,
     SpecConstants,
@@ -20,6 +21,15 @@ use crate::render::{
 };
 use crate::scene::camera::Camera;
 use crate::scene::mesh::Mesh;
+
+/// The vertex inputs preview.vert reads: all but the UVs, the last (it draws no maps). A release build's SPIR-V
+/// optimiser strips an input the shader does not read, and the validation layer then warns of an attribute that no
+/// shader consumes (scripts/check-release.sh saw it).
+const PREVIEW_ATTRIBUTES: [VertexAttribute; 4] =
+    [VERTEX_ATTRIBUTES[0], VERTEX_ATTRIBUTES[1], VERTEX_ATTRIBUTES[2], VERTEX_ATTRIBUTES[3]];
+// The one it leaves out is the UVs.
+const _: () =
+    assert!(VERTEX_ATTRIBUTES.len() == 5 && VERTEX_ATTRIBUTES[4].offset == std::mem::offset_of!(Vertex, uv) as u32);
 
 /// What the preview draws.
 #[derive(Clone, Debug)]
@@ -79,7 +89,7 @@ impl PreviewPass {
             specialization: SpecConstants::default(),
             push_constant_size: 0,
             vertex_stride: std::mem::size_of::<Vertex>() as u32,
-            vertex_attributes: &VERTEX_ATTRIBUTES,
+            vertex_attributes: &PREVIEW_ATTRIBUTES,
             color_format: COLOR_FORMAT,
             depth: Some((DEPTH_FORMAT, DepthTest::Write)),
             cull_back_faces: true,
