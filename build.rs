@@ -370,7 +370,11 @@ fn vertex_inputs() -> String {
             .iter()
             .find(|f| f.name == *name)
             .unwrap_or_else(|| panic!("{INTERFACE}: VERTEX_INPUTS names {name}, which Vertex does not have"));
-        writeln!(out, "layout(location = {location}) in {} in_{name};", field.ty.name()).unwrap();
+        // A shader that reads not every input defines NO_IN_<NAME> before the include, and its pipeline leaves
+        // that attribute out (an unread input is stripped by a release build's optimiser, kept by a debug build's).
+        let guard = format!("NO_IN_{}", name.to_uppercase());
+        writeln!(out, "#ifndef {guard}\nlayout(location = {location}) in {} in_{name};\n#endif", field.ty.name())
+            .unwrap();
     }
     out
 }

@@ -2,7 +2,9 @@
 // The preview pass: a mesh lit by one directional light, without diffraction (`diffract render --preview`).
 #include "preview_frame.glsl"
 
-#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment (render::preview::PREVIEW_ATTRIBUTES; in_uv unread)
+// No maps: the UVs are not an input (render::preview::PREVIEW_ATTRIBUTES leaves them out).
+#define NO_IN_UV
+#include "vertex_inputs.glsl" // in_position, in_normal, in_tangent, in_pigment
 
 layout(location = 0) out vec3 world_pos;
 layout(location = 1) out vec3 world_normal;
