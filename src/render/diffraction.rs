@@ -178,7 +178,7 @@ fn upload_terms(ctx: &Context, material: &Material) -> Result<(Image, Upload)> {
 }
 
 /// Refuses an image of `desc` (`what`) larger than the device's 2D images or array layers.
-fn check_limits(ctx: &Context, desc: &ImageDesc, what: &str) -> Result<()> {
+pub(crate) fn check_limits(ctx: &Context, desc: &ImageDesc, what: &str) -> Result<()> {
     let limits = &ctx.info.limits;
     if desc.width > limits.max_image_dimension2_d || desc.height > limits.max_image_dimension2_d {
         return Err(Error::unsupported(

@@ -5,7 +5,7 @@
 
 use ash::vk;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::interface::{BINDING_NORMAL_MAP, BINDING_PIGMENT_MAP};
 use crate::gpu::vk::{Context, DescriptorWrite, Guard, Image, ImageDesc, ImageState, Sampler};
 use crate::scene::mesh::maps::{MapKind, SurfaceMaps, Texture};
@@ -55,19 +55,13 @@ impl MapImages {
 }
 
 fn upload(ctx: &Context, t: &Texture) -> Result<Image> {
-    let limit = ctx.info.limits.max_image_dimension2_d;
-    if t.width > limit || t.height > limit {
-        return Err(Error::unsupported(
-            &ctx.info.name,
-            format!("{} is {}×{}, beyond the device's {limit}-texel images", t.name, t.width, t.height),
-        ));
-    }
     let format = match t.kind {
         MapKind::Pigment => vk::Format::R8G8B8A8_SRGB,
         MapKind::Normal => vk::Format::R8G8B8A8_UNORM,
     };
     let mut desc = ImageDesc::texture_array(t.width, t.height, 1, format).with_mips(t.levels.len() as u32);
     desc.array = false;
+    crate::render::diffraction::check_limits(ctx, &desc, &t.name)?;
     let image = Guard::new(ctx, ctx.create_image(desc, &t.name)?);
     let texels: Vec<[u8; 4]> = t.levels.iter().flatten().copied().collect();
     ctx.upload_image(&image, bytemuck::cast_slice(&texels), ImageState::SHADER_READ)?;

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use toml::Spanned;
@@ -19,7 +20,6 @@ use crate::scene::file::{built_in, Locator, MaterialDef, ObjectDef, TileDef};
 use crate::scene::mesh::maps::{MapKind, SurfaceMaps, Texture};
 use crate::scene::mesh::shapes::Shape;
 use crate::scene::mesh::{obj, Mesh};
-use std::sync::Arc;
 
 /// The approach of a material that names none: the baked table (FLSS stays the reference, a material or the
 /// command line can ask for it).
