@@ -9,7 +9,7 @@
 
 // 0: (ω_i, material + 1); 1: (ω_r, footprint); 2: (pigment albedo, normal · up); 3: (the world normal, the sun's
 // visible share: shadow.glsl); 4: (the patch's x axis in the world, its handedness: y = w·(normal × x)); 5: (the
-// point in the world, 1: where the lamps are seen from).
+// point in the world, 1: where the lamps are seen from); 6 and 7: the visible shares of lamps 1–4 and 5–8.
 layout(constant_id = SPEC_GBUFFER_PART) const uint PART = 0;
 
 layout(location = 0) in vec3 patch_light;
@@ -40,7 +40,14 @@ void main() {
         out_color = vec4(normalize(normal), sun_visibility(shadow_coord));
     } else if (PART == 4u) {
         out_color = axis;
-    } else {
+    } else if (PART == 5u) {
         out_color = vec4(world_position, 1.0);
+    } else {
+        uint first = PART == 6u ? 0u : 4u;
+        vec4 shares = vec4(1.0);
+        for (uint k = 0u; k < 4u; ++k) {
+            if (first + k < uint(frame.lamp_count.x)) shares[k] = lamp_visibility(first + k, world_position, normal);
+        }
+        out_color = shares;
     }
 }

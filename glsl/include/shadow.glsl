@@ -1,4 +1,5 @@
-// The sun's shadow map (`render::shadow`): how much of the sun's disc reaches a point, 0 (umbra) to 1 (lit).
+// The shadow maps: the sun's (`render::shadow`) and the lamps' (`render::lamp_shadow`): how much of a light's disc
+// reaches a point, 0 (umbra) to 1 (lit).
 // Requires surface_frame.glsl (frame.shadow, frame.shadow_penumbra) and interface.glsl. The maps have one mip
 // level, read with textureLod, so that compute shaders (the visibility buffer's edge pass) may call it too.
 
@@ -58,6 +59,71 @@ float sun_visibility(vec3 coord) {
     float lit = 0.0;
     for (int k = 0; k < taps; ++k) {
         lit += textureLod(shadow_map, vec3(uv + tap(k, taps) * radius * texel, z), 0.0);
+    }
+    return lit / float(taps);
+}
+
+// The lamps' shadow maps (`render::lamp_shadow`): one atlas, lamp k's perspective map in tile k.
+layout(set = 0, binding = BINDING_LAMP_SHADOW) uniform sampler2DShadow lamp_shadow_map;
+layout(set = 0, binding = BINDING_LAMP_SHADOW_DEPTH) uniform sampler2D lamp_shadow_depths;
+
+// Where lamp k's tile coordinates `uv` lie in the atlas, kept half a texel inside the tile (its neighbours'
+// texels are other lamps' depths).
+vec2 lamp_tile_uv(uint k, vec2 uv) {
+    float half_texel = 0.5 * frame.lamp_atlas.y;
+    vec2 inside = clamp(uv, vec2(half_texel), vec2(1.0 - half_texel));
+    return vec2((float(k) + inside.x) / frame.lamp_atlas.x, inside.y);
+}
+
+// How much of lamp k's disc reaches the world point `p` (its normal `normal`), 0 (umbra) to 1 (lit): the sun's
+// percentile-closer soft shadows in a perspective map. From p at depth d along the lamp's axis, the rays to a disc
+// of radius R cross depth d_b (a blocker's) within R·(d − d_b)/d of p's own ray: R·(d − d_b)/(d·d_b) at depth 1,
+// over a texel there (its scales' z) the penumbra's radius in texels; the search takes the nearest caster's depth
+// (the near plane). The point is first pushed along its normal by SHADOW_NORMAL_OFFSET_TEXELS texels at its depth
+// (growing as 1/cos θ_i up to SHADOW_MAX_OFFSET_GROWTH). 1 where the lamp casts no shadow or p lies outside its
+// map (no caster there).
+float lamp_visibility(uint k, vec3 p, vec3 normal) {
+    if (SHADOWS == 0u) return 1.0;
+    uint base = 4u * k;
+    vec4 scales = frame.lamp_shadow_scales[k];
+    float near = scales.x;
+    float far = scales.y;
+    if (near <= 0.0) return 1.0;
+    mat4 view_proj = mat4(frame.lamp_shadow_view_proj[base], frame.lamp_shadow_view_proj[base + 1u],
+                          frame.lamp_shadow_view_proj[base + 2u], frame.lamp_shadow_view_proj[base + 3u]);
+    vec3 n = normalize(normal);
+    vec3 to_lamp = normalize(frame.lamps[LAMP_VEC4S * k].xyz - p);
+    float growth = min(1.0 / max(abs(dot(n, to_lamp)), 1e-3), SHADOW_MAX_OFFSET_GROWTH);
+    float depth_here = (view_proj * vec4(p, 1.0)).w;
+    vec3 lifted = p + n * (SHADOW_NORMAL_OFFSET_TEXELS * depth_here * scales.z * growth);
+    vec4 clip = view_proj * vec4(lifted, 1.0);
+    // Nearer than every caster (or behind the lamp): lit.
+    if (clip.w <= near) return 1.0;
+    vec3 ndc = clip.xyz / clip.w;
+    if (any(greaterThan(abs(ndc.xy), vec2(1.0)))) return 1.0;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    float z = min(ndc.z, 1.0);
+    float d = clip.w;
+    float texel = frame.lamp_atlas.y;
+    float disc_texels = scales.w / scales.z;
+    float search = clamp(disc_texels * (d - near) / (d * near), 1.0, MAX_PENUMBRA_TEXELS);
+    float blockers = 0.0;
+    float count = 0.0;
+    for (int i = 0; i < SEARCH_TAPS; ++i) {
+        float b = textureLod(lamp_shadow_depths, lamp_tile_uv(k, uv + tap(i, SEARCH_TAPS) * search * texel), 0.0).r;
+        if (b < z) {
+            // The blocker's depth along the axis (the map's depth is 0 at near, 1 at far, in 1/depth).
+            blockers += near * far / (far - b * (far - near));
+            count += 1.0;
+        }
+    }
+    if (count == 0.0) return 1.0;
+    float blocker = blockers / count;
+    float radius = clamp(disc_texels * (d - blocker) / (d * blocker), 1.0, MAX_PENUMBRA_TEXELS);
+    int taps = radius > WIDE_TEXELS ? WIDE_TAPS : NARROW_TAPS;
+    float lit = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        lit += textureLod(lamp_shadow_map, vec3(lamp_tile_uv(k, uv + tap(i, taps) * radius * texel), z), 0.0);
     }
     return lit / float(taps);
 }

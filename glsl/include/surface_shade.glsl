@@ -66,25 +66,26 @@ vec4 lamp_at(SurfaceInputs s, uint k) {
 }
 
 // What lamp k (`lamp`: `lamp_at`) adds to the surface point's colour: its diffraction and the pigment it lights,
-// as the sun's, its irradiance in place of the sun's Ω_sun (no shadow yet); `steps`: the pixel's footprint in the
-// lamp's (u, v). Where the material's coherence follows the light (params.window.w, its length), the baked read is
+// as the sun's, its irradiance in place of the sun's Ω_sun, times the share of its disc no shadow hides
+// (shadow.glsl's `lamp_visibility`); `steps`: the pixel's footprint in the lamp's (u, v). Where the material's coherence follows the light (params.window.w, its length), the baked read is
 // widened to the lamp's shorter coherence (model.md §3.13); the Taylor approaches keep the material's.
 vec3 lamp_colour(SurfaceInputs s, uint k, vec4 lamp, vec4 steps) {
     vec3 omega_i = lamp.xyz;
     vec3 omega_r = normalize(s.patch_view);
     bool coated = coated_material();
+    float visible = lamp.w > 0.0 ? lamp_visibility(k, s.world_position, s.world_normal) : 0.0;
     float share = lamp.w / SUN_SOLID_ANGLE;
     vec3 rgb = vec3(0.0);
-    if (coated && omega_i.z > 0.0 && share > 0.0) {
+    if (coated && omega_i.z > 0.0 && share > 0.0 && visible > 0.0) {
 #ifdef BAKED
         if (params.window.w > 0.0) {
             steps = widen_steps(steps, widening_variance(lamp_coherence_um(k, s.world_position), params.window.w));
         }
 #endif
-        rgb = diffraction_rgb(omega_i, omega_r, steps) * (params.light_white.w * share);
+        rgb = diffraction_rgb(omega_i, omega_r, steps) * (params.light_white.w * share * visible);
     }
     vec3 albedo = frame.pigment.rgb * s.tint;
-    return rgb + pigment_rgb(omega_i, omega_r, 0.0, albedo, 0.0, 1.0, coated) * params.light_white.rgb * share;
+    return rgb + pigment_rgb(omega_i, omega_r, 0.0, albedo, 0.0, visible, coated) * params.light_white.rgb * share;
 }
 
 // The linear RGB a surface point sends towards the camera (the sun's and the environment's light; the lamps'

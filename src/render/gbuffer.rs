@@ -9,6 +9,7 @@ use glam::{DVec3, Vec3};
 use crate::error::Result;
 use crate::gpu::interface::SurfaceUniforms;
 use crate::gpu::interface::Vertex;
+use crate::gpu::interface::MAX_LAMPS;
 use crate::gpu::interface::{BINDING_FRAME, SPEC_GBUFFER_PART};
 use crate::gpu::shaders;
 use crate::gpu::shaders::VERTEX_ATTRIBUTES;
@@ -20,6 +21,7 @@ use crate::light::lamp::{widening_variance, Lamp};
 use crate::material::Reach;
 use crate::physics::baked::Domain;
 use crate::physics::coherence::DEFAULT_COHERENCE_UM;
+use crate::render::lamp_shadow::{LampShadowUniforms, LampShadows, LAMP_SHADOW_SIZE};
 use crate::render::scene_gpu::{ObjectView, SurfaceMaterial};
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, SHADOW_SIZE};
 use crate::render::{begin_rendering, end_rendering, MeshBuffers, OffscreenTarget, DEPTH_FORMAT, LINEAR_FORMAT};
@@ -28,8 +30,10 @@ use crate::scene::Scene;
 
 /// The G-buffer's parts, drawn one after the other: (ω_i, material), (ω_r, footprint), (albedo, normal · up),
 /// (world normal, the sun's visible share), (the patch's x axis in the world, its handedness), (the point in the
-/// world).
-const PARTS: u32 = 6;
+/// world), then the visible shares of lamps 1–4 and 5–8 (where lamps cast shadows).
+const PARTS: u32 = 8;
+/// The parts drawn `with_normals` before the lamps' shares.
+const NORMAL_PARTS: u32 = 6;
 /// The footprint percentile taken as a material's smallest (the very smallest are single pixels on a flat facet
 /// seen at a glance, which would size a table for nothing else).
 const FOOTPRINT_PERCENTILE: f64 = 0.05;
@@ -59,6 +63,9 @@ pub struct Seen {
     /// The point in the world, where the G-buffer was drawn `with_normals` (zero otherwise): where the lamps are
     /// seen from.
     pub position: DVec3,
+    /// The share of each lamp's disc that no shadow hides here (the surface pass's `lamp_visibility`); 1 where
+    /// the lamps cast no shadows or the G-buffer was not drawn `with_normals`.
+    pub lamp_visible: [f64; MAX_LAMPS as usize],
 }
 
 impl Seen {
@@ -84,6 +91,7 @@ struct Parts {
     pipelines: Vec<Pipeline>,
     target: Option<OffscreenTarget>,
     shadow: Option<ShadowMap>,
+    lamp_shadows: Option<LampShadows>,
 }
 
 impl Parts {
@@ -98,6 +106,9 @@ impl Parts {
             t.destroy(ctx);
         }
         if let Some(s) = self.shadow {
+            s.destroy(ctx);
+        }
+        if let Some(s) = self.lamp_shadows {
             s.destroy(ctx);
         }
     }
@@ -115,17 +126,26 @@ impl GBuffer {
         with_normals: bool,
     ) -> Result<Self> {
         let mut parts = Parts::default();
+        // The lamps' shares where any lamp may cast a shadow: one part per four lamps.
+        let lamp_parts =
+            if scene.shadows && !scene.lamps.is_empty() { scene.lamps.len().div_ceil(4) as u32 } else { 0 };
         let count = if with_normals {
-            PARTS
+            NORMAL_PARTS + lamp_parts
         } else if scene.shadows {
-            PARTS - 2
+            NORMAL_PARTS - 2
         } else {
-            PARTS - 3
+            NORMAL_PARTS - 3
         };
         let drawn = Self::draw_parts(ctx, scene, camera, light_dir, (width, height), count, &mut parts);
         // SAFETY: draw_parts waited for its work (or failed before submitting it).
         unsafe { parts.destroy(ctx) };
-        let [light, view, skin, normals, axes, points] = drawn?;
+        let [light, view, skin, normals, axes, points, lamps_low, lamps_high] = drawn?;
+        let lamp_visible = |i: usize| -> [f64; MAX_LAMPS as usize] {
+            std::array::from_fn(|k| {
+                let part = if k < 4 { &lamps_low } else { &lamps_high };
+                part.get(4 * i + k % 4).map_or(1.0, |&v| f64::from(v))
+            })
+        };
         let vec = |c: &[f32]| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]));
         let pixels = light
             .chunks(4)
@@ -154,6 +174,7 @@ impl GBuffer {
                         _ => glam::DMat3::ZERO,
                     },
                     position: points.get(4 * i..4 * i + 3).map_or(DVec3::ZERO, vec),
+                    lamp_visible: lamp_visible(i),
                 })
             })
             .collect();
@@ -169,7 +190,7 @@ impl GBuffer {
         count: u32,
         parts: &mut Parts,
     ) -> Result<[Vec<f32>; PARTS as usize]> {
-        let shadow = Self::upload(ctx, scene, (camera, light_dir), (width, height), parts)?;
+        let (shadow, lamp_shadows) = Self::upload(ctx, scene, (camera, light_dir), (width, height), parts)?;
         for part in 0..count {
             parts.pipelines.push(ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
                 name: "g-buffer",
@@ -188,20 +209,23 @@ impl GBuffer {
         }
         let target = parts.target.insert(OffscreenTarget::with_format(ctx, width, height, LINEAR_FORMAT, true)?);
         let shadow = parts.shadow.insert(shadow);
+        let lamp_shadows = parts.lamp_shadows.insert(lamp_shadows);
         let mut out: [Vec<f32>; PARTS as usize] = Default::default();
         for (pipeline, out) in parts.pipelines.iter().zip(&mut out) {
             ctx.one_shot("g-buffer", |cmd| {
                 // The map is drawn with the first part; the others find it drawn for the same sun and objects
                 // (`ShadowMap::record`) and read it as it is.
                 let casts = scene.objects.iter().map(|o| o.casts_shadow);
-                shadow.record(ctx, cmd, parts.meshes.iter().zip(casts));
+                shadow.record(ctx, cmd, parts.meshes.iter().zip(casts.clone()));
+                lamp_shadows.record(ctx, cmd, parts.meshes.iter().zip(casts));
                 target.begin(ctx, cmd);
                 begin_rendering(ctx, cmd, &target.view(), Some([0.0; 4]), None);
                 for ((mesh, uniforms), maps) in parts.meshes.iter().zip(&parts.uniforms).zip(&parts.maps) {
                     let [compare, depths] = shadow.writes();
+                    let [lamp_compare, lamp_depths] = lamp_shadows.writes();
                     let [pigment, normal] = maps.writes();
                     let frame = DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms);
-                    let writes = [frame, compare, depths, pigment, normal];
+                    let writes = [frame, compare, depths, lamp_compare, lamp_depths, pigment, normal];
                     ctx.bind(cmd, pipeline, &writes, &[]);
                     mesh.draw(ctx, cmd);
                 }
@@ -213,14 +237,14 @@ impl GBuffer {
     }
 
     /// Uploads the objects' meshes and their uniforms for `camera` and `light_dir` into `parts`, and returns the
-    /// sun's shadow map placed as the surface pass places it (undrawn).
+    /// sun's shadow map and the lamps' placed as the surface pass places them (undrawn).
     fn upload(
         ctx: &Context,
         scene: &Scene,
         (camera, light_dir): (&Camera, Vec3),
         (width, height): (u32, u32),
         parts: &mut Parts,
-    ) -> Result<ShadowMap> {
+    ) -> Result<(ShadowMap, LampShadows)> {
         let sky_sh = scene.environment.as_ref().map_or([[0.0; 4]; 9], |e| e.irradiance(light_dir));
         let placed: Vec<(Aabb, bool)> = scene
             .objects
@@ -228,9 +252,18 @@ impl GBuffer {
             .filter_map(|o| Some((Aabb::of(&o.mesh.vertices)?.moved(o.model), o.casts_shadow)))
             .collect();
         let view_proj = camera.view_projection(width as f32 / height.max(1) as f32);
-        let frame = scene.shadows.then(|| ShadowFrame::of_objects(light_dir, &placed, view_proj)).flatten();
+        let sun_shadow = scene.shadows && scene.sun_strength() > 0.0;
+        let frame = sun_shadow.then(|| ShadowFrame::of_objects(light_dir, &placed, view_proj)).flatten();
         let size = if frame.is_some() { SHADOW_SIZE } else { 1 };
         let mut shadow = Guard::new(ctx, ShadowMap::new(ctx, scene.objects.len(), size)?);
+        let lamps = crate::light::lamp::LampUniforms::new(&scene.lamps, scene.unit_luminance(light_dir));
+        let lamp_frames = match scene.shadows {
+            true => crate::render::lamp_shadow::fit_all(&lamps, &placed, view_proj),
+            false => Vec::new(),
+        };
+        let lamps_cast = lamp_frames.iter().any(Option::is_some);
+        let (tiles, tile) = if lamps_cast { (lamp_frames.len() as u32, LAMP_SHADOW_SIZE) } else { (0, 1) };
+        let mut lamp_shadows = Guard::new(ctx, LampShadows::new(ctx, tiles, scene.objects.len(), tile)?);
         let view = ObjectView {
             camera,
             aspect: width as f32 / height as f32,
@@ -240,7 +273,11 @@ impl GBuffer {
             sky_sh,
             sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
-            lamps: crate::light::lamp::LampUniforms::new(&scene.lamps, scene.unit_luminance(light_dir)),
+            lamps,
+            lamp_shadows: match lamps_cast {
+                true => LampShadowUniforms::new(&lamp_frames, &lamps, tile),
+                false => LampShadowUniforms::NONE,
+            },
         };
         let mut all = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {
@@ -258,7 +295,8 @@ impl GBuffer {
             written?;
         }
         shadow.update(frame, &all)?;
-        Ok(shadow.keep())
+        lamp_shadows.update(&lamp_frames, &all)?;
+        Ok((shadow.keep(), lamp_shadows.keep()))
     }
 
     /// Per material (of `count`): the box of (u, v, w) that its pixels lit from above the surface see, widened by

@@ -9,6 +9,7 @@ pub mod diffraction;
 pub mod env_map;
 pub mod forward;
 pub mod gbuffer;
+pub mod lamp_shadow;
 pub mod map;
 pub mod maps;
 pub mod offscreen;

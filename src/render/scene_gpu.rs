@@ -17,6 +17,7 @@ use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Destroy, Guar
 use crate::material::Material;
 use crate::render::background::{BackgroundPass, Panorama};
 use crate::render::diffraction::{counting_constants, PatchResources};
+use crate::render::lamp_shadow::{LampShadowUniforms, LampShadows};
 use crate::render::maps::MapImages;
 use crate::render::shadow::{Aabb, ShadowFrame, ShadowMap, ShadowUniforms, SHADOW_SIZE};
 pub(crate) use crate::render::variants::{ViewSpec, ViewVariants};
@@ -190,6 +191,8 @@ pub struct ObjectView<'a> {
     pub shadow: ShadowUniforms,
     /// The lamps (`SurfaceUniforms::lamps`).
     pub lamps: crate::light::lamp::LampUniforms,
+    /// Where their shadow maps lie (`SurfaceUniforms::lamp_shadow_view_proj`, `lamp_shadow_scales`, `lamp_atlas`).
+    pub lamp_shadows: LampShadowUniforms,
 }
 
 impl ObjectView<'_> {
@@ -219,6 +222,9 @@ impl ObjectView<'_> {
             lamp_count: self.lamps.count,
             lamps: self.lamps.lamps,
             maps,
+            lamp_shadow_view_proj: self.lamp_shadows.view_proj,
+            lamp_shadow_scales: self.lamp_shadows.scales,
+            lamp_atlas: self.lamp_shadows.atlas,
         }
     }
 }
@@ -264,6 +270,8 @@ pub(crate) struct SceneGpu {
     pub formats: Formats,
     /// The sun's shadow map (1×1 and undrawn until a view casts a shadow).
     shadow: ShadowMap,
+    /// The lamps' shadow maps (1×1 until a view's lamps cast a shadow).
+    lamp_shadows: LampShadows,
     /// Which objects cast a shadow in the current view (empty: none).
     casters: Vec<bool>,
     /// The environment without its sun, which each pixel reflects at its mirror direction.
@@ -301,12 +309,14 @@ impl SceneGpu {
             gpu_objects.push(ObjectGpu::new(ctx, i, mesh, material)?);
         }
         let shadow = Guard::new(ctx, ShadowMap::new(ctx, objects.len(), 1)?);
+        let lamp_shadows = Guard::new(ctx, LampShadows::new(ctx, 0, objects.len(), 1)?);
         let lighting = EnvLighting::new(ctx)?;
         Ok(Self {
             materials: gpu_materials.keep(),
             objects: gpu_objects.keep(),
             formats,
             shadow: shadow.keep(),
+            lamp_shadows: lamp_shadows.keep(),
             casters: Vec::new(),
             lighting,
             background: None,
@@ -322,6 +332,13 @@ impl SceneGpu {
     /// submitted work may still read any of it.
     pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<ViewSpec> {
         let frame = self.fit_shadow(ctx, view, aspect)?;
+        let lamp_frames = match view.shadow_casters {
+            Some(_) => {
+                self.lamp_shadows.fit(ctx, &view.lamps, &self.placed(view), view.camera.view_projection(aspect))?
+            }
+            None => Vec::new(),
+        };
+        let lamp_shadows = LampShadowUniforms::new(&lamp_frames, &view.lamps, self.lamp_shadows.size());
         let mut lit = [0.0; 3];
         if let Some(environment) = &view.lighting {
             if let Some((scale, rotation)) = self.lighting.panorama.update(ctx, environment, view.light_dir)? {
@@ -338,6 +355,7 @@ impl SceneGpu {
             sky_quadratic: crate::light::prefilter::sky_quadratic(&view.sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), self.shadow.size()),
             lamps: view.lamps,
+            lamp_shadows,
         };
         let mut all = Vec::with_capacity(self.objects.len());
         for (object, model) in self.objects.iter_mut().zip(&view.models) {
@@ -352,8 +370,10 @@ impl SceneGpu {
             object.uniforms.write(bytemuck::bytes_of(&u))?;
             all.push(u);
         }
-        let spec = ViewSpec { shadows: frame.is_some(), lamps: view.lamps.count[0] > 0.0 };
+        let lamps_cast = lamp_frames.iter().any(Option::is_some);
+        let spec = ViewSpec { shadows: frame.is_some() || lamps_cast, lamps: view.lamps.count[0] > 0.0 };
         self.shadow.update(frame, &all)?;
+        self.lamp_shadows.update(&lamp_frames, &all)?;
         self.update_background(ctx, view, aspect)?;
         Ok(spec)
     }
@@ -365,17 +385,24 @@ impl SceneGpu {
             Some(casts) => (0..self.objects.len()).map(|i| casts.get(i).copied().unwrap_or(true)).collect(),
             None => Vec::new(),
         };
-        let Some(_) = &view.shadow_casters else { return Ok(None) };
-        let placed: Vec<(Aabb, bool)> = (self.objects.iter().zip(&view.models).zip(&self.casters))
-            .filter_map(|((o, m), &casts)| Some((o.bounds?.moved(*m), casts)))
-            .collect();
-        let frame = ShadowFrame::of_objects(view.light_dir, &placed, view.camera.view_projection(aspect));
+        // No sun (lamps alone), no sun's shadow.
+        if view.shadow_casters.is_none() || view.sun <= 0.0 {
+            return Ok(None);
+        }
+        let frame = ShadowFrame::of_objects(view.light_dir, &self.placed(view), view.camera.view_projection(aspect));
         if frame.is_some() && self.shadow.size() != SHADOW_SIZE {
             let full = ShadowMap::new(ctx, self.objects.len(), SHADOW_SIZE)?;
             // SAFETY: the caller promises no submitted work still uses this state.
             unsafe { std::mem::replace(&mut self.shadow, full).destroy(ctx) };
         }
         Ok(frame)
+    }
+
+    /// The objects' boxes placed by `view`, and whether each casts a shadow (as `fit_shadow` set `casters`).
+    fn placed(&self, view: &SceneView) -> Vec<(Aabb, bool)> {
+        (self.objects.iter().zip(&view.models).zip(&self.casters))
+            .filter_map(|((o, m), &casts)| Some((o.bounds?.moved(*m), casts)))
+            .collect()
     }
 
     /// The environment behind the objects, where `view` shows one (its pass made the first time).
@@ -415,10 +442,12 @@ impl SceneGpu {
         self.background.as_ref().filter(|_| self.shows_background)
     }
 
-    /// Records the shadow map where the view's casters or placements changed since it was last drawn.
+    /// Records the shadow maps (the sun's, the lamps') where the view's casters or placements changed since they
+    /// were last drawn.
     pub fn record_shadow(&self, ctx: &Context, cmd: vk::CommandBuffer) {
         let casts = |i: usize| self.casters.get(i) == Some(&true);
         self.shadow.record(ctx, cmd, self.objects.iter().enumerate().map(|(i, o)| (&o.mesh, casts(i))));
+        self.lamp_shadows.record(ctx, cmd, self.objects.iter().enumerate().map(|(i, o)| (&o.mesh, casts(i))));
     }
 
     /// The descriptors object `i`'s shading reads: its uniforms, its material's patch, the lighting and the
@@ -430,6 +459,7 @@ impl SceneGpu {
         writes.extend(patch.writes());
         writes.extend([patch.moments_write(), self.lighting.write()]);
         writes.extend(self.shadow.writes());
+        writes.extend(self.lamp_shadows.writes());
         writes.extend(object.maps.writes());
         writes
     }
@@ -443,6 +473,7 @@ impl SceneGpu {
     /// The GPU must be done with everything.
     pub unsafe fn destroy(self, ctx: &Context) {
         self.shadow.destroy(ctx);
+        self.lamp_shadows.destroy(ctx);
         self.background.destroy(ctx);
         self.lighting.destroy(ctx);
         self.materials.destroy(ctx);

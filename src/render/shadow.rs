@@ -24,7 +24,7 @@ use crate::render::MeshBuffers;
 pub const SHADOW_SIZE: u32 = 2048;
 /// How far a point is pushed along its normal before it is looked up, in shadow-map texels (at normal
 /// incidence; divided by cos θ_i up to [`MAX_OFFSET_GROWTH`] as the light grazes it).
-pub const NORMAL_OFFSET_TEXELS: f32 = 1.5;
+pub const NORMAL_OFFSET_TEXELS: f32 = crate::gpu::interface::SHADOW_NORMAL_OFFSET_TEXELS as f32;
 /// The largest factor the normal offset grows by at grazing light (surface.vert reads the same number).
 pub const MAX_OFFSET_GROWTH: f32 = crate::gpu::interface::SHADOW_MAX_OFFSET_GROWTH as f32;
 /// The pass's name (labels, timings).
@@ -49,15 +49,20 @@ impl Aabb {
         Self::around(self.corners().map(|c| model.transform_point3(c)))
     }
 
-    fn around(points: impl IntoIterator<Item = Vec3>) -> Self {
+    pub(crate) fn around(points: impl IntoIterator<Item = Vec3>) -> Self {
         let mut it = points.into_iter();
         let first = it.next().unwrap_or(Vec3::ZERO);
         let (min, max) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
         Self { min, max }
     }
 
-    fn corners(&self) -> [Vec3; 8] {
+    pub(crate) fn corners(&self) -> [Vec3; 8] {
         corners(self.min, self.max)
+    }
+
+    /// How far the point `p` is from the box (0 inside it).
+    pub(crate) fn distance_to(&self, p: Vec3) -> f32 {
+        (p.clamp(self.min, self.max) - p).length()
     }
 }
 
@@ -200,12 +205,12 @@ fn orthographic(l: f32, r: f32, b: f32, t: f32, near: f32, far: f32) -> Mat4 {
 }
 
 impl Aabb {
-    fn union(&self, other: &Self) -> Self {
+    pub(crate) fn union(&self, other: &Self) -> Self {
         Self { min: self.min.min(other.min), max: self.max.max(other.max) }
     }
 
     /// The common part of two boxes, None where they do not meet.
-    fn intersection(&self, other: &Self) -> Option<Self> {
+    pub(crate) fn intersection(&self, other: &Self) -> Option<Self> {
         let b = Self { min: self.min.max(other.min), max: self.max.min(other.max) };
         (b.min.cmple(b.max).all()).then_some(b)
     }
@@ -213,10 +218,29 @@ impl Aabb {
 
 /// The world box around the view frustum of `view_proj` (Vulkan clip space: depth 0 to 1), None where it is not
 /// invertible.
-fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
+pub(crate) fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
     let inverse = view_proj.inverse();
     let points = corners(Vec3::new(-1.0, -1.0, 0.0), Vec3::ONE).map(|c| inverse.project_point3(c));
     points.iter().all(|p| p.is_finite()).then(|| Aabb::around(points))
+}
+
+/// The pipeline that draws casters' depths into a shadow map (surface.vert alone, the map's view-projection in
+/// the object's uniforms; both faces, since a caster's back faces cast too).
+pub(crate) fn depth_pipeline(ctx: &Context, name: &str) -> Result<Pipeline> {
+    ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
+        name,
+        vertex: &shaders::SURFACE_VERT,
+        fragment: None,
+        specialization: crate::gpu::vk::SpecConstants::default(),
+        push_constant_size: 0,
+        vertex_stride: std::mem::size_of::<Vertex>() as u32,
+        vertex_attributes: &crate::gpu::shaders::VERTEX_ATTRIBUTES,
+        color_format: vk::Format::UNDEFINED,
+        depth: Some((crate::render::DEPTH_FORMAT, DepthTest::WriteLess)),
+        cull_back_faces: false,
+        samples: vk::SampleCountFlags::TYPE_1,
+        blend: Blend::Replace,
+    })
 }
 
 /// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
@@ -252,23 +276,7 @@ impl ShadowMap {
         let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(size, size), NAME)?);
         let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME, true)?);
         let depths = Guard::new(ctx, ctx.create_shadow_sampler(NAME, false)?);
-        let pipeline = Guard::new(
-            ctx,
-            ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
-                name: NAME,
-                vertex: &shaders::SURFACE_VERT,
-                fragment: None,
-                specialization: crate::gpu::vk::SpecConstants::default(),
-                push_constant_size: 0,
-                vertex_stride: std::mem::size_of::<Vertex>() as u32,
-                vertex_attributes: &crate::gpu::shaders::VERTEX_ATTRIBUTES,
-                color_format: vk::Format::UNDEFINED,
-                depth: Some((crate::render::DEPTH_FORMAT, DepthTest::WriteLess)),
-                cull_back_faces: false,
-                samples: vk::SampleCountFlags::TYPE_1,
-                blend: Blend::Replace,
-            })?,
-        );
+        let pipeline = Guard::new(ctx, depth_pipeline(ctx, NAME)?);
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));
         for i in 0..objects {
             let size = std::mem::size_of::<crate::gpu::interface::SurfaceUniforms>() as u64;

@@ -118,7 +118,7 @@ pub(super) struct LightDef {
     /// An environment map's turn about the up axis, degrees, and the factor on its radiance.
     pub(super) rotation_deg: Option<Spanned<f64>>,
     pub(super) intensity: Option<Spanned<f64>>,
-    /// The sun's shadows (a shadow map); on by default where the scene has a ground.
+    /// The sun's and the lamps' shadows (shadow maps); on by default where the scene has a ground.
     pub(super) shadows: Option<bool>,
 }
 

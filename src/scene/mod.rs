@@ -46,7 +46,7 @@ pub struct Scene {
     /// The light around the sun (`[light] environment`: the clear sky or an HDR map), which lights the pigment
     /// instead of `ambient`; with one the frame is in physical units.
     pub environment: Option<Environment>,
-    /// Whether the sun casts shadows (`[light] shadows`; by default where the scene has a ground).
+    /// Whether the sun and the lamps cast shadows (`[light] shadows`; by default where the scene has a ground).
     pub shadows: bool,
     /// Whether the environment is drawn behind the objects: where there is one and `[render] background` sets no
     /// colour.
@@ -168,14 +168,11 @@ impl Scene {
             checks::amount(*a.get_ref(), checks::MAX_LEVEL, "[light] ambient").map_err(|e| loc.at(a.span(), e))
         })?;
         let grounded = objects.iter().any(|o| !o.casts_shadow);
-        // Without a sun there is nothing to cast a shadow (lamps cast none yet).
-        let shadows = file.light.shadows.unwrap_or(grounded) && sun;
+        // Without a sun or a lamp there is nothing to cast a shadow.
+        let shadows = file.light.shadows.unwrap_or(grounded) && (sun || !lamps.is_empty());
         let environment_behind = environment.is_some() && file.render.background.is_none();
         if let (Some(env), Some(_)) = (&environment, file.render.background) {
             checks::background_units_warning(env, light_dir, render.background);
-        }
-        if !lamps.is_empty() {
-            log::warn!("the scene's lamps cast no shadows yet: each lights every surface that faces it");
         }
         let mut files = read_files(&file, base, environment.as_ref(), illuminant);
         // The maps an object's OBJ brought from its MTL (the materials' are listed already).

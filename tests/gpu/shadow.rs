@@ -71,7 +71,7 @@ fn render_views(scene: &Scene, size: (u32, u32), views: &[SceneView]) -> Vec<Vec
 }
 
 /// Distance from `c` to the ray `o + t·d` (t ≥ 0; unit d), and the ray's first hit on the sphere if any.
-fn ray_sphere(o: DVec3, d: DVec3, c: DVec3, r: f64) -> (f64, Option<DVec3>) {
+pub(crate) fn ray_sphere(o: DVec3, d: DVec3, c: DVec3, r: f64) -> (f64, Option<DVec3>) {
     let t_closest = (c - o).dot(d).max(0.0);
     let miss = (o + d * t_closest - c).length();
     let hit = (miss < r).then(|| o + d * (t_closest - (r * r - miss * miss).sqrt()));
@@ -191,7 +191,7 @@ fn a_renderer_switches_between_views_with_and_without_shadows() {
 
 /// The fraction of the sun's disc (angular radius `a`) that a sphere of angular radius `b`, its centre `c` away
 /// from the sun's, leaves visible: one minus the two discs' overlap over the sun's (small angles: plane circles).
-fn visible_share(a: f64, b: f64, c: f64) -> f64 {
+pub(crate) fn visible_share(a: f64, b: f64, c: f64) -> f64 {
     let overlap = if c >= a + b {
         0.0
     } else if c <= (a - b).abs() {

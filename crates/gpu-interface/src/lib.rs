@@ -309,6 +309,10 @@ shared! {
     /// white texel where the object has none.
     pub const BINDING_PIGMENT_MAP: u32 = 23;
     pub const BINDING_NORMAL_MAP: u32 = 24;
+    /// The lamps' shadow maps (`render::lamp_shadow`): one depth atlas, a tile per lamp, read by comparison and as
+    /// depths (the blocker search) as the sun's map is.
+    pub const BINDING_LAMP_SHADOW: u32 = 25;
+    pub const BINDING_LAMP_SHADOW_DEPTH: u32 = 26;
 
     section "The GLSL functions `twins.comp` evaluates (`TwinPush::function`; `reference::twins::Twin`).";
     pub const TWIN_FRESNEL_REFLECTANCE: u32 = 0;
@@ -364,6 +368,8 @@ shared! {
     /// The largest factor a shadow lookup's normal offset grows by as the light grazes a surface (1/cos θ_i up to
     /// this; `render::shadow`).
     pub const SHADOW_MAX_OFFSET_GROWTH: f64 = 4.0;
+    /// How far a shadow lookup pushes a point along its normal, in the map's texels there (at normal incidence).
+    pub const SHADOW_NORMAL_OFFSET_TEXELS: f64 = 1.5;
     /// How much finer than a pixel's footprint F the baked table's mip level is chosen, log2 √3 (see
     /// `physics::baked::sample::FOOTPRINT_LOD_BIAS`).
     pub const FOOTPRINT_LOD_BIAS: f64 = 0.792_481_250_360_578_1;
@@ -531,9 +537,18 @@ gpu_struct! {
         pub lamps: [[f32; 4]; 24],
         /// 1 where the object has a pigment map, 1 where it has a normal map (`scene::mesh::maps`), 0, 0.
         pub maps: [f32; 4],
+        /// The lamps' shadows (`render::lamp_shadow`): world → each lamp's tile's clip space (a perspective from the
+        /// lamp; four columns each), and each one's scales: the near and far planes' depths (world units along its
+        /// axis; near 0: the lamp casts no shadow), a texel's width at depth 1, the disc's radius.
+        pub lamp_shadow_view_proj: [[f32; 4]; 32],
+        pub lamp_shadow_scales: [[f32; 4]; 8],
+        /// The lamps' shadow atlas: its tiles (one per lamp it holds), one texel of a tile in the tile's texture
+        /// coordinates, 0, 0.
+        pub lamp_atlas: [f32; 4],
     }
 }
 const _: () = assert!(MAX_LAMPS * LAMP_VEC4S == 24, "SurfaceUniforms::lamps holds MAX_LAMPS lamps");
+const _: () = assert!(MAX_LAMPS * 4 == 32, "SurfaceUniforms::lamp_shadow_view_proj holds MAX_LAMPS lamps");
 
 gpu_struct! {
     /// The preview pass's per-frame uniforms (`frame`, read through `glsl/include/preview_frame.glsl`).

@@ -287,17 +287,18 @@ fn normal_turn(ctx: &Context, scene: &Scene, fine: (u32, u32), samples: u32) -> 
 }
 
 /// Each lamp of `scene` as a pixel that shows `seen` sees it: its patch-frame direction, the weight of its light
-/// (its irradiance at normal incidence over Ω_sun times the frame's unit luminance `unit`: what the sun's is 1 of)
+/// (its irradiance at normal incidence over Ω_sun times the frame's unit luminance `unit`: what the sun's is 1 of,
+/// times the share of its disc no shadow hides there)
 /// and, where the material's coherence `material_um` follows the light and the lamp's is shorter there, the
 /// widening of its lobes — as glsl/include/lamps.glsl and surface_shade.glsl's `lamp_colour` have them.
 fn lamp_lights(scene: &Scene, seen: &Seen, unit: f64, material_um: f64) -> [PixelLamp; MAX_LAMPS as usize] {
     let mut out = crate::reference::exact_image::NO_LAMPS;
     let follows = crate::light::lamp::follows_light(material_um);
-    for (lamp, slot) in scene.lamps.iter().zip(&mut out) {
+    for ((lamp, slot), visible) in scene.lamps.iter().zip(&mut out).zip(seen.lamp_visible) {
         let (omega_i, irradiance) = seen.lamp(lamp);
         *slot = PixelLamp {
             omega_i,
-            weight: irradiance / unit / optics::SUN_SOLID_ANGLE,
+            weight: irradiance / unit / optics::SUN_SOLID_ANGLE * visible,
             widening: match follows {
                 true => crate::light::lamp::widening_variance(lamp.coherence_at(seen.position), material_um),
                 false => 0.0,
