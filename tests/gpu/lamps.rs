@@ -163,12 +163,64 @@ fn luminance(frame: &[f32], i: usize) -> f64 {
     0.2126 * f64::from(px[0]) + 0.7152 * f64::from(px[1]) + 0.0722 * f64::from(px[2])
 }
 
+/// The lamp, its disc and the scene of the sharp-shadow tests.
+const SHARP_LAMP: DVec3 = DVec3::new(0.9, 2.3, 0.5);
+const SHARP_RADIUS_M: f64 = 0.002;
+
+fn sharp_scene() -> Scene {
+    ball_scene(SHARP_LAMP, SHARP_RADIUS_M, (DVec3::new(2.5, 4.0, 5.0), DVec3::new(-0.8, 0.3, -0.5), 50.0))
+}
+
+/// Where pixel (x, y) of `scene` (the ball's) meets the ground away from the ball and from the edge of the ball's
+/// shadow under the lamp at `lamp`: the point, and whether the ball hides the lamp's centre from it.
+fn ground_seen(scene: &Scene, size: (u32, u32), (x, y): (u32, u32), lamp: DVec3) -> Option<(DVec3, bool)> {
+    use crate::shadow::ray_sphere;
+    let (o, d) = pixel_ray(scene, size, (x, y));
+    let (miss, hit) = ray_sphere(o, d, BALL, BALL_RADIUS);
+    if hit.is_some() || (miss - BALL_RADIUS).abs() < 0.03 * BALL_RADIUS || d.y >= 0.0 {
+        return None;
+    }
+    let g = o - d * (o.y / d.y);
+    let to_lamp = lamp - g;
+    let (gap, blocked) = ray_sphere(g, to_lamp.normalize(), BALL, BALL_RADIUS);
+    let behind = blocked.is_some_and(|b| (b - g).length() < to_lamp.length());
+    ((gap - BALL_RADIUS).abs() >= 0.03 * BALL_RADIUS).then_some((g, behind))
+}
+
+/// The G-buffer the exact reference reads holds each lamp's visible share as the frames have it: 0 where the
+/// ball hides the lamp from the ground, 1 elsewhere (away from the edges).
+#[test]
+fn the_gbuffer_holds_the_share_of_a_lamp_no_shadow_hides() {
+    let scene = sharp_scene();
+    let size = (160u32, 120u32);
+    let camera = (&scene.camera, scene.light_dir);
+    let gbuffer = crate::harness::gpu_test(|ctx| {
+        diffract::render::gbuffer::GBuffer::draw(ctx, &scene, camera, size, true).unwrap()
+    });
+    let (mut compared, mut dark) = (0, 0);
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            let Some((_, behind)) = ground_seen(&scene, size, (x, y), SHARP_LAMP) else { continue };
+            let seen = gbuffer.pixels[(y * size.0 + x) as usize].expect("the ground");
+            let want = if behind { 0.0 } else { 1.0 };
+            assert!(
+                (seen.lamp_visible[0] - want).abs() < 0.01,
+                "pixel ({x}, {y}): {} for {want}",
+                seen.lamp_visible[0]
+            );
+            assert!(seen.lamp_visible[1..].iter().all(|&v| v == 1.0), "no other lamp: {:?}", seen.lamp_visible);
+            compared += 1;
+            dark += usize::from(behind);
+        }
+    }
+    assert!(compared > 10_000 && dark > 500, "compared {compared}, in the shadow {dark}");
+}
+
 #[test]
 fn a_ball_under_a_lamp_shadows_the_ground_where_the_lamps_rays_are_blocked() {
     use crate::shadow::ray_sphere;
-    let lamp = DVec3::new(0.9, 2.3, 0.5);
-    let radius_m = 0.002;
-    let scene = ball_scene(lamp, radius_m, (DVec3::new(2.5, 4.0, 5.0), DVec3::new(-0.8, 0.3, -0.5), 50.0));
+    let (lamp, radius_m) = (SHARP_LAMP, SHARP_RADIUS_M);
+    let scene = sharp_scene();
     let size = (160u32, 120u32);
     for path in [ShadingPath::Forward, ShadingPath::Visibility] {
         let frame = crate::capture::one_sample_frame(&scene, size, path);
@@ -188,17 +240,7 @@ fn a_ball_under_a_lamp_shadows_the_ground_where_the_lamps_rays_are_blocked() {
                         _ => continue,
                     }
                 } else {
-                    if d.y >= 0.0 {
-                        continue;
-                    }
-                    let g = o - d * (o.y / d.y);
-                    let to_lamp = lamp - g;
-                    let (gap, blocked) = ray_sphere(g, to_lamp.normalize(), BALL, BALL_RADIUS);
-                    // Beside the shadow's edge (its penumbra and the ball's facets) nothing is compared.
-                    if (gap - BALL_RADIUS).abs() < 0.03 * BALL_RADIUS {
-                        continue;
-                    }
-                    let behind = blocked.is_some_and(|b| (b - g).length() < to_lamp.length());
+                    let Some((g, behind)) = ground_seen(&scene, size, (x, y), lamp) else { continue };
                     if behind {
                         0.0
                     } else {
