@@ -58,4 +58,6 @@ check_viewer_paths() {
   check viewer-lamp "$bin" view assets/scenes/bench.toml --width 96 --height 64 --frames 5 --screenshot "$out/bench.png"
   check viewer-maps "$bin" view assets/scenes/skin-maps.toml --width 96 --height 64 --frames 3 \
     --screenshot "$out/skin-maps.png"
+  check viewer-lamp-shadow "$bin" view assets/scenes/elaphe-snake-flash.toml --width 96 --height 64 --frames 3 \
+    --screenshot "$out/flash.png"
 }
