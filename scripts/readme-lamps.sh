@@ -17,20 +17,19 @@ sed -e 's|^tile = 10$|tile = 10\ncoherence_um = 65.0001|' "$scratch/bench.toml" 
 # The sun from the lamp's direction, no lamp: the [[lamp]] table left out.
 awk '/^\[\[lamp\]\]/{skip=1} /^\[\[object\]\]/{skip=0} !skip' "$scratch/bench.toml" |
   sed -e 's|^environment = "none".*|direction = [0.0, 0.1414, -0.1414]\nenvironment = "none"|' >"$scratch/sun.toml"
-run render "$scratch/bench.toml" --width 320 --height 240 --out "$scratch/bench.png" "$@"
-run render "$scratch/point-like.toml" --width 320 --height 240 --out "$scratch/point-like.png" "$@"
-montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
-  -label 'coherence from the lamp: 6 µm' "$scratch/bench.png" \
-  -label 'coherence_um = 65.0001' "$scratch/point-like.png" \
-  -tile 2x1 -geometry +3+3 docs/images/bench.png
+# Two scenes rendered at 320×240 side by side, labelled: pair OUT.png LABEL1 SCENE1 LABEL2 SCENE2 [options].
+pair() {
+  local out=$1 l1=$2 s1=$3 l2=$4 s2=$5
+  shift 5
+  run render "$scratch/$s1.toml" --width 320 --height 240 --out "$scratch/$s1.png" "$@"
+  run render "$scratch/$s2.toml" --width 320 --height 240 --out "$scratch/$s2.png" "$@"
+  montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
+    -label "$l1" "$scratch/$s1.png" -label "$l2" "$scratch/$s2.png" -tile 2x1 -geometry +3+3 "$out"
+}
+pair docs/images/bench.png 'coherence from the lamp: 6 µm' bench 'coherence_um = 65.0001' point-like "$@"
 sed -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" assets/scenes/elaphe-snake-flash.toml >"$scratch/flash.toml"
 sed -e 's|^environment = "none".*|environment = "none"\nshadows = false|' "$scratch/flash.toml" >"$scratch/unshadowed.toml"
-run render "$scratch/flash.toml" --width 320 --height 240 --out "$scratch/flash.png" "$@"
-run render "$scratch/unshadowed.toml" --width 320 --height 240 --out "$scratch/unshadowed.png" "$@"
-montage -font DejaVu-Sans -pointsize 15 -fill '#e0e0e0' -background '#202020' \
-  -label 'a flash beside the camera: its shadow' "$scratch/flash.png" \
-  -label 'shadows = false' "$scratch/unshadowed.png" \
-  -tile 2x1 -geometry +3+3 docs/images/flash.png
+pair docs/images/flash.png 'a flash beside the camera: its shadow' flash 'shadows = false' unshadowed "$@"
 for round in 1 2; do
   for scene in sun bench; do
     run profile "$scratch/$scene.toml" --width 800 --height 800 --frames 10 --warmup 3 --no-reference \

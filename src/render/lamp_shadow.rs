@@ -12,14 +12,10 @@ use ash::vk;
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::Result;
-use crate::gpu::interface::{
-    SurfaceUniforms, BINDING_FRAME, BINDING_LAMP_SHADOW, BINDING_LAMP_SHADOW_DEPTH, MAX_LAMPS,
-};
-use crate::gpu::vk::{
-    Buffer, BufferDesc, Context, DescriptorWrite, Guard, Image, ImageDesc, ImageState, Pipeline, Sampler,
-};
+use crate::gpu::interface::{SurfaceUniforms, BINDING_LAMP_SHADOW, BINDING_LAMP_SHADOW_DEPTH, MAX_LAMPS};
+use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Guard};
 use crate::light::lamp::LampUniforms;
-use crate::render::shadow::Aabb;
+use crate::render::shadow::{Aabb, DepthMap};
 use crate::render::MeshBuffers;
 
 /// Texels along each edge of a lamp's tile (D32: 4 MiB a lamp).
@@ -188,10 +184,7 @@ pub fn fit_all(lamps: &LampUniforms, boxes: &[(Aabb, bool)], view_proj: Mat4) ->
 /// The lamps' shadow atlas on the GPU: its depth image (1×1 while no lamp casts a shadow), the comparison and
 /// depth samplers, the depth-only pipeline and one uniform buffer per lamp and object.
 pub struct LampShadows {
-    image: Image,
-    sampler: Sampler,
-    depths: Sampler,
-    pipeline: Pipeline,
+    map: DepthMap,
     /// Per lamp (tile), per object.
     uniforms: Vec<Vec<Buffer>>,
     /// The objects it draws.
@@ -213,10 +206,7 @@ impl LampShadows {
     /// An atlas of `tiles` tiles (`size` texels square; 1×1 for none) for `objects` objects.
     pub fn new(ctx: &Context, tiles: u32, objects: usize, size: u32) -> Result<Self> {
         let (width, height) = if tiles == 0 { (1, 1) } else { (tiles * size, size) };
-        let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(width, height), NAME)?);
-        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME, true)?);
-        let depths = Guard::new(ctx, ctx.create_shadow_sampler(NAME, false)?);
-        let pipeline = Guard::new(ctx, crate::render::shadow::depth_pipeline(ctx, NAME)?);
+        let map = Guard::new(ctx, DepthMap::new(ctx, width, height, NAME)?);
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(tiles as usize));
         for k in 0..tiles {
             let mut each = Vec::with_capacity(objects);
@@ -237,10 +227,7 @@ impl LampShadows {
             uniforms.push(each);
         }
         Ok(Self {
-            image: image.keep(),
-            sampler: sampler.keep(),
-            depths: depths.keep(),
-            pipeline: pipeline.keep(),
+            map: map.keep(),
             uniforms: uniforms.keep(),
             objects,
             frames: Vec::new(),
@@ -256,7 +243,7 @@ impl LampShadows {
 
     /// Texels along a tile's edge.
     pub fn size(&self) -> u32 {
-        self.image.extent().height
+        self.map.image.extent().height
     }
 
     /// Where each of `lamps`' maps lies over `boxes` (placed objects, whether each casts) seen through the
@@ -313,19 +300,7 @@ impl LampShadows {
         if self.drawn.borrow().as_ref() == Some(&now) {
             return;
         }
-        ctx.begin_label(cmd, NAME);
-        ctx.barrier_image(cmd, &self.image, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
-        let extent = self.image.extent();
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(self.image.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-        let info = vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&depth);
-        // SAFETY: cmd is recording; the image is in the depth-attachment layout.
-        unsafe { crate::render::begin_rendering_info(ctx, cmd, &info, extent, area) };
+        self.map.begin(ctx, cmd, NAME);
         let size = self.size();
         for (k, (frame, buffers)) in self.frames.iter().zip(&self.uniforms).enumerate() {
             if frame.is_none() {
@@ -349,34 +324,21 @@ impl LampShadows {
                 ctx.device().cmd_set_viewport(cmd, 0, &[viewport]);
                 ctx.device().cmd_set_scissor(cmd, 0, &[tile]);
             }
-            for ((mesh, casts), uniforms) in meshes.iter().zip(buffers) {
-                if *casts {
-                    ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
-                    mesh.draw(ctx, cmd);
-                }
-            }
+            self.map.draw_casters(ctx, cmd, &meshes, buffers);
         }
-        crate::render::end_rendering(ctx, cmd);
-        ctx.barrier_image(cmd, &self.image, ImageState::DEPTH_ATTACHMENT, ImageState::SHADER_READ);
-        ctx.end_label(cmd);
+        self.map.end(ctx, cmd);
         *self.drawn.borrow_mut() = Some(now);
     }
 
     /// The descriptors that bind it for reading.
     pub fn writes(&self) -> [DescriptorWrite<'_>; 2] {
-        [
-            DescriptorWrite::SampledImage(BINDING_LAMP_SHADOW, &self.image, &self.sampler),
-            DescriptorWrite::SampledImage(BINDING_LAMP_SHADOW_DEPTH, &self.image, &self.depths),
-        ]
+        self.map.writes(BINDING_LAMP_SHADOW, BINDING_LAMP_SHADOW_DEPTH)
     }
 
     /// # Safety
     /// The GPU must be done with it.
     pub unsafe fn destroy(self, ctx: &Context) {
-        self.image.destroy(ctx);
-        self.sampler.destroy(ctx);
-        self.depths.destroy(ctx);
-        self.pipeline.destroy(ctx);
+        self.map.destroy(ctx);
         self.uniforms.into_iter().flatten().for_each(|b| b.destroy(ctx));
     }
 }

@@ -226,7 +226,7 @@ pub(crate) fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
 
 /// The pipeline that draws casters' depths into a shadow map (surface.vert alone, the map's view-projection in
 /// the object's uniforms; both faces, since a caster's back faces cast too).
-pub(crate) fn depth_pipeline(ctx: &Context, name: &str) -> Result<Pipeline> {
+fn depth_pipeline(ctx: &Context, name: &str) -> Result<Pipeline> {
     ctx.create_graphics_pipeline(&GraphicsPipelineDesc {
         name,
         vertex: &shaders::SURFACE_VERT,
@@ -243,15 +243,89 @@ pub(crate) fn depth_pipeline(ctx: &Context, name: &str) -> Result<Pipeline> {
     })
 }
 
-/// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
-/// always have something bound), the comparison sampler, the depth-only pipeline and one uniform buffer per
-/// object (the surface uniforms with the light's view-projection).
-pub struct ShadowMap {
-    image: Image,
+/// A shadow map's GPU objects (the sun's, the lamps' atlas): a depth image, its comparison and depth samplers and
+/// the depth-only pipeline that draws the casters into it.
+pub(crate) struct DepthMap {
+    pub image: Image,
     sampler: Sampler,
     /// Reads its depths (the blocker search).
     depths: Sampler,
     pipeline: Pipeline,
+}
+
+impl DepthMap {
+    /// A `width`×`height` map named `name`.
+    pub fn new(ctx: &Context, width: u32, height: u32, name: &str) -> Result<Self> {
+        let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(width, height), name)?);
+        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(name, true)?);
+        let depths = Guard::new(ctx, ctx.create_shadow_sampler(name, false)?);
+        let pipeline = depth_pipeline(ctx, name)?;
+        Ok(Self { image: image.keep(), sampler: sampler.keep(), depths: depths.keep(), pipeline })
+    }
+
+    /// Begins drawing it, cleared (labelled `name`; its viewport the whole image).
+    pub fn begin(&self, ctx: &Context, cmd: vk::CommandBuffer, name: &str) {
+        ctx.begin_label(cmd, name);
+        ctx.barrier_image(cmd, &self.image, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
+        let extent = self.image.extent();
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(self.image.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+        let info = vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&depth);
+        // SAFETY: cmd is recording; the image is in the depth-attachment layout.
+        unsafe { crate::render::begin_rendering_info(ctx, cmd, &info, extent, area) };
+    }
+
+    /// Draws the `meshes` that cast (each with its `uniforms`, the light's view-projection in them).
+    pub fn draw_casters(
+        &self,
+        ctx: &Context,
+        cmd: vk::CommandBuffer,
+        meshes: &[(&MeshBuffers, bool)],
+        uniforms: &[Buffer],
+    ) {
+        for ((mesh, casts), uniforms) in meshes.iter().zip(uniforms) {
+            if *casts {
+                ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
+                mesh.draw(ctx, cmd);
+            }
+        }
+    }
+
+    /// Ends the drawing begun by [`Self::begin`] and leaves the map ready for the shaders to sample.
+    pub fn end(&self, ctx: &Context, cmd: vk::CommandBuffer) {
+        crate::render::end_rendering(ctx, cmd);
+        ctx.barrier_image(cmd, &self.image, ImageState::DEPTH_ATTACHMENT, ImageState::SHADER_READ);
+        ctx.end_label(cmd);
+    }
+
+    /// The descriptors that bind it for reading: by comparison at `compare`, as depths at `depths`.
+    pub fn writes(&self, compare: u32, depths: u32) -> [DescriptorWrite<'_>; 2] {
+        [
+            DescriptorWrite::SampledImage(compare, &self.image, &self.sampler),
+            DescriptorWrite::SampledImage(depths, &self.image, &self.depths),
+        ]
+    }
+
+    /// # Safety
+    /// The GPU must be done with it.
+    pub unsafe fn destroy(self, ctx: &Context) {
+        self.image.destroy(ctx);
+        self.sampler.destroy(ctx);
+        self.depths.destroy(ctx);
+        self.pipeline.destroy(ctx);
+    }
+}
+
+/// The shadow map's GPU objects: its depth image (a 1×1 one while no shadow is cast, so the surface pipelines
+/// always have something bound), the comparison sampler, the depth-only pipeline and one uniform buffer per
+/// object (the surface uniforms with the light's view-projection).
+pub struct ShadowMap {
+    map: DepthMap,
     uniforms: Vec<Buffer>,
     /// This frame's placement; None: nothing is drawn and every surface is lit.
     frame: Option<ShadowFrame>,
@@ -273,10 +347,7 @@ struct Drawn {
 impl ShadowMap {
     /// A map for `objects` objects, `size` texels square (1 while there is no shadow to draw).
     pub fn new(ctx: &Context, objects: usize, size: u32) -> Result<Self> {
-        let image = Guard::new(ctx, ctx.create_image(ImageDesc::sampled_depth(size, size), NAME)?);
-        let sampler = Guard::new(ctx, ctx.create_shadow_sampler(NAME, true)?);
-        let depths = Guard::new(ctx, ctx.create_shadow_sampler(NAME, false)?);
-        let pipeline = Guard::new(ctx, depth_pipeline(ctx, NAME)?);
+        let map = Guard::new(ctx, DepthMap::new(ctx, size, size, NAME)?);
         let mut uniforms = Guard::new(ctx, Vec::with_capacity(objects));
         for i in 0..objects {
             let size = std::mem::size_of::<crate::gpu::interface::SurfaceUniforms>() as u64;
@@ -284,10 +355,7 @@ impl ShadowMap {
             uniforms.push(ctx.create_buffer(desc, &format!("object {i} uniforms (shadow map)"))?);
         }
         Ok(Self {
-            image: image.keep(),
-            sampler: sampler.keep(),
-            depths: depths.keep(),
-            pipeline: pipeline.keep(),
+            map: map.keep(),
             uniforms: uniforms.keep(),
             frame: None,
             models: Vec::new(),
@@ -297,7 +365,7 @@ impl ShadowMap {
 
     /// Texels along an edge.
     pub fn size(&self) -> u32 {
-        self.image.extent().width
+        self.map.image.extent().width
     }
 
     /// This frame's placement (None: no shadow).
@@ -339,53 +407,28 @@ impl ShadowMap {
         if self.drawn.borrow().as_ref() == Some(&now) {
             return;
         }
-        ctx.begin_label(cmd, NAME);
-        ctx.barrier_image(cmd, &self.image, ImageState::UNDEFINED, ImageState::DEPTH_ATTACHMENT);
-        let extent = self.image.extent();
-        let depth = vk::RenderingAttachmentInfo::default()
-            .image_view(self.image.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-        let info = vk::RenderingInfo::default().render_area(area).layer_count(1).depth_attachment(&depth);
-        // SAFETY: cmd is recording; the image is in the depth-attachment layout.
-        unsafe { crate::render::begin_rendering_info(ctx, cmd, &info, extent, area) };
+        self.map.begin(ctx, cmd, NAME);
         if self.frame.is_some() {
-            for ((mesh, casts), uniforms) in meshes.into_iter().zip(&self.uniforms) {
-                if casts {
-                    ctx.bind(cmd, &self.pipeline, &[DescriptorWrite::UniformBuffer(BINDING_FRAME, uniforms)], &[]);
-                    mesh.draw(ctx, cmd);
-                }
-            }
+            self.map.draw_casters(ctx, cmd, &meshes, &self.uniforms);
         }
-        crate::render::end_rendering(ctx, cmd);
-        ctx.barrier_image(cmd, &self.image, ImageState::DEPTH_ATTACHMENT, ImageState::SHADER_READ);
-        ctx.end_label(cmd);
+        self.map.end(ctx, cmd);
         *self.drawn.borrow_mut() = Some(now);
     }
 
     /// The descriptors that bind it for reading (`BINDING_SHADOW` by comparison, `BINDING_SHADOW_DEPTH` as depths).
     pub fn writes(&self) -> [DescriptorWrite<'_>; 2] {
-        [
-            DescriptorWrite::SampledImage(BINDING_SHADOW, &self.image, &self.sampler),
-            DescriptorWrite::SampledImage(BINDING_SHADOW_DEPTH, &self.image, &self.depths),
-        ]
+        self.map.writes(BINDING_SHADOW, BINDING_SHADOW_DEPTH)
     }
 
     /// # Safety
     /// The GPU must be done with it.
     pub unsafe fn destroy(self, ctx: &Context) {
-        self.image.destroy(ctx);
-        self.sampler.destroy(ctx);
-        self.depths.destroy(ctx);
-        self.pipeline.destroy(ctx);
+        self.map.destroy(ctx);
         self.uniforms.into_iter().for_each(|b| b.destroy(ctx));
     }
 }
 
-crate::impl_destroy!(ShadowMap);
+crate::impl_destroy!(DepthMap, ShadowMap);
 
 #[cfg(test)]
 mod tests {

@@ -272,7 +272,7 @@ fn a_large_lamp_casts_the_penumbra_of_its_disc() {
     let scene = ball_scene(lamp, radius_m, (foot + DVec3::new(0.0, 3.0, 0.001), foot, 40.0));
     let size = (128u32, 128u32);
     let frame = crate::capture::one_sample_frame(&scene, size, ShadingPath::Forward);
-    let (mut penumbra, mut sum, mut signed, mut worst) = (0, 0.0f64, 0.0f64, 0.0f64);
+    let mut penumbra = crate::shadow::Penumbra::default();
     for y in 0..size.1 {
         for x in 0..size.0 {
             let (o, d) = pixel_ray(&scene, size, (x, y));
@@ -286,17 +286,11 @@ fn a_large_lamp_casts_the_penumbra_of_its_disc() {
             let gamma = to_lamp.normalize().dot(to_ball.normalize()).clamp(-1.0, 1.0).acos();
             let share = crate::shadow::visible_share(alpha, beta, gamma);
             let lit = lambert(ALBEDO, lamp, radius_m, g, DVec3::Y);
-            let got = luminance(&frame, (y * size.0 + x) as usize) / lit;
-            worst = worst.max((got - share).abs());
-            if share > 0.02 && share < 0.98 {
-                penumbra += 1;
-                sum += (got - share).abs();
-                signed += got - share;
-            }
+            penumbra.add(luminance(&frame, (y * size.0 + x) as usize) / lit, share);
         }
     }
-    let (mean, bias) = (sum / penumbra as f64, signed / penumbra as f64);
-    eprintln!("{penumbra} penumbra pixels: mean |error| {mean:.4}, mean error {bias:+.4}, worst {worst:.3}");
-    assert!(penumbra > 500, "only {penumbra} pixels in the penumbra");
+    let ((mean, bias), (pixels, worst)) = (penumbra.mean_and_bias(), (penumbra.pixels, penumbra.worst));
+    eprintln!("{pixels} penumbra pixels: mean |error| {mean:.4}, mean error {bias:+.4}, worst {worst:.3}");
+    assert!(pixels > 500, "only {pixels} pixels in the penumbra");
     assert!(mean < 0.04 && bias.abs() < 0.015, "penumbra: mean |error| {mean:.4}, mean error {bias:.4}");
 }

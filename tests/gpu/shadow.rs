@@ -189,6 +189,33 @@ fn a_renderer_switches_between_views_with_and_without_shadows() {
     assert_eq!(frames[1], render(&self::scene(false), (w, h)), "a renderer that never drew shadows");
 }
 
+/// How far a penumbra's pixels are from the share of a light's disc they should show: over the pixels strictly
+/// inside it (2–98 % visible), the count, the mean |error| and the mean error; over all, the worst.
+#[derive(Default)]
+pub(crate) struct Penumbra {
+    pub pixels: usize,
+    sum: f64,
+    signed: f64,
+    pub worst: f64,
+}
+
+impl Penumbra {
+    /// A pixel showing `got` of the light where the closed form says `share`.
+    pub fn add(&mut self, got: f64, share: f64) {
+        self.worst = self.worst.max((got - share).abs());
+        if share > 0.02 && share < 0.98 {
+            self.pixels += 1;
+            self.sum += (got - share).abs();
+            self.signed += got - share;
+        }
+    }
+
+    /// The mean |error| and the mean error.
+    pub fn mean_and_bias(&self) -> (f64, f64) {
+        (self.sum / self.pixels as f64, self.signed / self.pixels as f64)
+    }
+}
+
 /// The fraction of the sun's disc (angular radius `a`) that a sphere of angular radius `b`, its centre `c` away
 /// from the sun's, leaves visible: one minus the two discs' overlap over the sun's (small angles: plane circles).
 pub(crate) fn visible_share(a: f64, b: f64, c: f64) -> f64 {
@@ -228,7 +255,7 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
     let lit = ALBEDO[1] * sun * light.y;
     let alpha = (SUN_SOLID_ANGLE / std::f64::consts::PI).sqrt();
     let inv = scene.camera.view_projection(size.0 as f32 / size.1 as f32).inverse().as_dmat4();
-    let (mut worst, mut penumbra, mut sum, mut signed) = (0.0f64, 0, 0.0f64, 0.0f64);
+    let mut penumbra = Penumbra::default();
     for y in 0..size.1 {
         for x in 0..size.0 {
             let ndc = |p: u32, n: u32| (f64::from(p) + 0.5) / f64::from(n) * 2.0 - 1.0;
@@ -244,19 +271,13 @@ fn a_high_ball_casts_the_penumbra_of_the_suns_disc() {
             let gamma = light.dot(to_ball.normalize()).clamp(-1.0, 1.0).acos();
             let share = visible_share(alpha, beta, gamma);
             let i = ((y * size.0 + x) * 4) as usize;
-            let got = f64::from(linear[i]) / lit;
-            worst = worst.max((got - share).abs());
-            if share > 0.02 && share < 0.98 {
-                penumbra += 1;
-                sum += (got - share).abs();
-                signed += got - share;
-            }
+            penumbra.add(f64::from(linear[i]) / lit, share);
         }
     }
     // Measured on lavapipe: 2701 penumbra pixels, mean |error| 0.018 of the sun's light, mean error +0.003, the
     // worst 0.076 (the filter's 32 taps are the steps of a penumbra 170 texels wide).
-    let (mean, bias) = (sum / penumbra as f64, signed / penumbra as f64);
-    assert!(penumbra > 500, "only {penumbra} pixels in the penumbra");
+    let ((mean, bias), worst) = (penumbra.mean_and_bias(), penumbra.worst);
+    assert!(penumbra.pixels > 500, "only {} pixels in the penumbra", penumbra.pixels);
     assert!(mean < 0.03 && bias.abs() < 0.01, "penumbra: mean |error| {mean:.4}, mean error {bias:.4}");
     assert!(worst < 0.1, "the worst pixel is {worst:.3} of the sun's light off the disc's visible share");
 }
