@@ -404,3 +404,23 @@ fn a_lamp_lit_frame_is_in_candela_per_square_metre_and_its_exr_says_so() {
     let (white, comment, _) = header("environment = \"none\"\ndirection = [0.0, 1.0, 1.0]", false);
     assert!(white.is_none() && comment.contains("relative"), "{white:?} {comment}");
 }
+
+/// A lamp placed inside an object that casts shadows casts none, and one line says so; the frame renders,
+/// validation-clean.
+#[test]
+fn a_lamp_inside_a_caster_says_it_casts_no_shadows() {
+    let scene = scratch("lamp-inside.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [0.0, 2.0, 4.0]\ntarget = [0.0, 0.5, 0.0]\nfov_y_deg = 40.0\n\n[light]\nenvironment = \"none\"\n\n\
+         [[lamp]]\nkind = \"point\"\nposition = [0.0, 0.5, 0.0]\nintensity_cd = 2.0\nradius_m = 0.01\n\n\
+         [[object]]\nshape = \"sphere\"\nmaterial = \"white\"\ntranslate = [0.0, 0.5, 0.0]\n\n\
+         [[object]]\nshape = \"ground\"\nmaterial = \"white\"\n\n[material.white]\npigment = [0.5, 0.5, 0.5]\n",
+    )
+    .unwrap();
+    let out = scratch("lamp-inside.png");
+    let args = ["render", s(&scene), "--width", "24", "--height", "16", "--out", s(&out), "--validation"];
+    let text = render_clean(&args);
+    assert_eq!(text.matches("casts no shadows").count(), 1, "{text}");
+    assert!(text.contains("lamp 1 casts no shadows: it lies within the box of an object"), "{text}");
+}
