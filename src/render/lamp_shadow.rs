@@ -50,7 +50,8 @@ impl LampShadowFrame {
     /// The map of a lamp at `position` (world) over `boxes` (placed objects, whether each casts) of which the
     /// camera sees `seen` (the receivers' box cut to the view): aimed at the casters that lie in the box around
     /// the lamp and `seen` (only they can shadow a point the camera sees), just wide enough for them (two texels'
-    /// margin for the filter), from the nearest caster to the farthest point seen.
+    /// margin for the filter) but at most [`MAX_HALF_ANGLE_DEG`] from its axis, from before the nearest caster to
+    /// past the farthest point seen.
     pub fn fit(position: Vec3, boxes: &[(Aabb, bool)], seen: &Aabb, size: u32) -> std::result::Result<Self, NoShadow> {
         let reach = seen.union(&Aabb { min: position, max: position });
         let casters: Vec<Aabb> = boxes.iter().filter(|b| b.1).filter_map(|b| b.0.intersection(&reach)).collect();
