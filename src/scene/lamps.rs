@@ -137,7 +137,11 @@ pigment = [0.5, 0.5, 0.5]
     #[test]
     fn lamps_light_a_scene_alone_in_candela_or_beside_the_sun_in_its_units() {
         let alone = parse(&format!("{HEAD}{NONE}{POINT}")).unwrap();
-        assert!(!alone.sun && !alone.shadows && alone.sun_strength() == 0.0);
+        // Lit by its lamp alone, over a ground: the lamp casts shadows (the sun's map is skipped: no sun).
+        assert!(!alone.sun && alone.shadows && alone.sun_strength() == 0.0);
+        let unshadowed = parse(&format!("{HEAD}{NONE}shadows = false
+{POINT}")).unwrap();
+        assert!(!unshadowed.shadows, "[light] shadows = false turns the lamps' shadows off");
         assert_eq!(alone.unit_luminance(alone.light_dir), 1.0, "the frame in cd/m²");
         let lamp = alone.lamps[0];
         assert_eq!((lamp.position.y, lamp.intensity_cd, lamp.radius_m, lamp.spot), (1.0, 10.0, 0.01, None));
