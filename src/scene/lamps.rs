@@ -139,8 +139,7 @@ pigment = [0.5, 0.5, 0.5]
         let alone = parse(&format!("{HEAD}{NONE}{POINT}")).unwrap();
         // Lit by its lamp alone, over a ground: the lamp casts shadows (the sun's map is skipped: no sun).
         assert!(!alone.sun && alone.shadows && alone.sun_strength() == 0.0);
-        let unshadowed = parse(&format!("{HEAD}{NONE}shadows = false
-{POINT}")).unwrap();
+        let unshadowed = parse(&format!("{HEAD}{NONE}shadows = false\n{POINT}")).unwrap();
         assert!(!unshadowed.shadows, "[light] shadows = false turns the lamps' shadows off");
         assert_eq!(alone.unit_luminance(alone.light_dir), 1.0, "the frame in cd/m²");
         let lamp = alone.lamps[0];
