@@ -67,8 +67,9 @@ vec4 lamp_at(SurfaceInputs s, uint k) {
 
 // What lamp k (`lamp`: `lamp_at`) adds to the surface point's colour: its diffraction and the pigment it lights,
 // as the sun's, its irradiance in place of the sun's Ω_sun, times the share of its disc no shadow hides
-// (shadow.glsl's `lamp_visibility`); `steps`: the pixel's footprint in the lamp's (u, v). Where the material's coherence follows the light (params.window.w, its length), the baked read is
-// widened to the lamp's shorter coherence (model.md §3.13); the Taylor approaches keep the material's.
+// (shadow.glsl's `lamp_visibility`); `steps`: the pixel's footprint in the lamp's (u, v). Where the material's
+// coherence follows the light (params.window.w, its length), the baked read is widened to the lamp's shorter
+// coherence (model.md §3.13); the Taylor approaches keep the material's.
 vec3 lamp_colour(SurfaceInputs s, uint k, vec4 lamp, vec4 steps) {
     vec3 omega_i = lamp.xyz;
     vec3 omega_r = normalize(s.patch_view);

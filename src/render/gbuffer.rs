@@ -274,10 +274,7 @@ impl GBuffer {
             sky_quadratic: crate::light::prefilter::sky_quadratic(&sky_sh),
             shadow: ShadowFrame::uniforms(frame.as_ref(), size),
             lamps,
-            lamp_shadows: match lamps_cast {
-                true => LampShadowUniforms::new(&lamp_frames, &lamps, tile),
-                false => LampShadowUniforms::NONE,
-            },
+            lamp_shadows: LampShadowUniforms::new(&lamp_frames, &lamps, tile),
         };
         let mut all = Vec::with_capacity(scene.objects.len());
         for (i, object) in scene.objects.iter().enumerate() {

@@ -157,8 +157,7 @@ fn discs(lamps: &LampUniforms) -> impl Iterator<Item = (Vec3, f32)> + '_ {
 /// Each of `lamps`' frames over `boxes` (placed objects, whether each casts) seen through the camera's
 /// `view_proj`; a lamp among the casters is said once a process.
 pub fn fit_all(lamps: &LampUniforms, boxes: &[(Aabb, bool)], view_proj: Mat4) -> Vec<Option<LampShadowFrame>> {
-    let receivers = Aabb::around(boxes.iter().flat_map(|b| b.0.corners()));
-    let seen = crate::render::shadow::frustum_box(view_proj).and_then(|f| receivers.intersection(&f));
+    let seen = crate::render::shadow::seen_box(boxes, view_proj);
     discs(lamps)
         .enumerate()
         .map(|(k, (position, _))| {

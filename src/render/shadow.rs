@@ -141,8 +141,7 @@ impl ShadowFrame {
     /// within the view's box and the casters over them: an object far outside the view (a cube a million units
     /// away) cannot take the map's resolution from the shadows in it.
     pub fn of_objects(light_dir: Vec3, boxes: &[(Aabb, bool)], view_proj: Mat4) -> Option<Self> {
-        let receivers: Vec<Aabb> = boxes.iter().map(|b| b.0).collect();
-        let seen = Aabb::around(receivers.iter().flat_map(|b| b.corners())).intersection(&frustum_box(view_proj)?)?;
+        let seen = seen_box(boxes, view_proj)?;
         let dir = light_dir.try_normalize()?;
         let up = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::Z };
         let light_view = crate::scene::camera::look_at(Vec3::ZERO, -dir, up);
@@ -216,9 +215,16 @@ impl Aabb {
     }
 }
 
+/// What the camera of `view_proj` sees of `boxes` (placed objects, whether each casts): the box around them cut to
+/// the box around the view frustum; None where they do not meet (or the view-projection is not invertible). The
+/// sun's and the lamps' shadow maps are fitted to it.
+pub(crate) fn seen_box(boxes: &[(Aabb, bool)], view_proj: Mat4) -> Option<Aabb> {
+    Aabb::around(boxes.iter().flat_map(|b| b.0.corners())).intersection(&frustum_box(view_proj)?)
+}
+
 /// The world box around the view frustum of `view_proj` (Vulkan clip space: depth 0 to 1), None where it is not
 /// invertible.
-pub(crate) fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
+fn frustum_box(view_proj: Mat4) -> Option<Aabb> {
     let inverse = view_proj.inverse();
     let points = corners(Vec3::new(-1.0, -1.0, 0.0), Vec3::ONE).map(|c| inverse.project_point3(c));
     points.iter().all(|p| p.is_finite()).then(|| Aabb::around(points))
