@@ -31,6 +31,16 @@ layout(location = 7) in vec3 world_position;
 layout(location = 8) in vec2 uv;
 layout(location = 0) out vec4 out_color;
 
+// What lamp k adds to the fragment's colour (its footprint from the derivatives of its (u, v)).
+vec3 lamp_term(SurfaceInputs s, uint k) {
+    vec4 lamp = lamp_at(s, k);
+    vec4 lamp_steps = vec4(0.0);
+#ifdef BAKED
+    if (MATTE == 0u) lamp_steps = pixel_steps(-lamp.xy - normalize(s.patch_view).xy);
+#endif
+    return lamp_colour(s, k, lamp, lamp_steps);
+}
+
 void main() {
     SurfaceInputs s = SurfaceInputs(patch_light, patch_view, world_normal, tint, shadow_coord, patch_axis,
                                     sky_diffracted_at_vertex, world_position, uv);
@@ -42,18 +52,9 @@ void main() {
     if (MATTE == 0u) steps = pixel_steps(-normalize(s.patch_light).xy - normalize(s.patch_view).xy);
 #endif
     vec3 rgb = surface_colour(s, steps);
-    // The lamps' count is uniform, so each lamp's derivatives too are taken in uniform control flow. (A view
-    // without lamps compiles the loop out: LAMPS, a specialization constant, in an `if` that the driver folds.)
-    if (LAMPS != 0u) {
-        for (uint k = 0u; k < lamp_count(); k++) {
-            vec4 lamp = lamp_at(s, k);
-            vec4 lamp_steps = vec4(0.0);
-#ifdef BAKED
-            if (MATTE == 0u) lamp_steps = pixel_steps(-lamp.xy - normalize(s.patch_view).xy);
-#endif
-            rgb += lamp_colour(s, k, lamp, lamp_steps);
-        }
-    }
+    // The lamps' count is a constant, so each lamp's derivatives too are taken in uniform control flow (and a view
+    // without lamps has none: LAMPS, a specialization constant).
+    EACH_LAMP(k, rgb += lamp_term(s, k));
     out_color = vec4(DISPLAY_OUTPUT == 1u ? display_encode(rgb, params.display.x, params.display.y) : rgb, 1.0);
     record_fetches();
 }

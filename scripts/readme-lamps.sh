@@ -5,8 +5,9 @@
 #                          65.0001 µm (the window of a point-like light) at the same exposure
 #   docs/images/flash.png  assets/scenes/elaphe-snake-flash.toml at 320×240 (the snake under a flash beside the
 #                          camera: the lamp's shadow), beside the same with [light] shadows = false
-#   the cost of a point lamp against the sun in the same scene: bench.toml, and a copy lit by the sun from the lamp's
-#   direction instead, profiled at 800² (1 and 4 samples), twice each, alternating
+#   the cost of a point lamp against the sun in the same scene: bench.toml and elaphe-snake-flash.toml (its shadow
+#   too), each beside a copy lit by the sun from the lamp's direction instead, and the flash scene without shadows,
+#   profiled at 800² (1 and 4 samples), twice each, alternating
 # Needs ImageMagick (montage) and the DejaVu fonts to compose the picture.
 # Usage: scripts/readme-lamps.sh [TAG] [extra diffract options]
 source "$(dirname "$0")/lib/readme.sh"
@@ -30,8 +31,11 @@ pair docs/images/bench.png 'coherence from the lamp: 6 µm' bench 'coherence_um 
 sed -e "s|\"\.\./afm/|\"$PWD/assets/afm/|" assets/scenes/elaphe-snake-flash.toml >"$scratch/flash.toml"
 sed -e 's|^environment = "none".*|environment = "none"\nshadows = false|' "$scratch/flash.toml" >"$scratch/unshadowed.toml"
 pair docs/images/flash.png 'a flash beside the camera: its shadow' flash 'shadows = false' unshadowed "$@"
+# The sun from the flash's direction (from the snake's middle, the camera's target), no lamp: it casts its shadow.
+awk '/^\[\[lamp\]\]/{skip=1} /^\[\[object\]\]/{skip=0} !skip' "$scratch/flash.toml" |
+  sed -e 's|^environment = "none".*|direction = [1.10, 0.75, 0.347]\nenvironment = "none"|' >"$scratch/flash-sun.toml"
 for round in 1 2; do
-  for scene in sun bench; do
+  for scene in sun bench flash-sun flash unshadowed; do
     run profile "$scratch/$scene.toml" --width 800 --height 800 --frames 10 --warmup 3 --no-reference \
       --sweep samples=1,4 "$@"
   done

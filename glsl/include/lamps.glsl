@@ -11,13 +11,26 @@ float spot_factor(float angle_deg, float cone_deg, float soft_deg) {
     return t * t * (3.0 - 2.0 * t);
 }
 
-// 0 in the pipelines of a view without lamps: the loops over them compile out (`render::scene_gpu::ViewSpec`).
-layout(constant_id = SPEC_LAMPS) const uint LAMPS = 1;
+// How many lamps light the view (`render::variants::ViewSpec`; `frame.lamp_count.x` holds the same number): a
+// constant, so that a loop over them compiles out where there are none, stays in uniform control flow, and reads
+// each lamp's uniforms at a constant index (on lavapipe, lane by lane at an index read from a uniform: 1.5× the
+// cost of a lamp-lit frame).
+layout(constant_id = SPEC_LAMPS) const uint LAMPS = 0;
 
-// How many lamps the scene has (a uniform: loops over them stay in uniform control flow).
-uint lamp_count() {
-    return LAMPS == 0u ? 0u : uint(frame.lamp_count.x);
-}
+// `statement` once for each lamp, with `k` its index as a constant: a loop of LAMPS iterations that lavapipe left
+// rolled read two lamps' uniforms lane by lane, as slowly as a count read from a uniform.
+#if MAX_LAMPS != 8
+#error "EACH_LAMP writes out MAX_LAMPS lamps"
+#endif
+#define EACH_LAMP(k, statement) \
+    { const uint k = 0u; if (LAMPS > k) { statement; } } \
+    { const uint k = 1u; if (LAMPS > k) { statement; } } \
+    { const uint k = 2u; if (LAMPS > k) { statement; } } \
+    { const uint k = 3u; if (LAMPS > k) { statement; } } \
+    { const uint k = 4u; if (LAMPS > k) { statement; } } \
+    { const uint k = 5u; if (LAMPS > k) { statement; } } \
+    { const uint k = 6u; if (LAMPS > k) { statement; } } \
+    { const uint k = 7u; if (LAMPS > k) { statement; } }
 
 // The coherence length of lamp k's light at the world point `p`, µm: sunlight's 65 µm times the sun's angular
 // radius over the lamp's there, at least 1 µm (`Lamp::coherence_at`; model.md §1.13).

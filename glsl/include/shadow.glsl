@@ -35,8 +35,8 @@ const float WIDE_TEXELS = 2.0;
 // own edges anti-aliased). `coord` is the point in the map's clip space (surface.vert's shadow_coord); outside
 // the map the samplers' border passes (lit). 1 where the scene has no shadow map.
 float sun_visibility(vec3 coord) {
-    // No sun at all: a map without one lights the scene alone (SurfaceUniforms::light_dir's w).
-    if (frame.light_dir.w <= 0.0) return 0.0;
+    // No sun at all: lamps or a map without one light the scene alone (SUN; SurfaceUniforms::light_dir's w).
+    if (SUN == 0u || frame.light_dir.w <= 0.0) return 0.0;
     if (SHADOWS == 0u || frame.shadow.x < 0.5) return 1.0;
     vec2 uv = coord.xy * 0.5 + 0.5;
     float z = min(coord.z, 1.0);

@@ -101,6 +101,20 @@ uint first_triangle_samples(uint id[VISIBILITY_MAX_SAMPLES], int n, uint pending
     return same;
 }
 
+// What lamp k adds to the colour of a surface point (`inputs`), its footprint from the points of the next pixels
+// across and down.
+vec3 lamp_term(SurfaceInputs inputs, SurfaceInputs inputs_across, SurfaceInputs inputs_down, uint k) {
+    vec4 lamp = lamp_at(inputs, k);
+    vec4 lamp_steps = vec4(0.0);
+#ifdef BAKED
+    if (MATTE == 0u) {
+        vec2 lamp_uv = -lamp.xy - normalize(inputs.patch_view).xy;
+        lamp_steps = footprint_steps(lamp_table_uv(inputs_across, k) - lamp_uv, lamp_table_uv(inputs_down, k) - lamp_uv);
+    }
+#endif
+    return lamp_colour(inputs, k, lamp, lamp_steps);
+}
+
 // The share of the colour of the pixel whose centre is `centre` (pixels, as gl_FragCoord.xy) of the triangle that
 // the first of the `pending` samples sees (bits of `id`, of `n`): its inputs rebuilt at the pixel centre and
 // shaded, weighed by the samples that see it, which it then clears from `pending`.
@@ -158,8 +172,7 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
     }
 #endif
     vec3 rgb = surface_colour(inputs, steps);
-    uint lamps = lamp_count();
-    if (LAMPS == 0u || lamps == 0u) return float(bitCount(same)) / float(n) * rgb;
+    if (LAMPS == 0u) return float(bitCount(same)) / float(n) * rgb;
 #ifdef BAKED
     // Each lamp's footprint as the sun's: its (u, v) at the next pixel across and down, on the triangle's plane
     // (the neighbours' inputs built once for every lamp; mapped above where a normal map turns them).
@@ -168,17 +181,6 @@ vec3 shade_triangle(vec2 centre, uint id[VISIBILITY_MAX_SAMPLES], int n, inout u
         inputs_down = inputs_at(o, b_down);
     }
 #endif
-    for (uint k = 0u; k < lamps; k++) {
-        vec4 lamp = lamp_at(inputs, k);
-        vec4 lamp_steps = vec4(0.0);
-#ifdef BAKED
-        if (MATTE == 0u) {
-            vec2 lamp_uv = -lamp.xy - normalize(inputs.patch_view).xy;
-            lamp_steps =
-                footprint_steps(lamp_table_uv(inputs_across, k) - lamp_uv, lamp_table_uv(inputs_down, k) - lamp_uv);
-        }
-#endif
-        rgb += lamp_colour(inputs, k, lamp, lamp_steps);
-    }
+    EACH_LAMP(k, rgb += lamp_term(inputs, inputs_across, inputs_down, k));
     return float(bitCount(same)) / float(n) * rgb;
 }

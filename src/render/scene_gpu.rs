@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use crate::error::{Error, Result};
 use crate::gpu::interface::{
     DiffractionParams, SurfaceUniforms, BINDING_ENV_LIGHT, BINDING_FRAME, SKY_DIFFRACTION_NONE, SKY_DIFFRACTION_VERTEX,
-    SPEC_LAMPS, SPEC_MAPS, SPEC_MATTE, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION,
+    SPEC_LAMPS, SPEC_MAPS, SPEC_MATTE, SPEC_SHADOWS, SPEC_SKY_DIFFRACTION, SPEC_SUN,
 };
 use crate::gpu::vk::{Buffer, BufferDesc, Context, DescriptorWrite, Destroy, Guard, Image, Sampler, SpecConstants};
 use crate::material::Material;
@@ -133,7 +133,8 @@ impl MaterialGpu {
 
     /// The constants of its pipelines for a view of `spec`.
     pub fn specialization(&self, spec: ViewSpec) -> SpecConstants {
-        self.constants.clone().u32(SPEC_SHADOWS, u32::from(spec.shadows)).u32(SPEC_LAMPS, u32::from(spec.lamps))
+        let constants = self.constants.clone().u32(SPEC_SHADOWS, u32::from(spec.shadows));
+        constants.u32(SPEC_LAMPS, spec.lamps).u32(SPEC_SUN, u32::from(spec.sun))
     }
 
     /// # Safety
@@ -328,8 +329,8 @@ impl SceneGpu {
 
     /// Writes every object's uniforms for `view` (its camera, light, sky, placements and shadow casters) at
     /// `aspect`, places the shadow map (made full size the first time a view casts a shadow) and the environment;
-    /// returns what its pipelines are specialized for (whether it casts shadows, whether lamps light it). No
-    /// submitted work may still read any of it.
+    /// returns what its pipelines are specialized for (whether it casts shadows, how many lamps light it, whether
+    /// the sun does). No submitted work may still read any of it.
     pub fn update(&mut self, ctx: &Context, view: &SceneView, aspect: f32) -> Result<ViewSpec> {
         let frame = self.fit_shadow(ctx, view, aspect)?;
         let lamp_frames = match view.shadow_casters {
@@ -371,7 +372,8 @@ impl SceneGpu {
             all.push(u);
         }
         let lamps_cast = lamp_frames.iter().any(Option::is_some);
-        let spec = ViewSpec { shadows: frame.is_some() || lamps_cast, lamps: view.lamps.count[0] > 0.0 };
+        let spec =
+            ViewSpec { shadows: frame.is_some() || lamps_cast, lamps: view.lamps.count[0] as u32, sun: view.sun > 0.0 };
         self.shadow.update(frame, &all)?;
         self.lamp_shadows.update(&lamp_frames, &all)?;
         self.update_background(ctx, view, aspect)?;

@@ -215,8 +215,9 @@ shared! {
     /// Texels one read of the baked table takes (`physics::baked::sample::MipFilter::texels_per_read`): what the
     /// counting variants add per read.
     pub const SPEC_TABLE_TEXELS: u32 = 12;
-    /// 1: the surface shaders loop over the frame's lamps; 0 compiles the loop out (a view without lamps: on lavapipe
-    /// the loop cost the default scene's frame 30 % even when it ran no lamp).
+    /// How many lamps the surface shaders shade (`SurfaceUniforms::lamp_count`), each written out at a constant
+    /// index; 0 compiles them out (a view without lamps: on lavapipe a loop over them cost the default scene's frame
+    /// 30 % even when it ran no lamp, and a lamp-lit frame 1.5× where its count was read from the uniforms).
     pub const SPEC_LAMPS: u32 = 13;
     /// 1: the surface shaders read an object's maps where its uniforms say it has them; 0 compiles the reads out (a
     /// material none of whose objects has a map).
@@ -224,6 +225,10 @@ shared! {
     /// 1: the material is matte (pigment only): the surface shaders compile its diffraction, its skin and its
     /// footprint out (`SurfaceUniforms::orientation`'s w says the same at run time).
     pub const SPEC_MATTE: u32 = 15;
+    /// 1: the sun's disc lights the view (`SurfaceUniforms::light_dir`'s w); 0 compiles its diffraction, its light
+    /// on the pigment and its shadow out (lamps or an environment map alone: on lavapipe a branch that no pixel
+    /// takes still runs, masked, and the sun's cost a lamp-lit frame 1.4×).
+    pub const SPEC_SUN: u32 = 16;
 
     section "Specialization constants of single shaders.";
     /// Which part of the G-buffer `gbuffer.frag` writes.
