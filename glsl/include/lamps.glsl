@@ -12,13 +12,13 @@ float spot_factor(float angle_deg, float cone_deg, float soft_deg) {
 }
 
 // How many lamps light the view (`render::variants::ViewSpec`; `frame.lamp_count.x` holds the same number): a
-// constant, so that a loop over them compiles out where there are none, stays in uniform control flow, and reads
-// each lamp's uniforms at a constant index (on lavapipe, lane by lane at an index read from a uniform: 1.5× the
-// cost of a lamp-lit frame).
+// constant, so that the lamps compile out where there are none, stay in uniform control flow, and are each shaded
+// at a constant index (EACH_LAMP: a count read from the uniforms cost a lamp-lit frame 1.5× on lavapipe).
 layout(constant_id = SPEC_LAMPS) const uint LAMPS = 0;
 
-// `statement` once for each lamp, with `k` its index as a constant: a loop of LAMPS iterations that lavapipe left
-// rolled read two lamps' uniforms lane by lane, as slowly as a count read from a uniform.
+// `statement` once for each lamp, with `k` its index as a constant: on lavapipe a loop of LAMPS iterations (left
+// rolled for two lamps) cost as much as a count read from the uniforms (likely: uniforms read at an index that
+// varies are read lane by lane).
 #if MAX_LAMPS != 8
 #error "EACH_LAMP writes out MAX_LAMPS lamps"
 #endif

@@ -7,8 +7,8 @@ use crate::gpu::vk::{Context, Destroy};
 
 /// What a view's pipelines are specialized for (`SPEC_SHADOWS`, `SPEC_LAMPS`, `SPEC_SUN`): whether it casts shadows,
 /// how many lamps light it and whether the sun does. A frame without lamps runs shaders without their loop (on lavapipe the loop that runs no
-/// lamp still cost the default scene's frame 30 %); with lamps, a loop of a constant count reads each lamp's
-/// uniforms at a constant index (on lavapipe a count read from a uniform cost a lamp-lit frame 1.5×).
+/// lamp still cost the default scene's frame 30 %); with lamps, the shaders write each lamp out at a constant index
+/// (on lavapipe a loop over them, its count read from the uniforms, cost a lamp-lit frame 1.5×).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct ViewSpec {
     pub shadows: bool,
