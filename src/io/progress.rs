@@ -1,12 +1,13 @@
 //! Progress on stderr for the long jobs — the exact reference image, baking a colour table, a map drawn in bands,
 //! a frame sequence, a profile sweep — in one style, drawn by `indicatif`: what is running, a bar, the count, the
-//! time taken and the time left. Nothing is drawn where stderr is not a terminal (logs and pipes get only the
-//! lines that are kept, through [`Progress::line`]).
+//! time taken and the time left. Where stderr is not a terminal no bar is drawn: logs and pipes get the lines that
+//! are kept ([`Progress::line`]) and, once a job has run PLAIN_AFTER, a plain line of its count and times every
+//! PLAIN_EVERY.
 
 use std::borrow::Cow;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::OnceLock;
-use std::time::Duration;
+use std::sync::{Mutex, OnceLock};
+use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -26,23 +27,37 @@ fn styled(what: impl Into<Cow<'static, str>>, total: usize) -> ProgressBar {
     ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::hidden()).with_style(style).with_prefix(what)
 }
 
+/// Off a terminal, how long a job runs before its first plain line, and how often the next ones come.
+const PLAIN_AFTER: Duration = Duration::from_secs(5);
+const PLAIN_EVERY: Duration = Duration::from_secs(5);
+
+/// Whether a job started at `started` that last printed a plain line at `last` (None: never) prints one `now`.
+fn plain_line_due(started: Instant, last: Option<Instant>, now: Instant) -> bool {
+    now.duration_since(started) >= PLAIN_AFTER && last.is_none_or(|last| now.duration_since(last) >= PLAIN_EVERY)
+}
+
 /// A job's progress line on stderr.
 pub struct Progress {
     bar: ProgressBar,
     /// The bar is drawn from its first update on (a job that ends without one — a table found in the cache —
     /// shows nothing).
     started: AtomicBool,
+    /// Off a terminal, for a job not hidden: when it was made and when it last printed a plain line.
+    plain: Option<Mutex<(Instant, Option<Instant>)>>,
 }
 
 impl Progress {
-    /// A job of `total` steps named `what` (e.g. "exact reference 256×256"), drawn on stderr if it is a terminal.
+    /// A job of `total` steps named `what` (e.g. "exact reference 256×256"), drawn on stderr if it is a terminal,
+    /// else told in plain lines (at a step, once PLAIN_AFTER has passed, at most one each PLAIN_EVERY).
     pub fn new(what: impl Into<Cow<'static, str>>, total: usize) -> Self {
-        Self { bar: bars().add(styled(what, total)), started: AtomicBool::new(false) }
+        let bar = bars().add(styled(what, total));
+        let plain = bar.is_hidden().then(|| Mutex::new((Instant::now(), None)));
+        Self { bar, started: AtomicBool::new(false), plain }
     }
 
     /// A job that shows nothing (too short to be worth a line), with the same interface.
     pub fn hidden() -> Self {
-        Self { bar: styled("", 0), started: AtomicBool::new(false) }
+        Self { bar: styled("", 0), started: AtomicBool::new(false), plain: None }
     }
 
     /// [`Self::new`] if `show`, else [`Self::hidden`].
@@ -65,6 +80,7 @@ impl Progress {
     pub fn step(&self) {
         self.start();
         self.bar.inc(1);
+        self.plain_line();
     }
 
     /// `done` of `total` steps (a job that learns its size as it goes).
@@ -72,6 +88,27 @@ impl Progress {
         self.start();
         self.bar.set_length(total as u64);
         self.bar.set_position(done as u64);
+        self.plain_line();
+    }
+
+    /// Off a terminal, the job's count and times as a plain line, when one is due (`plain_line_due`).
+    fn plain_line(&self) {
+        let Some(plain) = &self.plain else { return };
+        let now = Instant::now();
+        let Ok(mut times) = plain.lock() else { return };
+        if !plain_line_due(times.0, times.1, now) {
+            return;
+        }
+        times.1 = Some(now);
+        let (done, total) = (self.bar.position(), self.bar.length().unwrap_or(0));
+        let elapsed = now.duration_since(times.0).as_secs_f64();
+        // The time left at the rate so far (indicatif's estimate weighs recent steps, which a hidden bar does
+        // not keep).
+        let left = if done > 0 { elapsed * total.saturating_sub(done) as f64 / done as f64 } else { f64::NAN };
+        let left = if left.is_finite() { format!(", ~{left:.0} s left") } else { String::new() };
+        let detail = self.bar.message();
+        let detail = if detail.is_empty() { String::new() } else { format!(" · {detail}") };
+        log::info!(target: crate::io::LOG_PLAIN, "{}: {done}/{total} · {elapsed:.0} s{left}{detail}", self.bar.prefix());
     }
 
     /// What the current step is doing (shown after the bar).
@@ -103,5 +140,20 @@ impl Drop for Progress {
         if !self.bar.is_finished() {
             self.bar.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_plain_line_comes_after_five_seconds_and_then_every_five() {
+        let t0 = Instant::now();
+        let at = |s: f64| t0 + Duration::from_secs_f64(s);
+        assert!(!plain_line_due(t0, None, at(4.9)), "none in the first five seconds");
+        assert!(plain_line_due(t0, None, at(5.0)), "the first at five seconds");
+        assert!(!plain_line_due(t0, Some(at(5.0)), at(9.9)), "none sooner than five seconds after the last");
+        assert!(plain_line_due(t0, Some(at(5.0)), at(10.0)), "the next five seconds after the last");
     }
 }
