@@ -15,6 +15,17 @@ const INTENSITY_CD: f64 = 3.0;
 /// A matte ground of [`ALBEDO`] under a point lamp 1 m above the origin, seen from straight above (3 m up,
 /// 70° across, so that the frame reaches 60° from the lamp's foot), lit by the lamp alone.
 fn lamp_scene() -> Scene {
+    lamps_scene(&[INTENSITY_CD])
+}
+
+/// [`lamp_scene`] with a lamp of each of `intensities_cd` (candela) in the one lamp's place.
+fn lamps_scene(intensities_cd: &[f64]) -> Scene {
+    let lamps: String = intensities_cd
+        .iter()
+        .map(|i| {
+            format!("[[lamp]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity_cd = {i}\nradius_m = 0.001\n\n")
+        })
+        .collect();
     let text = format!(
         r#"[camera]
 position = [0.0, 3.0, 0.0]
@@ -25,13 +36,7 @@ fov_y_deg = 70.0
 [light]
 environment = "none"
 
-[[lamp]]
-kind = "point"
-position = [0.0, 1.0, 0.0]
-intensity_cd = {INTENSITY_CD}
-radius_m = 0.001
-
-[[object]]
+{lamps}[[object]]
 shape = "ground"
 material = "white"
 
@@ -65,12 +70,29 @@ fn render(scene: &Scene, path: ShadingPath) -> Vec<f32> {
 fn a_matte_ground_under_a_point_lamp_follows_cos_cubed_at_its_candela() {
     let scene = lamp_scene();
     assert!(!scene.sun && scene.lamps.len() == 1);
+    follows_cos_cubed(&scene);
+}
+
+/// The shaders write each lamp out at its own index, up to the most a scene holds (`EACH_LAMP`, lamps.glsl): eight
+/// lamps in one place of 1, 2, …, 8 parts of [`INTENSITY_CD`]/36 light the ground as the one lamp does (a lamp
+/// left out, or one read at another's index, would not add up).
+#[test]
+fn eight_lamps_each_add_their_own_light() {
+    let parts: Vec<f64> = (1..=8).map(|k| INTENSITY_CD * k as f64 / 36.0).collect();
+    let scene = lamps_scene(&parts);
+    assert_eq!(scene.lamps.len(), diffract::gpu::interface::MAX_LAMPS as usize);
+    follows_cos_cubed(&scene);
+}
+
+/// Every pixel of `scene`'s ground within 60° of the lamps' foot reads ρ·I·cos³θ/π for lamps of [`INTENSITY_CD`]
+/// in all, on both shading paths, within 1 %.
+fn follows_cos_cubed(scene: &Scene) {
     for path in [ShadingPath::Forward, ShadingPath::Visibility] {
-        let frame = render(&scene, path);
+        let frame = render(scene, path);
         let (mut worst, mut checked, mut widest) = (0.0f64, 0, 0.0f64);
         for y in 0..SIZE {
             for x in 0..SIZE {
-                let p = ground_point(&scene, x, y);
+                let p = ground_point(scene, x, y);
                 let cos = 1.0 / (1.0 + p.x * p.x + p.z * p.z).sqrt();
                 if cos < 60f64.to_radians().cos() {
                     continue;
