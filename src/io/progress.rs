@@ -11,8 +11,24 @@ use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// The one style: `what [#####·····] 3/8 · 12s, ~20s left · detail`.
-const TEMPLATE: &str = "{prefix} [{bar:30}] {pos}/{len} · {elapsed}, ~{eta} left · {wide_msg}";
+/// The one style: `what [#####·····] 3/8 · 12s, ~20 s left · detail`.
+const TEMPLATE: &str = "{prefix} [{bar:30}] {pos}/{len} · {elapsed}, {left} · {wide_msg}";
+
+/// The seconds a job has left at the rate of its steps so far (`elapsed` seconds for `done` of `total`); None
+/// before its first step. (indicatif's own estimate weighs the latest steps: on a table whose first rows are the
+/// slow ones it said 38 minutes for a 4-minute wait.)
+fn time_left(elapsed: f64, done: u64, total: u64) -> Option<f64> {
+    (done > 0).then(|| elapsed * total.saturating_sub(done) as f64 / done as f64)
+}
+
+/// `~N s left`, `~N min left`, or `time left unknown`.
+fn left_text(left: Option<f64>) -> String {
+    match left {
+        Some(s) if s < 120.0 => format!("~{s:.0} s left"),
+        Some(s) => format!("~{:.0} min left", s / 60.0),
+        None => "time left unknown".to_string(),
+    }
+}
 
 /// Every bar of the process, stacked (a job inside another — a table baked inside a profile sweep — gets its
 /// own line under its parent's).
@@ -23,7 +39,13 @@ fn bars() -> &'static MultiProgress {
 
 /// A bar of `total` steps in the one style, named `what`.
 fn styled(what: impl Into<Cow<'static, str>>, total: usize) -> ProgressBar {
-    let style = ProgressStyle::with_template(TEMPLATE).expect("a valid template").progress_chars("#>·");
+    let style = ProgressStyle::with_template(TEMPLATE)
+        .expect("a valid template")
+        .with_key("left", |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+            let left = time_left(state.elapsed().as_secs_f64(), state.pos(), state.len().unwrap_or(0));
+            let _ = w.write_str(&left_text(left));
+        })
+        .progress_chars("#>·");
     ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::hidden()).with_style(style).with_prefix(what)
 }
 
@@ -102,13 +124,10 @@ impl Progress {
         times.1 = Some(now);
         let (done, total) = (self.bar.position(), self.bar.length().unwrap_or(0));
         let elapsed = now.duration_since(times.0).as_secs_f64();
-        // The time left at the rate so far (indicatif's estimate weighs recent steps, which a hidden bar does
-        // not keep).
-        let left = if done > 0 { elapsed * total.saturating_sub(done) as f64 / done as f64 } else { f64::NAN };
-        let left = if left.is_finite() { format!(", ~{left:.0} s left") } else { String::new() };
+        let left = left_text(time_left(elapsed, done, total));
         let detail = self.bar.message();
         let detail = if detail.is_empty() { String::new() } else { format!(" · {detail}") };
-        log::info!(target: crate::io::LOG_PLAIN, "{}: {done}/{total} · {elapsed:.0} s{left}{detail}", self.bar.prefix());
+        log::info!(target: crate::io::LOG_PLAIN, "{}: {done}/{total} · {elapsed:.0} s, {left}{detail}", self.bar.prefix());
     }
 
     /// What the current step is doing (shown after the bar).
@@ -155,5 +174,15 @@ mod tests {
         assert!(plain_line_due(t0, None, at(5.0)), "the first at five seconds");
         assert!(!plain_line_due(t0, Some(at(5.0)), at(9.9)), "none sooner than five seconds after the last");
         assert!(plain_line_due(t0, Some(at(5.0)), at(10.0)), "the next five seconds after the last");
+    }
+
+    #[test]
+    fn the_time_left_follows_the_rate_so_far() {
+        assert_eq!(time_left(10.0, 0, 8), None);
+        assert_eq!(time_left(10.0, 2, 8), Some(30.0));
+        assert_eq!(time_left(10.0, 8, 8), Some(0.0));
+        assert_eq!(left_text(Some(30.0)), "~30 s left");
+        assert_eq!(left_text(Some(600.0)), "~10 min left");
+        assert_eq!(left_text(None), "time left unknown");
     }
 }
