@@ -53,9 +53,9 @@ fn styled(what: impl Into<Cow<'static, str>>, total: usize) -> ProgressBar {
 const PLAIN_AFTER: Duration = Duration::from_secs(5);
 const PLAIN_EVERY: Duration = Duration::from_secs(5);
 
-/// Whether a job started at `started` that last printed a plain line at `last` (None: never) prints one `now`.
-fn plain_line_due(started: Instant, last: Option<Instant>, now: Instant) -> bool {
-    now.duration_since(started) >= PLAIN_AFTER && last.is_none_or(|last| now.duration_since(last) >= PLAIN_EVERY)
+/// Whether a job that has run `elapsed` and last printed a plain line at `last` (None: never) prints one `now`.
+fn plain_line_due(elapsed: Duration, last: Option<Instant>, now: Instant) -> bool {
+    elapsed >= PLAIN_AFTER && last.is_none_or(|last| now.duration_since(last) >= PLAIN_EVERY)
 }
 
 /// A job's progress line on stderr.
@@ -64,8 +64,9 @@ pub struct Progress {
     /// The bar is drawn from its first update on (a job that ends without one — a table found in the cache —
     /// shows nothing).
     started: AtomicBool,
-    /// Off a terminal, for a job not hidden: when it was made and when it last printed a plain line.
-    plain: Option<Mutex<(Instant, Option<Instant>)>>,
+    /// Off a terminal, for a job not hidden: when it last printed a plain line (None: not yet). Its start is the
+    /// bar's.
+    plain: Option<Mutex<Option<Instant>>>,
 }
 
 impl Progress {
@@ -73,7 +74,7 @@ impl Progress {
     /// else told in plain lines (at a step, once PLAIN_AFTER has passed, at most one each PLAIN_EVERY).
     pub fn new(what: impl Into<Cow<'static, str>>, total: usize) -> Self {
         let bar = bars().add(styled(what, total));
-        let plain = bar.is_hidden().then(|| Mutex::new((Instant::now(), None)));
+        let plain = bar.is_hidden().then(|| Mutex::new(None));
         Self { bar, started: AtomicBool::new(false), plain }
     }
 
@@ -116,14 +117,14 @@ impl Progress {
     /// Off a terminal, the job's count and times as a plain line, when one is due (`plain_line_due`).
     fn plain_line(&self) {
         let Some(plain) = &self.plain else { return };
-        let now = Instant::now();
-        let Ok(mut times) = plain.lock() else { return };
-        if !plain_line_due(times.0, times.1, now) {
+        let (now, elapsed) = (Instant::now(), self.bar.elapsed());
+        let Ok(mut last) = plain.lock() else { return };
+        if !plain_line_due(elapsed, *last, now) {
             return;
         }
-        times.1 = Some(now);
+        *last = Some(now);
         let (done, total) = (self.bar.position(), self.bar.length().unwrap_or(0));
-        let elapsed = now.duration_since(times.0).as_secs_f64();
+        let elapsed = elapsed.as_secs_f64();
         let left = left_text(time_left(elapsed, done, total));
         let detail = self.bar.message();
         let detail = if detail.is_empty() { String::new() } else { format!(" · {detail}") };
@@ -169,11 +170,11 @@ mod tests {
     #[test]
     fn a_plain_line_comes_after_five_seconds_and_then_every_five() {
         let t0 = Instant::now();
-        let at = |s: f64| t0 + Duration::from_secs_f64(s);
-        assert!(!plain_line_due(t0, None, at(4.9)), "none in the first five seconds");
-        assert!(plain_line_due(t0, None, at(5.0)), "the first at five seconds");
-        assert!(!plain_line_due(t0, Some(at(5.0)), at(9.9)), "none sooner than five seconds after the last");
-        assert!(plain_line_due(t0, Some(at(5.0)), at(10.0)), "the next five seconds after the last");
+        let (run, at) = (Duration::from_secs_f64, |s: f64| t0 + Duration::from_secs_f64(s));
+        assert!(!plain_line_due(run(4.9), None, at(4.9)), "none in the first five seconds");
+        assert!(plain_line_due(run(5.0), None, at(5.0)), "the first at five seconds");
+        assert!(!plain_line_due(run(9.9), Some(at(5.0)), at(9.9)), "none sooner than five seconds after the last");
+        assert!(plain_line_due(run(10.0), Some(at(5.0)), at(10.0)), "the next five seconds after the last");
     }
 
     #[test]
