@@ -22,6 +22,7 @@ pub mod heightfield;
 pub mod illuminant;
 pub mod optics;
 pub mod sh;
+pub mod sincos;
 pub mod sky;
 pub mod spectrum;
 pub mod taylor;

@@ -24,8 +24,43 @@ const BAND_BYTES: usize = 512 << 10;
 const BATCH_BYTES: usize = 256 << 20;
 const MAX_BATCH: usize = 8;
 
-/// One wavelength's taps along u and along v at the sub-samples: per sub-sample column (row), its (cell, weight)s.
-type LambdaTaps = (Vec<Vec<(usize, f64)>>, Vec<Vec<(usize, f64)>>);
+/// One wavelength's taps along u and along v at the sub-samples: per sub-sample column its run, per sub-sample row
+/// its (cell, weight)s.
+type LambdaTaps = (Vec<Run>, Vec<Vec<(usize, f64)>>);
+
+/// A sub-sample column's taps along u: consecutive cells (modulo the cell's width) from `start`, with `weights`.
+struct Run {
+    start: usize,
+    weights: Vec<f64>,
+}
+
+impl Run {
+    /// The taps `taps` (cell, weight) of a line of `cells` as a run; they are consecutive cells (`lattice_taps`).
+    fn of(taps: &[(usize, f64)], cells: usize) -> Self {
+        let start = taps.first().map_or(0, |t| t.0);
+        debug_assert!(taps.iter().enumerate().all(|(j, t)| t.0 == (start + j) % cells));
+        Self { start, weights: taps.iter().map(|t| t.1).collect() }
+    }
+
+    /// Σ weight·A over the run, in `doubled` (a line of A twice over), in the taps' order.
+    fn sum(&self, doubled: &[Complex64]) -> Complex64 {
+        doubled[self.start..self.start + self.weights.len()].iter().zip(&self.weights).map(|(a, &g)| a * g).sum()
+    }
+}
+
+/// Whether a line of the spectrum carries anything: Σ|A| ≥ INVISIBLE·10⁻³ (an AFM scan's lines all do; a 1D
+/// grating's one). The sum stops once it gets there (it only grows, so the answer is the whole sum's); |A| as
+/// √|A|², not `norm`, whose overflow-safe hypot took 4 % of a build.
+fn live(line: &[Complex64]) -> bool {
+    let mut mass = 0.0;
+    for c in line {
+        mass += c.norm_sqr().sqrt();
+        if mass >= INVISIBLE * 1e-3 {
+            return true;
+        }
+    }
+    false
+}
 
 /// Progress callback: (steps done, steps in all).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize) + Sync);
@@ -309,7 +344,8 @@ impl Pass<'_> {
                 .iter()
                 .map(|&l| {
                     let lambda = self.spectral.lambda_um[l];
-                    (self.ax.taps(lambda, s, px), self.ay.taps(lambda, s, py))
+                    let columns = self.ax.taps(lambda, s, px).iter().map(|taps| Run::of(taps, px)).collect();
+                    (columns, self.ay.taps(lambda, s, py))
                 })
                 .collect();
             planes.par_iter_mut().zip(&ws).for_each(|(plane, &w)| self.coherent_node(plane, w, chunk, &taps));
@@ -335,9 +371,9 @@ impl Pass<'_> {
         let channels = self.spectral.channels;
         let share = 1.0 / (s * s) as f64;
         let mut scratch = Vec::new();
-        // Per wavelength, the rows of the spectrum that carry anything (an AFM scan's all do; a 1D
-        // grating's one), summed along u at every sub-sample column (zero where the lookup is out of
-        // band). |A| as √|A|², not `norm`, whose overflow-safe hypot took 4 % of a build.
+        // Per wavelength, the rows of the spectrum that carry anything ([`live`]), summed along u at every
+        // sub-sample column (zero where the lookup is out of band).
+        let mut doubled = vec![Complex64::default(); 2 * px];
         let q: Vec<Vec<Option<Vec<Complex64>>>> = chunk
             .iter()
             .zip(taps)
@@ -347,8 +383,12 @@ impl Pass<'_> {
                 (0..py)
                     .map(|r| {
                         let line = &a[r * px..][..px];
-                        (line.iter().map(|c| c.norm_sqr().sqrt()).sum::<f64>() >= INVISIBLE * 1e-3)
-                            .then(|| columns.iter().map(|taps| taps.iter().map(|&(k, g)| line[k] * g).sum()).collect())
+                        live(line).then(|| {
+                            // The line twice over: every column's taps a run of it, even where they wrap.
+                            doubled[..px].copy_from_slice(line);
+                            doubled[px..].copy_from_slice(line);
+                            columns.iter().map(|run| run.sum(&doubled)).collect()
+                        })
                     })
                     .collect()
             })

@@ -218,7 +218,7 @@ pub fn estimate(hf: &HeightField, plan: &TablePlan) -> Estimate {
     let ax = axis(lx, hf.nx, cell.tx, cell.px, w.sigma_x, w.radius_x, plan.domain.u);
     let ay = axis(ly, hf.ny, cell.ty, cell.py, w.sigma_y, w.radius_y, plan.domain.v);
     let midpoints = !plan.lattice;
-    // A scan of a user's size (1000² samples: 20–60 s an estimate on two cores) shows its progress; the shipped
+    // A scan of a user's size (1000² samples: 10–40 s an estimate on two cores) shows its progress; the shipped
     // cut-outs take milliseconds.
     let bar = Progress::new_if(
         hf.nx * hf.ny >= PROGRESS_SAMPLES,

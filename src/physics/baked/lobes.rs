@@ -9,6 +9,7 @@ use rustfft::{Fft, FftPlanner};
 
 use crate::physics::heightfield::HeightField;
 use crate::physics::illuminant::Illuminant;
+use crate::physics::sincos::phases;
 use crate::physics::spectrum::Sampling;
 
 /// Wavelengths (µm) and their weights (x̄S, ȳS, z̄S)·Δλ / Σ ȳSΔλ under the illuminant S: Σ_λ |P|²·weight is XYZ
@@ -100,17 +101,19 @@ impl Cell {
     }
 
     /// A_k for every cell bin, row-major in FFT order (index k mod n), normalised so that a flat patch has
-    /// A_0 = 1: the centred inverse DFT of exp(i·κ·h) of `physics::taylor` (+i exponent, 1/N²).
+    /// A_0 = 1: the centred inverse DFT of exp(i·κ·h) of `physics::taylor` (+i exponent, 1/N²). (A buffer
+    /// reused from call to call, instead of a fresh one, made a 1000² patch's build 9 % slower.)
     pub(super) fn amplitudes(&self, kappa: f64, scratch: &mut Vec<Complex64>) -> Vec<Complex64> {
         let (px, py) = (self.px, self.py);
         let norm = 1.0 / (px * py) as f64;
-        let mut a: Vec<Complex64> = match &self.distinct {
+        let mut a = Vec::new();
+        match &self.distinct {
             Some((values, index)) => {
-                let phases: Vec<Complex64> = values.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect();
-                index.iter().map(|&i| phases[i as usize]).collect()
+                phases(kappa, norm, values, scratch);
+                a.extend(index.iter().map(|&i| scratch[i as usize]));
             }
-            None => self.heights.iter().map(|&h| Complex64::from_polar(norm, kappa * h)).collect(),
-        };
+            None => phases(kappa, norm, &self.heights, &mut a),
+        }
         self.fx.process(&mut a);
         scratch.resize(px * py, Complex64::default());
         for r in 0..py {
