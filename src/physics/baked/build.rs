@@ -48,10 +48,10 @@ impl Run {
     }
 }
 
-/// Whether a line of the spectrum carries anything: Σ|A| ≥ INVISIBLE·10⁻³ (an AFM scan's lines all do; a 1D
-/// grating's one). The sum stops once it gets there (it only grows, so the answer is the whole sum's); |A| as
+/// Whether a line of the spectrum (the cells of it that are read) carries anything: Σ|A| ≥ INVISIBLE·10⁻³ (an AFM
+/// scan's lines all do; a 1D grating's one). The sum stops once it gets there (it only grows, so the answer is the whole sum's); |A| as
 /// √|A|², not `norm`, whose overflow-safe hypot took 4 % of a build.
-fn live(line: &[Complex64]) -> bool {
+fn live(line: impl Iterator<Item = Complex64>) -> bool {
     let mut mass = 0.0;
     for c in line {
         mass += c.norm_sqr().sqrt();
@@ -367,32 +367,10 @@ impl Pass<'_> {
     /// u and v at the sub-samples): their colour added into the node's `plane` of texels, row by row.
     fn coherent_node(&self, plane: &mut [f64], w: f64, chunk: &[usize], taps: &[LambdaTaps]) {
         let (nu, nv, s) = (self.grid.nu, self.grid.nv, self.subsamples);
-        let (px, py) = (self.cell.px, self.cell.py);
         let channels = self.spectral.channels;
         let share = 1.0 / (s * s) as f64;
-        let mut scratch = Vec::new();
-        // Per wavelength, the rows of the spectrum that carry anything ([`live`]), summed along u at every
-        // sub-sample column (zero where the lookup is out of band).
-        let mut doubled = vec![Complex64::default(); 2 * px];
-        let q: Vec<Vec<Option<Vec<Complex64>>>> = chunk
-            .iter()
-            .zip(taps)
-            .map(|(&l, (columns, _))| {
-                let kappa = 2.0 * std::f64::consts::PI * w / self.spectral.lambda_um[l];
-                let a = self.cell.amplitudes(kappa, &mut scratch);
-                (0..py)
-                    .map(|r| {
-                        let line = &a[r * px..][..px];
-                        live(line).then(|| {
-                            // The line twice over: every column's taps a run of it, even where they wrap.
-                            doubled[..px].copy_from_slice(line);
-                            doubled[px..].copy_from_slice(line);
-                            columns.iter().map(|run| run.sum(&doubled)).collect()
-                        })
-                    })
-                    .collect()
-            })
-            .collect();
+        let q: Vec<Vec<Option<Vec<Complex64>>>> =
+            chunk.iter().zip(taps).map(|(&l, taps)| self.sums_along_u(w, self.spectral.lambda_um[l], taps)).collect();
         // P along one sub-sample row; Σ|P|² over a texel row's s×s sub-samples at one wavelength; the
         // batch's colour in that texel row.
         let mut p = vec![Complex64::default(); nu * s];
@@ -436,6 +414,35 @@ impl Pass<'_> {
                 }
             }
         }
+    }
+
+    /// Per row of the spectrum at node `w` and wavelength `lambda` (µm) that is read and carries anything
+    /// ([`live`]), its sums along u at every sub-sample column of `columns` (zero where the lookup is out of band);
+    /// None for the others.
+    fn sums_along_u(&self, w: f64, lambda: f64, (columns, rows): &LambdaTaps) -> Vec<Option<Vec<Complex64>>> {
+        let (px, py) = (self.cell.px, self.cell.py);
+        let kappa = 2.0 * std::f64::consts::PI * w / lambda;
+        // The cells some sub-sample column's run reads, and the rows some sub-sample row's taps read (those of the
+        // table's u and v at this wavelength: a third to three quarters of the patch's for a sphere's): the
+        // spectrum is transformed along v, and summed along u, at those alone.
+        let mut read = vec![false; px];
+        columns.iter().for_each(|run| (run.start..run.start + run.weights.len()).for_each(|k| read[k % px] = true));
+        let read_columns: Vec<usize> = (0..px).filter(|&k| read[k]).collect();
+        let a = self.cell.amplitudes_at(kappa, Some(&read_columns), &mut Vec::new());
+        let mut read = vec![false; py];
+        rows.iter().flatten().for_each(|&(k, _)| read[k] = true);
+        // The line twice over: every column's taps a run of it, even where they wrap.
+        let mut doubled = vec![Complex64::default(); 2 * px];
+        (0..py)
+            .map(|r| {
+                let line = &a[r * px..][..px];
+                (read[r] && live(read_columns.iter().map(|&k| line[k]))).then(|| {
+                    doubled[..px].copy_from_slice(line);
+                    doubled[px..].copy_from_slice(line);
+                    columns.iter().map(|run| run.sum(&doubled)).collect()
+                })
+            })
+            .collect()
     }
 }
 
