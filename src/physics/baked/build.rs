@@ -423,7 +423,7 @@ impl Pass<'_> {
         let (px, py) = (self.cell.px, self.cell.py);
         let kappa = 2.0 * std::f64::consts::PI * w / lambda;
         // The cells some sub-sample column's run reads, and the rows some sub-sample row's taps read (those of the
-        // table's u and v at this wavelength: a third to three quarters of the patch's for a sphere's): the
+        // table's u and v at this wavelength: a quarter to a little over half of a 1000² patch's for a sphere's): the
         // spectrum is transformed along v, and summed along u, at those alone.
         let mut read = vec![false; px];
         columns.iter().for_each(|run| (run.start..run.start + run.weights.len()).for_each(|k| read[k % px] = true));
